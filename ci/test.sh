@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# The test suite, as CI runs it: formatting, lints, then every test in release
+# mode with the Khronos validation layer on (a validation message fails the
+# test that caused it).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash ci/install-deps.sh
+rustup component list --installed 2>/dev/null | grep -q rustfmt || rustup component add rustfmt clippy 2>/dev/null || true
+cargo fmt --all -- --check
+cargo clippy --release --all-targets -- -D warnings
+export SHADELAB_VALIDATION=1
+cargo test --release

@@ -1,0 +1,43 @@
+// The interface between the host and every raster stage: specialization
+// constants, descriptor bindings and push constants. The host's side of it is
+// src/gpu/raster_layout.rs; tests/shader_interface.rs checks the two agree
+// using naga's reflection of the compiled SPIR-V.
+//
+// Positions here are camera-relative (world position minus eye, computed in
+// double precision on the host), so the eye sits at the origin and far-away
+// scenes keep their float precision.
+
+// Features a scene does not use are compiled out (chosen per scene on the host).
+layout(constant_id = 0) const int LIGHT_COUNT = 1;
+layout(constant_id = 1) const bool USE_SPECULAR = true;
+layout(constant_id = 2) const bool USE_ATTENUATION = true;
+
+struct PointLight {
+    vec4 position;   // xyz: camera-relative position
+    vec4 intensity;  // rgb: Il
+};
+
+layout(std430, set = 0, binding = 0) readonly buffer LightBuffer {
+    PointLight lights[];
+};
+
+layout(std140, set = 0, binding = 1) uniform FrameUniforms {
+    vec4 ambient_k;  // rgb: Ia, w: the constant k of Il / (d + k)
+} frame;
+
+// Flat shading: one record per triangle, computed on the host.
+struct Face {
+    vec4 center;     // xyz: camera-relative centroid
+    vec4 normal;     // xyz: unit geometric normal
+};
+
+layout(std430, set = 0, binding = 2) readonly buffer FaceBuffer {
+    Face faces[];
+};
+
+layout(push_constant) uniform DrawConstants {
+    mat4 clip_from_relative;  // projection * view rotation
+    vec4 color_ka;            // rgb: material colour C, a: ka
+    vec4 kd_ks_p;             // x: kd, y: ks, z: p
+    uint face_offset;         // first record of this draw in `faces`
+} draw;

@@ -1,0 +1,47 @@
+//! `shadelab info`: the Vulkan devices, and the one in use.
+
+use clap::Args;
+use shadelab::gpu::{list_devices, GpuContext, GpuOptions};
+
+use super::Failure;
+
+#[derive(Args)]
+pub struct InfoArgs {
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(args: InfoArgs, options: &GpuOptions) -> Result<(), Failure> {
+    let devices = list_devices()?;
+    let selected = GpuContext::new(options).map(|c| c.info.index);
+    if args.json {
+        let value = serde_json::json!({
+            "devices": devices,
+            "selected": selected.as_ref().ok(),
+            "selection_error": selected.as_ref().err().map(|e| e.to_string()),
+        });
+        println!("{value}");
+    } else {
+        for d in &devices {
+            let mark = if selected.as_ref().ok() == Some(&d.index) {
+                "*"
+            } else {
+                " "
+            };
+            let note = d
+                .unusable_because
+                .as_deref()
+                .map(|w| format!(" (unusable: {w})"))
+                .unwrap_or_default();
+            println!(
+                "{mark} {}: {} [{}] Vulkan {} - {}{note}",
+                d.index, d.name, d.device_type, d.api_version, d.driver
+            );
+        }
+        if devices.is_empty() {
+            println!("no Vulkan devices found");
+        }
+    }
+    selected.map(|_| ()).map_err(Failure::from)
+}

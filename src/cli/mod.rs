@@ -1,0 +1,94 @@
+//! Argument parsing and dispatch to one module per subcommand.
+
+mod info;
+mod render;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(
+    name = "shadelab",
+    version,
+    about = "Headless renderer for flat, Gouraud and Phong shading (and ray tracing) on Vulkan",
+    long_about = "Headless renderer for the classic shading models on Vulkan (Mesa lavapipe by default).\n\
+                  A SCENE is a TOML scene file or a glTF (.gltf/.glb); leave it out for the built-in default scene."
+)]
+struct Cli {
+    /// Vulkan device: an index or part of a name as `shadelab info` lists them
+    /// (default: lavapipe). Also read from SHADELAB_DEVICE.
+    #[arg(long, global = true, value_name = "NAME|INDEX")]
+    device: Option<String>,
+
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene to a PNG (8-bit sRGB) or EXR (linear float) image.
+    Render(render::RenderArgs),
+    /// List the Vulkan devices and show which one shadelab uses.
+    Info(info::InfoArgs),
+}
+
+/// An error that knows its exit status.
+pub struct Failure {
+    pub code: u8,
+    pub message: String,
+}
+
+impl From<shadelab::Error> for Failure {
+    fn from(e: shadelab::Error) -> Self {
+        Failure {
+            code: e.exit_code() as u8,
+            message: e.to_string(),
+        }
+    }
+}
+
+impl From<shadelab::gpu::GpuError> for Failure {
+    fn from(e: shadelab::gpu::GpuError) -> Self {
+        shadelab::Error::from(e).into()
+    }
+}
+
+impl From<shadelab::scene::SceneError> for Failure {
+    fn from(e: shadelab::scene::SceneError) -> Self {
+        shadelab::Error::from(e).into()
+    }
+}
+
+impl From<shadelab::output::OutputError> for Failure {
+    fn from(e: shadelab::output::OutputError) -> Self {
+        shadelab::Error::from(e).into()
+    }
+}
+
+pub fn run() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            // --help and --version are not errors.
+            let code = if e.use_stderr() { 2 } else { 0 };
+            let _ = e.print();
+            return ExitCode::from(code);
+        }
+    };
+    let mut gpu_options = shadelab::gpu::GpuOptions::from_env();
+    if cli.device.is_some() {
+        gpu_options.device = cli.device;
+    }
+    let result = match cli.command {
+        Command::Render(args) => render::run(args, &gpu_options),
+        Command::Info(args) => info::run(args, &gpu_options),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(failure) => {
+            eprintln!("shadelab: error: {}", failure.message);
+            ExitCode::from(failure.code)
+        }
+    }
+}

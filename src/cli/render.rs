@@ -1,0 +1,162 @@
+//! `shadelab render`: one scene, one mode, one image file.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use shadelab::gpu::{GpuContext, GpuOptions};
+use shadelab::scene::{self, Scene};
+use shadelab::shading::Shading;
+
+use super::Failure;
+
+#[derive(Args)]
+pub struct RenderArgs {
+    /// Scene file (.toml, .gltf or .glb); the built-in default scene if left out.
+    scene: Option<PathBuf>,
+    /// Shading mode.
+    #[arg(long, default_value = "phong", value_parser = parse_shading)]
+    shading: Shading,
+    /// Renderer: the Vulkan pipelines (gpu) or the CPU reference (cpu).
+    #[arg(long, default_value = "gpu", value_parser = ["gpu", "cpu"])]
+    backend: String,
+    /// Image width in pixels (overrides the scene's [image] width).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height in pixels (overrides the scene's [image] height).
+    #[arg(long)]
+    height: Option<u32>,
+    /// Ray tracing: maximum recursion depth.
+    #[arg(long)]
+    depth: Option<u32>,
+    /// Ray tracing: adaptive depth cut-off on the ray weight.
+    #[arg(long)]
+    cutoff: Option<f64>,
+    /// Ray tracing: samples per pixel.
+    #[arg(long)]
+    samples: Option<u32>,
+    /// Ray tracing: no shadow rays.
+    #[arg(long)]
+    no_shadows: bool,
+    /// Output image: .png (8-bit sRGB) or .exr (linear 32-bit float).
+    /// Default: <scene name>-<mode>.png in the current folder.
+    #[arg(long, short)]
+    out: Option<PathBuf>,
+    /// Print one JSON object describing the render on stdout.
+    #[arg(long)]
+    json: bool,
+}
+
+fn parse_shading(s: &str) -> Result<Shading, String> {
+    s.parse()
+}
+
+pub fn load_scene(path: Option<&Path>) -> Result<(Scene, String), Failure> {
+    match path {
+        None => Ok((scene::default_scene(), "default".to_string())),
+        Some(p) => {
+            let scene = scene::load(p)?;
+            let stem = p
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "scene".into());
+            Ok((scene, stem))
+        }
+    }
+}
+
+fn usage(message: String) -> Failure {
+    Failure { code: 2, message }
+}
+
+/// Applies the command-line overrides to the scene, checking their ranges as
+/// the scene loader checks the file's.
+fn apply_overrides(scene: &mut Scene, args: &RenderArgs) -> Result<(), Failure> {
+    for (name, value) in [("--width", args.width), ("--height", args.height)] {
+        if let Some(v) = value {
+            if v == 0 || v > 16384 {
+                return Err(usage(format!(
+                    "{name} {v} is out of range; expected 1 to 16384 pixels"
+                )));
+            }
+        }
+    }
+    if let Some(w) = args.width {
+        scene.image.width = w;
+    }
+    if let Some(h) = args.height {
+        scene.image.height = h;
+    }
+    if let Some(d) = args.depth {
+        if d > 64 {
+            return Err(usage(format!(
+                "--depth {d} is out of range; expected 0 to 64"
+            )));
+        }
+        scene.render.depth = d;
+    }
+    if let Some(c) = args.cutoff {
+        if !c.is_finite() || c < 0.0 {
+            return Err(usage(format!(
+                "--cutoff {c} is invalid; expected a number >= 0"
+            )));
+        }
+        scene.render.cutoff = c;
+    }
+    if let Some(s) = args.samples {
+        if s == 0 || s > 1024 {
+            return Err(usage(format!(
+                "--samples {s} is out of range; expected 1 to 1024"
+            )));
+        }
+        scene.render.samples = s;
+    }
+    if args.no_shadows {
+        scene.render.shadows = false;
+    }
+    Ok(())
+}
+
+pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
+    let (mut scene, stem) = load_scene(args.scene.as_deref())?;
+    apply_overrides(&mut scene, &args)?;
+    for warning in &scene.warnings {
+        eprintln!("shadelab: warning: {warning}");
+    }
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("{stem}-{}.png", args.shading)));
+    // Check the output name before spending time on the render.
+    shadelab::output::ImageFormat::from_path(&out)?;
+    if args.backend == "cpu" {
+        return Err(usage(
+            "--backend cpu is not available yet (the CPU reference is tracked as issue 3); use --backend gpu".into(),
+        ));
+    }
+    let context = GpuContext::new(options)?;
+    let rendered = shadelab::render::render_gpu(&context, &scene, args.shading)?;
+    shadelab::output::write_image(&rendered.image, &out)?;
+    if args.json {
+        let value = serde_json::json!({
+            "output": out,
+            "shading": args.shading,
+            "backend": args.backend,
+            "width": rendered.image.width,
+            "height": rendered.image.height,
+            "device": context.info.name,
+            "timings_ms": rendered.timings,
+        });
+        println!("{value}");
+    } else {
+        println!(
+            "wrote {} ({}x{}, {}, {:.1} ms on {})",
+            out.display(),
+            rendered.image.width,
+            rendered.image.height,
+            args.shading,
+            rendered.timings.total_ms,
+            context.info.name
+        );
+    }
+    Ok(())
+}

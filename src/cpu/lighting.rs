@@ -1,0 +1,158 @@
+//! The lighting model of `docs/lighting-model.md` in `f64`: the CPU twin of
+//! `shaders/include/lighting.glsl`. A change to one is a change to the other,
+//! and the raster tests hold the GPU images to this function.
+//!
+//! Defined answers where naive code is undefined (the same on the GPU):
+//! a zero normal receives the ambient term only; a light exactly at the
+//! shaded point contributes nothing; `p = 0` gives `S = 1` whenever
+//! `N·L > 0` (x^0 = 1, also for x = 0).
+
+use glam::DVec3;
+
+use crate::scene::{Lighting, Material, PointLight};
+
+/// Intensity `I` (linear RGB) at point `p` with unit normal `n` (or zero),
+/// seen from `eye`.
+pub fn shade(
+    lighting: &Lighting,
+    lights: &[PointLight],
+    material: &Material,
+    p: DVec3,
+    n: DVec3,
+    eye: DVec3,
+) -> DVec3 {
+    let c = material.color;
+    let mut intensity = lighting.ambient * material.ka * c;
+    if n == DVec3::ZERO {
+        return intensity;
+    }
+    let v = (eye - p).normalize();
+    for light in lights {
+        let to_light = light.position - p;
+        let d = to_light.length();
+        if d == 0.0 {
+            continue;
+        }
+        let l = to_light / d;
+        let n_dot_l = n.dot(l);
+        if n_dot_l <= 0.0 {
+            continue;
+        }
+        let il = if lighting.attenuation {
+            light.intensity / (d + lighting.k)
+        } else {
+            light.intensity
+        };
+        let r = 2.0 * n_dot_l * n - l;
+        let r_dot_v = r.dot(v).max(0.0);
+        let s = if material.p == 0.0 {
+            1.0
+        } else {
+            r_dot_v.powf(material.p)
+        };
+        intensity += il * (material.kd * c * n_dot_l + DVec3::splat(material.ks * s));
+    }
+    intensity
+}
+
+/// A unit normal, or zero for a vector too short to have a direction.
+pub fn unit_or_zero(n: DVec3) -> DVec3 {
+    n.normalize_or_zero()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Interpolation;
+
+    fn lighting() -> Lighting {
+        Lighting {
+            ambient: DVec3::splat(0.2),
+            k: 1.0,
+            interpolation: Interpolation::Perspective,
+            attenuation: true,
+        }
+    }
+
+    fn material(p: f64) -> Material {
+        Material {
+            name: "m".into(),
+            color: DVec3::new(1.0, 0.5, 0.25),
+            ka: 0.5,
+            kd: 0.6,
+            ks: 0.4,
+            p,
+            kr: 0.0,
+            kt: 0.0,
+            ior: 1.0,
+        }
+    }
+
+    #[test]
+    fn light_straight_above_matches_hand_computation() {
+        // Light 3 units above the point, eye 4 units above: N·L = 1, R = N,
+        // R·V = 1, so I = Ia ka C + Il/(3 + 1) (kd C + ks).
+        let light = PointLight {
+            position: DVec3::new(0.0, 3.0, 0.0),
+            intensity: DVec3::splat(8.0),
+        };
+        let i = shade(
+            &lighting(),
+            &[light],
+            &material(20.0),
+            DVec3::ZERO,
+            DVec3::Y,
+            DVec3::new(0.0, 4.0, 0.0),
+        );
+        let expected =
+            DVec3::new(1.0, 0.5, 0.25) * (0.2 * 0.5 + 2.0 * 0.6) + DVec3::splat(2.0 * 0.4);
+        assert!(
+            (i - expected).abs().max_element() < 1e-12,
+            "{i} vs {expected}"
+        );
+    }
+
+    #[test]
+    fn defined_answers_for_degenerate_inputs() {
+        let light = PointLight {
+            position: DVec3::ZERO,
+            intensity: DVec3::ONE,
+        };
+        let ambient = DVec3::new(1.0, 0.5, 0.25) * 0.1;
+        // Zero normal: ambient only.
+        let i = shade(
+            &lighting(),
+            &[light],
+            &material(2.0),
+            DVec3::X,
+            DVec3::ZERO,
+            DVec3::Y,
+        );
+        assert_eq!(i, ambient);
+        // Light at the point: ambient only, no NaN.
+        let i = shade(
+            &lighting(),
+            &[light],
+            &material(2.0),
+            DVec3::ZERO,
+            DVec3::Y,
+            DVec3::Y,
+        );
+        assert_eq!(i, ambient);
+        // p = 0 with R·V = 0 (eye in the tangent plane): S = 1.
+        let above = PointLight {
+            position: DVec3::new(0.0, 1.0, 0.0),
+            intensity: DVec3::splat(2.0),
+        };
+        let i = shade(
+            &lighting(),
+            &[above],
+            &material(0.0),
+            DVec3::ZERO,
+            DVec3::Y,
+            DVec3::X,
+        );
+        let expected = ambient + DVec3::new(1.0, 0.5, 0.25) * 0.6 + DVec3::splat(0.4);
+        assert!((i - expected).abs().max_element() < 1e-12);
+    }
+}

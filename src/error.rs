@@ -1,0 +1,31 @@
+//! The library's error type and the exit status each kind maps to.
+//!
+//! Exit statuses (interface.md): 2 bad input or usage, 3 a Vulkan or internal
+//! failure. Status 1 (a failed comparison) is decided by the commands that
+//! compare, not by an error.
+
+use crate::gpu::GpuError;
+use crate::output::OutputError;
+use crate::scene::SceneError;
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+    #[error(transparent)]
+    Output(#[from] OutputError),
+    #[error("{0}")]
+    Usage(String),
+}
+
+impl Error {
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            Error::Scene(_) | Error::Output(_) | Error::Usage(_) => 2,
+            Error::Gpu(e) if e.is_bad_input() => 2,
+            Error::Gpu(_) => 3,
+        }
+    }
+}

@@ -1,0 +1,414 @@
+//! The Vulkan instance, device, queue and memory allocator.
+//!
+//! Owns device selection (lavapipe by default, so images are reproducible
+//! across machines; `--device` or `SHADELAB_DEVICE` picks another) and the
+//! optional Khronos validation layer. Knows nothing about scenes or shading.
+
+use std::ffi::{c_char, CStr};
+use std::mem::ManuallyDrop;
+use std::sync::{Arc, Mutex};
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+
+use super::error::{GpuError, VkContext};
+use super::validation::{messenger_info, MessageLog};
+
+const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+
+/// How to open the GPU.
+#[derive(Debug, Clone, Default)]
+pub struct GpuOptions {
+    /// A device index (as `shadelab info` lists them) or part of its name.
+    pub device: Option<String>,
+    /// Enable the Khronos validation layer; its messages become errors.
+    pub validation: bool,
+}
+
+impl GpuOptions {
+    /// Reads `SHADELAB_DEVICE` and `SHADELAB_VALIDATION` (`1` enables it).
+    pub fn from_env() -> Self {
+        Self {
+            device: std::env::var("SHADELAB_DEVICE")
+                .ok()
+                .filter(|s| !s.is_empty()),
+            validation: std::env::var("SHADELAB_VALIDATION").is_ok_and(|v| v == "1"),
+        }
+    }
+}
+
+/// What `shadelab info` reports about one physical device.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct DeviceInfo {
+    pub index: usize,
+    pub name: String,
+    pub driver: String,
+    pub device_type: String,
+    pub api_version: String,
+    pub is_lavapipe: bool,
+    /// `None` when shadelab can use the device, else why not.
+    pub unusable_because: Option<String>,
+}
+
+/// An open device. Shared (`Arc`) by every resource made on it, so it is
+/// destroyed only after the last of them.
+pub struct GpuContext {
+    _entry: ash::Entry,
+    pub(crate) instance: ash::Instance,
+    debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    /// Boxed so its address, given to the validation callback, never moves.
+    log: Box<MessageLog>,
+    pub(crate) device: ash::Device,
+    pub(crate) queue: vk::Queue,
+    pub(crate) queue_family: u32,
+    /// Vulkan requires external synchronisation of queue submissions.
+    pub(crate) queue_lock: Mutex<()>,
+    pub(crate) allocator: ManuallyDrop<Mutex<Allocator>>,
+    pub(crate) limits: vk::PhysicalDeviceLimits,
+    pub info: DeviceInfo,
+    pub validation: bool,
+}
+
+/// Loads Vulkan and creates an instance, with validation if asked.
+fn create_instance(
+    validation: bool,
+    log: &MessageLog,
+) -> Result<(ash::Entry, ash::Instance), GpuError> {
+    // SAFETY: loading libvulkan runs its initialisers; the library is the
+    // system's Vulkan loader, which is designed to be loaded this way.
+    let entry = unsafe { ash::Entry::load() }.map_err(|e| GpuError::Loader(e.to_string()))?;
+    if validation {
+        // SAFETY: plain query on a valid entry.
+        let layers = unsafe { entry.enumerate_instance_layer_properties() }
+            .during("vkEnumerateInstanceLayerProperties")?;
+        let found = layers
+            .iter()
+            .any(|l| l.layer_name_as_c_str().is_ok_and(|n| n == VALIDATION_LAYER));
+        if !found {
+            return Err(GpuError::ValidationLayerMissing);
+        }
+    }
+    let app = vk::ApplicationInfo::default()
+        .application_name(c"shadelab")
+        .api_version(vk::API_VERSION_1_3);
+    let layers: Vec<*const c_char> = if validation {
+        vec![VALIDATION_LAYER.as_ptr()]
+    } else {
+        Vec::new()
+    };
+    let extensions: Vec<*const c_char> = if validation {
+        vec![ash::ext::debug_utils::NAME.as_ptr()]
+    } else {
+        Vec::new()
+    };
+    let mut messenger = messenger_info(log);
+    let mut create = vk::InstanceCreateInfo::default()
+        .application_info(&app)
+        .enabled_layer_names(&layers)
+        .enabled_extension_names(&extensions);
+    if validation {
+        create = create.push_next(&mut messenger);
+    }
+    // SAFETY: every pointer in `create` refers to locals that outlive the call.
+    let instance = unsafe { entry.create_instance(&create, None) }.during("vkCreateInstance")?;
+    Ok((entry, instance))
+}
+
+struct Candidate {
+    info: DeviceInfo,
+    physical: vk::PhysicalDevice,
+    queue_family: Option<u32>,
+    limits: vk::PhysicalDeviceLimits,
+}
+
+fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError> {
+    // SAFETY: queries on a valid instance.
+    let physicals =
+        unsafe { instance.enumerate_physical_devices() }.during("vkEnumeratePhysicalDevices")?;
+    let mut out = Vec::new();
+    for (index, physical) in physicals.into_iter().enumerate() {
+        let mut driver = vk::PhysicalDeviceDriverProperties::default();
+        let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
+        let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
+        let mut f2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut f13);
+        // SAFETY: `physical` came from this instance; the chains are local.
+        let families = unsafe {
+            instance.get_physical_device_properties2(physical, &mut props2);
+            instance.get_physical_device_features2(physical, &mut f2);
+            instance.get_physical_device_queue_family_properties(physical)
+        };
+        let props = props2.properties;
+        let features = f2.features;
+        let name = props
+            .device_name_as_c_str()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let driver_name = driver
+            .driver_info_as_c_str()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let queue_family = families
+            .iter()
+            .position(|f| {
+                f.queue_flags
+                    .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
+            })
+            .map(|i| i as u32);
+        let api = props.api_version;
+        let missing = if api < vk::API_VERSION_1_3 {
+            Some("Vulkan 1.3".to_string())
+        } else if f13.dynamic_rendering == vk::FALSE {
+            Some("dynamic rendering".to_string())
+        } else if f13.synchronization2 == vk::FALSE {
+            Some("synchronization2".to_string())
+        } else if features.geometry_shader == vk::FALSE {
+            Some("geometryShader (for gl_PrimitiveID in flat shading)".to_string())
+        } else if queue_family.is_none() {
+            Some("a graphics and compute queue".to_string())
+        } else {
+            None
+        };
+        out.push(Candidate {
+            info: DeviceInfo {
+                index,
+                name,
+                driver: driver_name,
+                device_type: format!("{:?}", props.device_type),
+                api_version: format!(
+                    "{}.{}.{}",
+                    vk::api_version_major(api),
+                    vk::api_version_minor(api),
+                    vk::api_version_patch(api)
+                ),
+                is_lavapipe: driver.driver_id == vk::DriverId::MESA_LLVMPIPE,
+                unusable_because: missing.map(|m| format!("lacks {m}")),
+            },
+            physical,
+            queue_family,
+            limits: props.limits,
+        });
+    }
+    Ok(out)
+}
+
+/// Lists every Vulkan device, usable or not (for `shadelab info`).
+pub fn list_devices() -> Result<Vec<DeviceInfo>, GpuError> {
+    let log = MessageLog::default();
+    let (_entry, instance) = create_instance(false, &log)?;
+    let described = describe_devices(&instance);
+    // SAFETY: nothing created from the instance outlives this point.
+    unsafe { instance.destroy_instance(None) };
+    Ok(described?.into_iter().map(|c| c.info).collect())
+}
+
+fn choose(candidates: Vec<Candidate>, wanted: Option<&str>) -> Result<Candidate, GpuError> {
+    let listing = || {
+        candidates
+            .iter()
+            .map(|c| format!("{}: {}", c.info.index, c.info.name))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let picked = match wanted {
+        Some(w) => {
+            let by_index = w.parse::<usize>().ok();
+            let lower = w.to_lowercase();
+            let pos = candidates.iter().position(|c| {
+                Some(c.info.index) == by_index || c.info.name.to_lowercase().contains(&lower)
+            });
+            match pos {
+                Some(p) => p,
+                None => {
+                    return Err(GpuError::DeviceNotFound {
+                        wanted: w.to_string(),
+                        available: listing(),
+                    })
+                }
+            }
+        }
+        None => candidates
+            .iter()
+            .position(|c| c.info.is_lavapipe && c.info.unusable_because.is_none())
+            .or_else(|| {
+                candidates
+                    .iter()
+                    .position(|c| c.info.unusable_because.is_none())
+            })
+            .ok_or_else(|| {
+                let found = if candidates.is_empty() {
+                    " (none found)".to_string()
+                } else {
+                    format!(" (found {})", listing())
+                };
+                GpuError::NoDevice(found)
+            })?,
+    };
+    let candidate = candidates.into_iter().nth(picked).expect("index in range");
+    if let Some(why) = &candidate.info.unusable_because {
+        return Err(GpuError::NoDevice(format!(
+            " (`{}` {why})",
+            candidate.info.name
+        )));
+    }
+    Ok(candidate)
+}
+
+impl GpuContext {
+    pub fn new(options: &GpuOptions) -> Result<Arc<Self>, GpuError> {
+        let log = Box::<MessageLog>::default();
+        let (entry, instance) = create_instance(options.validation, &log)?;
+        // From here on, `instance` must be destroyed on every error path.
+        let result = Self::open_device(&entry, &instance, options, &log);
+        let (physical, device, queue_family, info, limits, debug) = match result {
+            Ok(v) => v,
+            Err(e) => {
+                // SAFETY: open_device destroyed whatever it created.
+                unsafe { instance.destroy_instance(None) };
+                return Err(e);
+            }
+        };
+        let allocator = match Allocator::new(&AllocatorCreateDesc {
+            instance: instance.clone(),
+            device: device.clone(),
+            physical_device: physical,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        }) {
+            Ok(a) => a,
+            Err(e) => {
+                // SAFETY: nothing else was created on the device yet.
+                unsafe {
+                    device.destroy_device(None);
+                    if let Some((utils, messenger)) = debug {
+                        utils.destroy_debug_utils_messenger(messenger, None);
+                    }
+                    instance.destroy_instance(None);
+                }
+                return Err(GpuError::Allocation(e));
+            }
+        };
+        // SAFETY: the queue family was requested at device creation.
+        let queue = unsafe { device.get_device_queue(queue_family, 0) };
+        let context = Self {
+            _entry: entry,
+            instance,
+            debug,
+            log,
+            device,
+            queue,
+            queue_family,
+            queue_lock: Mutex::new(()),
+            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            limits,
+            info,
+            validation: options.validation,
+        };
+        Ok(Arc::new(context))
+    }
+
+    #[allow(clippy::type_complexity)]
+    fn open_device(
+        entry: &ash::Entry,
+        instance: &ash::Instance,
+        options: &GpuOptions,
+        log: &MessageLog,
+    ) -> Result<
+        (
+            vk::PhysicalDevice,
+            ash::Device,
+            u32,
+            DeviceInfo,
+            vk::PhysicalDeviceLimits,
+            Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+        ),
+        GpuError,
+    > {
+        let chosen = choose(describe_devices(instance)?, options.device.as_deref())?;
+        let queue_family = chosen.queue_family.expect("checked by choose");
+        let priorities = [1.0f32];
+        let queues = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(queue_family)
+            .queue_priorities(&priorities)];
+        let base = vk::PhysicalDeviceFeatures::default().geometry_shader(true);
+        let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
+            .dynamic_rendering(true)
+            .synchronization2(true);
+        let mut f2 = vk::PhysicalDeviceFeatures2::default().features(base);
+        let create = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queues)
+            .push_next(&mut f2)
+            .push_next(&mut f13);
+        // SAFETY: the create info refers to locals that outlive the call and
+        // the features were checked as supported in describe_devices.
+        let device = unsafe { instance.create_device(chosen.physical, &create, None) }
+            .during("vkCreateDevice")?;
+        let debug = if options.validation {
+            let utils = ash::ext::debug_utils::Instance::new(entry, instance);
+            let info = messenger_info(log);
+            // SAFETY: `log` is boxed by the caller and outlives the messenger,
+            // which Drop destroys before the log is freed.
+            match unsafe { utils.create_debug_utils_messenger(&info, None) } {
+                Ok(m) => Some((utils, m)),
+                Err(result) => {
+                    // SAFETY: nothing has been created on the device yet.
+                    unsafe { device.destroy_device(None) };
+                    return Err(GpuError::Vulkan {
+                        call: "vkCreateDebugUtilsMessengerEXT",
+                        result,
+                    });
+                }
+            }
+        } else {
+            None
+        };
+        Ok((
+            chosen.physical,
+            device,
+            queue_family,
+            chosen.info,
+            chosen.limits,
+            debug,
+        ))
+    }
+
+    /// Drains the validation messages logged since the last call.
+    pub fn take_validation_messages(&self) -> Vec<String> {
+        self.log.take()
+    }
+
+    /// Fails with every validation message logged since the last check.
+    pub fn check_validation(&self) -> Result<(), GpuError> {
+        let messages = self.take_validation_messages();
+        if messages.is_empty() {
+            Ok(())
+        } else {
+            Err(GpuError::Validation(messages))
+        }
+    }
+
+    pub fn max_image_dimension(&self) -> u32 {
+        self.limits.max_image_dimension2_d
+    }
+
+    pub fn timestamp_period_ns(&self) -> f64 {
+        f64::from(self.limits.timestamp_period)
+    }
+}
+
+impl Drop for GpuContext {
+    fn drop(&mut self) {
+        // SAFETY: every resource made on this device holds an Arc to it, so
+        // when this runs nothing else uses the device; destruction follows
+        // creation in reverse.
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            ManuallyDrop::drop(&mut self.allocator);
+            self.device.destroy_device(None);
+            if let Some((utils, messenger)) = self.debug.take() {
+                utils.destroy_debug_utils_messenger(messenger, None);
+            }
+            self.instance.destroy_instance(None);
+        }
+    }
+}

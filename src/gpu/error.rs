@@ -1,0 +1,52 @@
+//! Errors of the Vulkan layer.
+
+use ash::vk;
+
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    #[error("cannot load the Vulkan loader (libvulkan.so.1): {0}; install it with `apt-get install libvulkan1 mesa-vulkan-drivers` (or run ci/install-deps.sh)")]
+    Loader(String),
+    #[error("the Khronos validation layer was requested (SHADELAB_VALIDATION=1) but is not installed; install it with `apt-get install vulkan-validationlayers`")]
+    ValidationLayerMissing,
+    #[error("no Vulkan 1.3 device is available{0}; install lavapipe with `apt-get install mesa-vulkan-drivers`")]
+    NoDevice(String),
+    #[error("no Vulkan device matches `{wanted}`; available: {available} (see `shadelab info`)")]
+    DeviceNotFound { wanted: String, available: String },
+    #[error("the device `{device}` lacks {feature}, which shadelab needs")]
+    MissingFeature {
+        device: String,
+        feature: &'static str,
+    },
+    #[error("a {width}x{height} image exceeds this device's limit of {limit} pixels per side; choose a smaller --width/--height")]
+    ImageTooLarge { width: u32, height: u32, limit: u32 },
+    #[error("Vulkan call {call} failed: {result}")]
+    Vulkan {
+        call: &'static str,
+        result: vk::Result,
+    },
+    #[error("GPU memory allocation failed: {0}")]
+    Allocation(#[from] gpu_allocator::AllocationError),
+    #[error("the Khronos validation layer reported {} message(s):\n{}", .0.len(), .0.join("\n"))]
+    Validation(Vec<String>),
+}
+
+impl GpuError {
+    /// Errors that the user's input caused (exit status 2, not 3).
+    pub fn is_bad_input(&self) -> bool {
+        matches!(
+            self,
+            GpuError::ImageTooLarge { .. } | GpuError::DeviceNotFound { .. }
+        )
+    }
+}
+
+/// Attaches the name of the failing call to a `vk::Result`.
+pub(crate) trait VkContext<T> {
+    fn during(self, call: &'static str) -> Result<T, GpuError>;
+}
+
+impl<T> VkContext<T> for Result<T, vk::Result> {
+    fn during(self, call: &'static str) -> Result<T, GpuError> {
+        self.map_err(|result| GpuError::Vulkan { call, result })
+    }
+}

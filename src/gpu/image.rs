@@ -1,0 +1,105 @@
+//! 2D images (colour and depth targets) with their memory and view.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::MemoryLocation;
+
+use super::context::GpuContext;
+use super::error::{GpuError, VkContext};
+
+pub struct Image {
+    context: Arc<GpuContext>,
+    pub raw: vk::Image,
+    pub view: vk::ImageView,
+    allocation: Option<Allocation>,
+}
+
+impl Image {
+    pub fn new(
+        context: &Arc<GpuContext>,
+        name: &str,
+        extent: vk::Extent2D,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        aspect: vk::ImageAspectFlags,
+    ) -> Result<Self, GpuError> {
+        let device = &context.device;
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(format)
+            .extent(vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            })
+            .mip_levels(1)
+            .array_layers(1)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(usage)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        // SAFETY: valid device and create info.
+        let raw = unsafe { device.create_image(&info, None) }.during("vkCreateImage")?;
+        let mut image = Self {
+            context: context.clone(),
+            raw,
+            view: vk::ImageView::null(),
+            allocation: None,
+        };
+        // SAFETY: `raw` was just created on this device.
+        let requirements = unsafe { device.get_image_memory_requirements(raw) };
+        let allocation = context
+            .allocator
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location: MemoryLocation::GpuOnly,
+                linear: false,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })?;
+        // SAFETY: the allocation satisfies the image's requirements.
+        unsafe { device.bind_image_memory(raw, allocation.memory(), allocation.offset()) }
+            .during("vkBindImageMemory")?;
+        image.allocation = Some(allocation);
+        let view_info = vk::ImageViewCreateInfo::default()
+            .image(raw)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(format)
+            .subresource_range(subresource_range(aspect));
+        // SAFETY: the image is bound to memory and the view matches it.
+        image.view =
+            unsafe { device.create_image_view(&view_info, None) }.during("vkCreateImageView")?;
+        Ok(image)
+    }
+}
+
+pub fn subresource_range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
+    vk::ImageSubresourceRange::default()
+        .aspect_mask(aspect)
+        .level_count(1)
+        .layer_count(1)
+}
+
+impl Drop for Image {
+    fn drop(&mut self) {
+        // SAFETY: the GPU work that used this image has completed.
+        unsafe {
+            if self.view != vk::ImageView::null() {
+                self.context.device.destroy_image_view(self.view, None);
+            }
+            self.context.device.destroy_image(self.raw, None);
+        }
+        if let Some(a) = self.allocation.take() {
+            let _ = self
+                .context
+                .allocator
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .free(a);
+        }
+    }
+}

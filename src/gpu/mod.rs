@@ -1,0 +1,18 @@
+//! The Vulkan side: device, memory, shaders, pipelines, and the renderers
+//! built from them. It reads a `Scene` and returns a `LinearImage`; it never
+//! reads or writes files.
+
+mod buffer;
+mod commands;
+mod context;
+mod error;
+mod image;
+pub mod raster;
+pub mod raster_layout;
+mod raster_scene;
+pub mod shader_catalog;
+mod validation;
+
+pub use context::{list_devices, DeviceInfo, GpuContext, GpuOptions};
+pub use error::GpuError;
+pub use raster::{RasterMode, RasterOutput, RasterTimings};

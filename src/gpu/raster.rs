@@ -1,0 +1,657 @@
+//! The raster renderer: flat, Gouraud and Phong through one Vulkan graphics
+//! pipeline per (mode, interpolation, specialization), dynamic rendering into
+//! a 32-bit float colour target with a reversed-Z depth buffer, then a copy
+//! back to the host.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::buffer::Buffer;
+use super::commands::OneShot;
+use super::context::GpuContext;
+use super::error::{GpuError, VkContext};
+use super::image::{subresource_range, Image};
+use super::raster_layout::{DrawConstants, FrameUniforms, Specialization, Vertex, BINDINGS};
+use super::raster_scene::{build_geometry, lights, specialization};
+use super::shader_catalog::{self as shaders, ShaderBlob};
+use crate::camera::View;
+use crate::linear_image::LinearImage;
+use crate::scene::{Interpolation, Scene};
+
+pub const COLOR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+/// A cap on pixels per image (8192 x 8192): the float target and its
+/// read-back copy take 16 bytes per pixel each.
+pub const MAX_PIXELS: u64 = 8192 * 8192;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RasterMode {
+    Flat,
+    Gouraud,
+    Phong,
+}
+
+/// Where a render spent its time.
+#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+pub struct RasterTimings {
+    /// Shader modules and pipeline creation.
+    pub pipeline_ms: f64,
+    /// GPU time between timestamps around the draws.
+    pub gpu_ms: f64,
+    /// Wall time of the whole render, host work and read-back included.
+    pub total_ms: f64,
+}
+
+pub struct RasterOutput {
+    pub image: LinearImage,
+    pub timings: RasterTimings,
+}
+
+fn shader_pair(
+    mode: RasterMode,
+    interpolation: Interpolation,
+) -> (&'static ShaderBlob, &'static ShaderBlob) {
+    use Interpolation::{Perspective, Screen};
+    match (mode, interpolation) {
+        (RasterMode::Flat, _) => (&shaders::FLAT_VERT, &shaders::FLAT_FRAG),
+        (RasterMode::Gouraud, Perspective) => (&shaders::GOURAUD_VERT, &shaders::GOURAUD_FRAG),
+        (RasterMode::Gouraud, Screen) => {
+            (&shaders::GOURAUD_VERT_SCREEN, &shaders::GOURAUD_FRAG_SCREEN)
+        }
+        (RasterMode::Phong, Perspective) => (&shaders::PHONG_VERT, &shaders::PHONG_FRAG),
+        (RasterMode::Phong, Screen) => (&shaders::PHONG_VERT_SCREEN, &shaders::PHONG_FRAG_SCREEN),
+    }
+}
+
+/// Vulkan objects of one pipeline, destroyed together.
+struct Pipeline {
+    context: Arc<GpuContext>,
+    set_layout: vk::DescriptorSetLayout,
+    layout: vk::PipelineLayout,
+    pipeline: vk::Pipeline,
+    modules: Vec<vk::ShaderModule>,
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        let device = &self.context.device;
+        // SAFETY: the GPU work using these objects has completed; null
+        // handles (from a failed creation) are ignored by Vulkan.
+        unsafe {
+            device.destroy_pipeline(self.pipeline, None);
+            device.destroy_pipeline_layout(self.layout, None);
+            device.destroy_descriptor_set_layout(self.set_layout, None);
+            for m in &self.modules {
+                device.destroy_shader_module(*m, None);
+            }
+        }
+    }
+}
+
+fn create_pipeline(
+    context: &Arc<GpuContext>,
+    mode: RasterMode,
+    interpolation: Interpolation,
+    spec: &Specialization,
+) -> Result<Pipeline, GpuError> {
+    let device = &context.device;
+    let mut p = Pipeline {
+        context: context.clone(),
+        set_layout: vk::DescriptorSetLayout::null(),
+        layout: vk::PipelineLayout::null(),
+        pipeline: vk::Pipeline::null(),
+        modules: Vec::new(),
+    };
+    let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+    let bindings: Vec<_> = BINDINGS
+        .iter()
+        .map(|&(binding, ty)| {
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(binding)
+                .descriptor_type(ty)
+                .descriptor_count(1)
+                .stage_flags(stages)
+        })
+        .collect();
+    let set_info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+    // SAFETY: valid device and create infos throughout this function.
+    p.set_layout = unsafe { device.create_descriptor_set_layout(&set_info, None) }
+        .during("vkCreateDescriptorSetLayout")?;
+    let ranges = [vk::PushConstantRange::default()
+        .stage_flags(stages)
+        .size(std::mem::size_of::<DrawConstants>() as u32)];
+    let set_layouts = [p.set_layout];
+    let layout_info = vk::PipelineLayoutCreateInfo::default()
+        .set_layouts(&set_layouts)
+        .push_constant_ranges(&ranges);
+    // SAFETY: as above.
+    p.layout = unsafe { device.create_pipeline_layout(&layout_info, None) }
+        .during("vkCreatePipelineLayout")?;
+
+    let (vert, frag) = shader_pair(mode, interpolation);
+    for blob in [vert, frag] {
+        let words = blob.words();
+        let info = vk::ShaderModuleCreateInfo::default().code(&words);
+        // SAFETY: the words are SPIR-V validated by naga at build time.
+        let module =
+            unsafe { device.create_shader_module(&info, None) }.during("vkCreateShaderModule")?;
+        p.modules.push(module);
+    }
+    let entries = Specialization::map_entries();
+    let spec_info = vk::SpecializationInfo::default()
+        .map_entries(&entries)
+        .data(bytemuck::bytes_of(spec));
+    let stage_infos = [
+        vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::VERTEX)
+            .module(p.modules[0])
+            .name(c"main")
+            .specialization_info(&spec_info),
+        vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::FRAGMENT)
+            .module(p.modules[1])
+            .name(c"main")
+            .specialization_info(&spec_info),
+    ];
+    let vertex_bindings = [vk::VertexInputBindingDescription::default()
+        .binding(0)
+        .stride(std::mem::size_of::<Vertex>() as u32)
+        .input_rate(vk::VertexInputRate::VERTEX)];
+    let all_attributes = [
+        vk::VertexInputAttributeDescription::default()
+            .location(0)
+            .format(vk::Format::R32G32B32_SFLOAT)
+            .offset(0),
+        vk::VertexInputAttributeDescription::default()
+            .location(1)
+            .format(vk::Format::R32G32B32_SFLOAT)
+            .offset(12),
+    ];
+    // The flat vertex stage reads positions only.
+    let attributes = if mode == RasterMode::Flat {
+        &all_attributes[..1]
+    } else {
+        &all_attributes[..]
+    };
+    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+        .vertex_binding_descriptions(&vertex_bindings)
+        .vertex_attribute_descriptions(attributes);
+    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+        .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+    let viewport = vk::PipelineViewportStateCreateInfo::default()
+        .viewport_count(1)
+        .scissor_count(1);
+    // No culling: planes and open meshes are visible from both sides, as in
+    // the ray tracer; closed meshes lose nothing but a little speed.
+    let raster = vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(vk::CullModeFlags::NONE)
+        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+        .line_width(1.0);
+    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    // Reversed Z: nearer is greater. Strict comparison makes the first-drawn
+    // of two coincident surfaces win, deterministically.
+    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(true)
+        .depth_write_enable(true)
+        .depth_compare_op(vk::CompareOp::GREATER);
+    let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
+        .color_write_mask(vk::ColorComponentFlags::RGBA)];
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+    let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+    let color_formats = [COLOR_FORMAT];
+    let mut rendering = vk::PipelineRenderingCreateInfo::default()
+        .color_attachment_formats(&color_formats)
+        .depth_attachment_format(DEPTH_FORMAT);
+    let info = vk::GraphicsPipelineCreateInfo::default()
+        .stages(&stage_infos)
+        .vertex_input_state(&vertex_input)
+        .input_assembly_state(&assembly)
+        .viewport_state(&viewport)
+        .rasterization_state(&raster)
+        .multisample_state(&multisample)
+        .depth_stencil_state(&depth)
+        .color_blend_state(&blend)
+        .dynamic_state(&dynamic)
+        .layout(p.layout)
+        .push_next(&mut rendering);
+    // SAFETY: every pointer in `info` refers to locals alive for the call.
+    let pipelines =
+        unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
+            .map_err(|(_, result)| GpuError::Vulkan {
+                call: "vkCreateGraphicsPipelines",
+                result,
+            })?;
+    p.pipeline = pipelines[0];
+    Ok(p)
+}
+
+/// A descriptor pool holding the one set a render binds.
+struct Descriptors {
+    context: Arc<GpuContext>,
+    pool: vk::DescriptorPool,
+    set: vk::DescriptorSet,
+}
+
+impl Drop for Descriptors {
+    fn drop(&mut self) {
+        // SAFETY: the GPU work using the set has completed.
+        unsafe { self.context.device.destroy_descriptor_pool(self.pool, None) };
+    }
+}
+
+fn create_descriptors(
+    context: &Arc<GpuContext>,
+    layout: vk::DescriptorSetLayout,
+    buffers: [&Buffer; 3],
+) -> Result<Descriptors, GpuError> {
+    let device = &context.device;
+    let sizes = [
+        vk::DescriptorPoolSize::default()
+            .ty(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(2),
+        vk::DescriptorPoolSize::default()
+            .ty(vk::DescriptorType::UNIFORM_BUFFER)
+            .descriptor_count(1),
+    ];
+    let pool_info = vk::DescriptorPoolCreateInfo::default()
+        .max_sets(1)
+        .pool_sizes(&sizes);
+    // SAFETY: valid device and create info.
+    let pool = unsafe { device.create_descriptor_pool(&pool_info, None) }
+        .during("vkCreateDescriptorPool")?;
+    let mut d = Descriptors {
+        context: context.clone(),
+        pool,
+        set: vk::DescriptorSet::null(),
+    };
+    let layouts = [layout];
+    let alloc = vk::DescriptorSetAllocateInfo::default()
+        .descriptor_pool(pool)
+        .set_layouts(&layouts);
+    // SAFETY: the pool has room for exactly this set.
+    d.set =
+        unsafe { device.allocate_descriptor_sets(&alloc) }.during("vkAllocateDescriptorSets")?[0];
+    let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
+        .iter()
+        .map(|b| {
+            [vk::DescriptorBufferInfo::default()
+                .buffer(b.raw)
+                .range(vk::WHOLE_SIZE)]
+        })
+        .collect();
+    let writes: Vec<_> = BINDINGS
+        .iter()
+        .zip(&infos)
+        .map(|(&(binding, ty), info)| {
+            vk::WriteDescriptorSet::default()
+                .dst_set(d.set)
+                .dst_binding(binding)
+                .descriptor_type(ty)
+                .buffer_info(info)
+        })
+        .collect();
+    // SAFETY: the writes match the set layout built from the same BINDINGS.
+    unsafe { device.update_descriptor_sets(&writes, &[]) };
+    Ok(d)
+}
+
+struct QueryPool {
+    context: Arc<GpuContext>,
+    raw: vk::QueryPool,
+}
+
+impl Drop for QueryPool {
+    fn drop(&mut self) {
+        // SAFETY: the queries are no longer in use.
+        unsafe { self.context.device.destroy_query_pool(self.raw, None) };
+    }
+}
+
+fn image_barrier(
+    image: vk::Image,
+    aspect: vk::ImageAspectFlags,
+    (old, new): (vk::ImageLayout, vk::ImageLayout),
+    (src_stage, src_access): (vk::PipelineStageFlags2, vk::AccessFlags2),
+    (dst_stage, dst_access): (vk::PipelineStageFlags2, vk::AccessFlags2),
+) -> vk::ImageMemoryBarrier2<'static> {
+    vk::ImageMemoryBarrier2::default()
+        .image(image)
+        .subresource_range(subresource_range(aspect))
+        .old_layout(old)
+        .new_layout(new)
+        .src_stage_mask(src_stage)
+        .src_access_mask(src_access)
+        .dst_stage_mask(dst_stage)
+        .dst_access_mask(dst_access)
+}
+
+/// Renders `scene` at its `image` size in `mode`.
+pub fn render(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    mode: RasterMode,
+) -> Result<RasterOutput, GpuError> {
+    let started = Instant::now();
+    let (width, height) = (scene.image.width, scene.image.height);
+    let limit = context.max_image_dimension();
+    if width == 0
+        || height == 0
+        || width > limit
+        || height > limit
+        || u64::from(width) * u64::from(height) > MAX_PIXELS
+    {
+        return Err(GpuError::ImageTooLarge {
+            width,
+            height,
+            limit: limit.min(8192),
+        });
+    }
+    let device = &context.device;
+    let view = View::new(scene, width, height);
+    let geometry = build_geometry(scene, view.eye);
+    let spec = specialization(scene);
+
+    let pipeline_started = Instant::now();
+    let pipeline = create_pipeline(context, mode, scene.lighting.interpolation, &spec)?;
+    let pipeline_ms = pipeline_started.elapsed().as_secs_f64() * 1e3;
+
+    let usage = vk::BufferUsageFlags::empty();
+    let vertex_buffer = Buffer::with_data(
+        context,
+        "vertices",
+        bytemuck::cast_slice(&geometry.vertices),
+        usage | vk::BufferUsageFlags::VERTEX_BUFFER,
+    )?;
+    let index_buffer = Buffer::with_data(
+        context,
+        "indices",
+        bytemuck::cast_slice(&geometry.indices),
+        vk::BufferUsageFlags::INDEX_BUFFER,
+    )?;
+    let light_buffer = Buffer::with_data(
+        context,
+        "lights",
+        bytemuck::cast_slice(&lights(scene, view.eye)),
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+    )?;
+    let ambient = scene.lighting.ambient.as_vec3();
+    let frame = FrameUniforms {
+        ambient_k: [ambient.x, ambient.y, ambient.z, scene.lighting.k as f32],
+    };
+    let frame_buffer = Buffer::with_data(
+        context,
+        "frame",
+        bytemuck::bytes_of(&frame),
+        vk::BufferUsageFlags::UNIFORM_BUFFER,
+    )?;
+    let face_buffer = Buffer::with_data(
+        context,
+        "faces",
+        bytemuck::cast_slice(&geometry.faces),
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+    )?;
+    let descriptors = create_descriptors(
+        context,
+        pipeline.set_layout,
+        [&light_buffer, &frame_buffer, &face_buffer],
+    )?;
+
+    let extent = vk::Extent2D { width, height };
+    let color = Image::new(
+        context,
+        "color",
+        extent,
+        COLOR_FORMAT,
+        vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+        vk::ImageAspectFlags::COLOR,
+    )?;
+    let depth = Image::new(
+        context,
+        "depth",
+        extent,
+        DEPTH_FORMAT,
+        vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+        vk::ImageAspectFlags::DEPTH,
+    )?;
+    let pixel_bytes = 16u64;
+    let readback = Buffer::new(
+        context,
+        "readback",
+        u64::from(width) * u64::from(height) * pixel_bytes,
+        vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuToCpu,
+    )?;
+    let query_info = vk::QueryPoolCreateInfo::default()
+        .query_type(vk::QueryType::TIMESTAMP)
+        .query_count(2);
+    let queries = QueryPool {
+        context: context.clone(),
+        // SAFETY: valid device and create info.
+        raw: unsafe { device.create_query_pool(&query_info, None) }.during("vkCreateQueryPool")?,
+    };
+
+    let commands = OneShot::begin(context)?;
+    let cmd = commands.cmd;
+    let background = scene.image.background.as_vec3();
+    // SAFETY: all handles recorded below are alive until after the submission
+    // completes (they are dropped at the end of this function), and the
+    // barriers order every access.
+    unsafe {
+        device.cmd_reset_query_pool(cmd, queries.raw, 0, 2);
+        let to_attachment = [
+            image_barrier(
+                color.raw,
+                vk::ImageAspectFlags::COLOR,
+                (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                ),
+                (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
+                (
+                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                ),
+            ),
+            image_barrier(
+                depth.raw,
+                vk::ImageAspectFlags::DEPTH,
+                (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                ),
+                (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
+                (
+                    vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+                        | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
+                        | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                ),
+            ),
+        ];
+        device.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().image_memory_barriers(&to_attachment),
+        );
+        device.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::TOP_OF_PIPE, queries.raw, 0);
+
+        let color_attachments = [vk::RenderingAttachmentInfo::default()
+            .image_view(color.view)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue {
+                color: vk::ClearColorValue {
+                    float32: [background.x, background.y, background.z, 1.0],
+                },
+            })];
+        let depth_attachment = vk::RenderingAttachmentInfo::default()
+            .image_view(depth.view)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 0.0,
+                    stencil: 0,
+                },
+            });
+        let area = vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent,
+        };
+        let rendering = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&color_attachments)
+            .depth_attachment(&depth_attachment);
+        device.cmd_begin_rendering(cmd, &rendering);
+        device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.pipeline);
+        device.cmd_set_viewport(
+            cmd,
+            0,
+            &[vk::Viewport {
+                x: 0.0,
+                y: 0.0,
+                width: width as f32,
+                height: height as f32,
+                min_depth: 0.0,
+                max_depth: 1.0,
+            }],
+        );
+        device.cmd_set_scissor(cmd, 0, &[area]);
+        device.cmd_bind_descriptor_sets(
+            cmd,
+            vk::PipelineBindPoint::GRAPHICS,
+            pipeline.layout,
+            0,
+            &[descriptors.set],
+            &[],
+        );
+        device.cmd_bind_vertex_buffers(cmd, 0, &[vertex_buffer.raw], &[0]);
+        device.cmd_bind_index_buffer(cmd, index_buffer.raw, 0, vk::IndexType::UINT32);
+        let clip = view.clip_from_relative().as_mat4().to_cols_array_2d();
+        for draw in &geometry.draws {
+            let m = &scene.materials[draw.material];
+            let color = m.color.as_vec3();
+            let constants = DrawConstants {
+                clip_from_relative: clip,
+                color_ka: [color.x, color.y, color.z, m.ka as f32],
+                kd_ks_p: [m.kd as f32, m.ks as f32, m.p as f32, 0.0],
+                face_offset: draw.face_offset,
+                _pad: [0; 3],
+            };
+            device.cmd_push_constants(
+                cmd,
+                pipeline.layout,
+                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                0,
+                bytemuck::bytes_of(&constants),
+            );
+            device.cmd_draw_indexed(
+                cmd,
+                draw.index_count,
+                1,
+                draw.first_index,
+                draw.vertex_offset,
+                0,
+            );
+        }
+        device.cmd_end_rendering(cmd);
+        device.cmd_write_timestamp2(
+            cmd,
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            queries.raw,
+            1,
+        );
+
+        let to_transfer = [image_barrier(
+            color.raw,
+            vk::ImageAspectFlags::COLOR,
+            (
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            ),
+            (
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+            ),
+            (
+                vk::PipelineStageFlags2::COPY,
+                vk::AccessFlags2::TRANSFER_READ,
+            ),
+        )];
+        device.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().image_memory_barriers(&to_transfer),
+        );
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(
+                vk::ImageSubresourceLayers::default()
+                    .aspect_mask(vk::ImageAspectFlags::COLOR)
+                    .layer_count(1),
+            )
+            .image_extent(vk::Extent3D {
+                width,
+                height,
+                depth: 1,
+            });
+        device.cmd_copy_image_to_buffer(
+            cmd,
+            color.raw,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            readback.raw,
+            &[region],
+        );
+        let to_host = [vk::BufferMemoryBarrier2::default()
+            .buffer(readback.raw)
+            .size(vk::WHOLE_SIZE)
+            .src_stage_mask(vk::PipelineStageFlags2::COPY)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+        device.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().buffer_memory_barriers(&to_host),
+        );
+    }
+    commands.submit_and_wait()?;
+    context.check_validation()?;
+
+    let mut stamps = [0u64; 2];
+    // SAFETY: both queries were written by the completed submission.
+    unsafe {
+        device.get_query_pool_results(
+            queries.raw,
+            0,
+            &mut stamps,
+            vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+        )
+    }
+    .during("vkGetQueryPoolResults")?;
+    let gpu_ms = stamps[1].saturating_sub(stamps[0]) as f64 * context.timestamp_period_ns() * 1e-6;
+
+    let texels = &readback.mapped()[..width as usize * height as usize * 16];
+    let channel = |b: &[u8]| f32::from_ne_bytes([b[0], b[1], b[2], b[3]]);
+    let pixels = texels
+        .chunks_exact(16)
+        .map(|t| [channel(&t[0..4]), channel(&t[4..8]), channel(&t[8..12])])
+        .collect();
+    Ok(RasterOutput {
+        image: LinearImage {
+            width,
+            height,
+            pixels,
+        },
+        timings: RasterTimings {
+            pipeline_ms,
+            gpu_ms,
+            total_ms: started.elapsed().as_secs_f64() * 1e3,
+        },
+    })
+}

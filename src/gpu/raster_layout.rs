@@ -1,0 +1,102 @@
+//! The host's side of the raster shader interface
+//! (`shaders/include/raster_interface.glsl`): binding numbers and types,
+//! the byte layout of every buffer record and of the push constants, and the
+//! specialization constants. tests/shader_interface.rs checks each of these
+//! against naga's reflection of the compiled shaders.
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+
+pub const LIGHTS_BINDING: u32 = 0;
+pub const FRAME_BINDING: u32 = 1;
+pub const FACES_BINDING: u32 = 2;
+
+/// Set 0 of every raster pipeline: (binding, type).
+pub const BINDINGS: &[(u32, vk::DescriptorType)] = &[
+    (LIGHTS_BINDING, vk::DescriptorType::STORAGE_BUFFER),
+    (FRAME_BINDING, vk::DescriptorType::UNIFORM_BUFFER),
+    (FACES_BINDING, vk::DescriptorType::STORAGE_BUFFER),
+];
+
+/// The size of the record the host writes to each binding: one element of
+/// a runtime array, or the whole uniform block.
+pub fn record_size(binding: u32) -> usize {
+    match binding {
+        LIGHTS_BINDING => std::mem::size_of::<GpuLight>(),
+        FRAME_BINDING => std::mem::size_of::<FrameUniforms>(),
+        FACES_BINDING => std::mem::size_of::<GpuFace>(),
+        _ => 0,
+    }
+}
+
+/// Specialization constants: (constant_id, name in GLSL).
+pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
+    (0, "LIGHT_COUNT"),
+    (1, "USE_SPECULAR"),
+    (2, "USE_ATTENUATION"),
+];
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct Vertex {
+    /// Camera-relative position.
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuLight {
+    pub position: [f32; 4],
+    pub intensity: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct FrameUniforms {
+    /// rgb: Ia, w: k.
+    pub ambient_k: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuFace {
+    pub center: [f32; 4],
+    pub normal: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct DrawConstants {
+    /// Column-major.
+    pub clip_from_relative: [[f32; 4]; 4],
+    pub color_ka: [f32; 4],
+    pub kd_ks_p: [f32; 4],
+    pub face_offset: u32,
+    /// std430 rounds the block up to its 16-byte alignment.
+    pub _pad: [u32; 3],
+}
+
+/// Values for `SPEC_CONSTANTS`, in order; each is 4 bytes (bools as VkBool32).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
+pub struct Specialization {
+    pub light_count: i32,
+    pub use_specular: u32,
+    pub use_attenuation: u32,
+}
+
+impl Specialization {
+    pub fn map_entries() -> [vk::SpecializationMapEntry; 3] {
+        let entry = |id: u16, index: u32| vk::SpecializationMapEntry {
+            constant_id: u32::from(id),
+            offset: index * 4,
+            size: 4,
+        };
+        [
+            entry(SPEC_CONSTANTS[0].0, 0),
+            entry(SPEC_CONSTANTS[1].0, 1),
+            entry(SPEC_CONSTANTS[2].0, 2),
+        ]
+    }
+}

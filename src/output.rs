@@ -1,0 +1,155 @@
+//! Encoding a `LinearImage` to files, and decoding image files back.
+//!
+//! `.png` is 8-bit sRGB of `clamp(I, 0, 1)`; `.exr` is linear 32-bit float,
+//! unclamped. Files are written to a temporary name in the same folder and
+//! renamed into place, so a failure never leaves a half-written image.
+
+use std::io::Cursor;
+use std::path::{Path, PathBuf};
+
+use crate::linear_image::LinearImage;
+
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    #[error("cannot write {path}: the file name must end in .png or .exr")]
+    UnknownFormat { path: PathBuf },
+    #[error("cannot write {path}: {source}")]
+    Write {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("cannot encode {path}: {message}")]
+    Encode { path: PathBuf, message: String },
+    #[error("cannot read image {path}: {message}")]
+    Read { path: PathBuf, message: String },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ImageFormat {
+    Png,
+    Exr,
+}
+
+impl ImageFormat {
+    pub fn from_path(path: &Path) -> Result<Self, OutputError> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("png") => Ok(Self::Png),
+            Some("exr") => Ok(Self::Exr),
+            _ => Err(OutputError::UnknownFormat {
+                path: path.to_owned(),
+            }),
+        }
+    }
+}
+
+/// The sRGB transfer function applied to a linear value clamped to [0, 1].
+pub fn linear_to_srgb8(v: f32) -> u8 {
+    let c = if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) };
+    let s = if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0 + 0.5) as u8
+}
+
+pub fn srgb8_to_linear(v: u8) -> f32 {
+    let s = f32::from(v) / 255.0;
+    if s <= 0.040_45 {
+        s / 12.92
+    } else {
+        ((s + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Encodes `image` in the format named by `path`'s extension.
+pub fn encode(image: &LinearImage, path: &Path) -> Result<Vec<u8>, OutputError> {
+    let format = ImageFormat::from_path(path)?;
+    let mut bytes = Cursor::new(Vec::new());
+    let encode_err = |e: image::ImageError| OutputError::Encode {
+        path: path.to_owned(),
+        message: e.to_string(),
+    };
+    match format {
+        ImageFormat::Png => {
+            let raw: Vec<u8> = image
+                .pixels
+                .iter()
+                .flat_map(|p| p.map(linear_to_srgb8))
+                .collect();
+            let buffer = image::RgbImage::from_raw(image.width, image.height, raw)
+                .expect("pixel count matches the image size");
+            buffer
+                .write_to(&mut bytes, image::ImageFormat::Png)
+                .map_err(encode_err)?;
+        }
+        ImageFormat::Exr => {
+            let raw: Vec<f32> = image.pixels.iter().flatten().copied().collect();
+            let buffer = image::Rgb32FImage::from_raw(image.width, image.height, raw)
+                .expect("pixel count matches the image size");
+            buffer
+                .write_to(&mut bytes, image::ImageFormat::OpenExr)
+                .map_err(encode_err)?;
+        }
+    }
+    Ok(bytes.into_inner())
+}
+
+/// Encodes and writes `image` to `path` atomically (temporary file, rename).
+pub fn write_image(image: &LinearImage, path: &Path) -> Result<(), OutputError> {
+    let bytes = encode(image, path)?;
+    write_atomically(path, &bytes)
+}
+
+/// Writes `bytes` to a temporary file beside `path`, then renames it.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
+    let write_err = |source| OutputError::Write {
+        path: path.to_owned(),
+        source,
+    };
+    let file_name = path
+        .file_name()
+        .ok_or_else(|| write_err(std::io::Error::other("the path names no file")))?;
+    let mut temp_name = std::ffi::OsString::from(".");
+    temp_name.push(file_name);
+    temp_name.push(format!(".{}.tmp", std::process::id()));
+    let temp = path.with_file_name(temp_name);
+    std::fs::write(&temp, bytes).map_err(write_err)?;
+    std::fs::rename(&temp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&temp);
+        write_err(e)
+    })
+}
+
+/// Reads a PNG (decoded from sRGB to linear) or an EXR (linear as stored).
+pub fn read_image(path: &Path) -> Result<LinearImage, OutputError> {
+    let read_err = |message: String| OutputError::Read {
+        path: path.to_owned(),
+        message,
+    };
+    let format = ImageFormat::from_path(path).map_err(|e| read_err(e.to_string()))?;
+    let decoded = image::ImageReader::open(path)
+        .map_err(|e| read_err(e.to_string()))?
+        .with_guessed_format()
+        .map_err(|e| read_err(e.to_string()))?
+        .decode()
+        .map_err(|e| read_err(e.to_string()))?;
+    let (width, height) = (decoded.width(), decoded.height());
+    let pixels = match format {
+        ImageFormat::Png => decoded
+            .to_rgb8()
+            .pixels()
+            .map(|p| p.0.map(srgb8_to_linear))
+            .collect(),
+        ImageFormat::Exr => decoded.to_rgb32f().pixels().map(|p| p.0).collect(),
+    };
+    Ok(LinearImage {
+        width,
+        height,
+        pixels,
+    })
+}

@@ -1,0 +1,1382 @@
+//! glTF 2.0 (`.gltf` with embedded or external buffers, `.glb`) as meshes
+//! for a TOML scene, or as a whole scene.
+//!
+//! # Geometry
+//!
+//! The default scene (else the first scene; else every node that is no
+//! other node's child) is walked depth-first; node transforms are composed
+//! in `f64`. Every primitive with mode `TRIANGLES` becomes one
+//! [`Object`] with a [`Shape::Mesh`] in world space (other modes are skipped
+//! with a warning):
+//!
+//! - positions are transformed by the world matrix `M` (for a TOML `mesh`
+//!   object `M = T * R * S * node_world`); a non-finite position is an error
+//!   naming the file, mesh and accessor;
+//! - when `det(M) < 0` the winding is flipped (indices 1 and 2 swapped) so
+//!   triangles stay counter-clockwise seen from their front;
+//! - **degenerate triangles**: a triangle is dropped when two of its indices
+//!   are equal or when `|(b - a) x (c - a)| <= 1e-12 * max(|b - a|^2,
+//!   |c - a|^2, |c - b|^2)` in world space (twice its area is at most 1e-12
+//!   times its longest edge squared, i.e. its vertices are collinear up to
+//!   rounding). Each primitive's dropped count is reported in
+//!   `Scene::warnings`; a primitive with no triangle left is an error.
+//!   Vertices no kept triangle uses are removed;
+//! - **normals**: stored normals are transformed by the inverse transpose of
+//!   the upper 3x3 of `M` and renormalised. Missing normals are computed
+//!   area-weighted: the sum of the unnormalised face normals
+//!   `(b - a) x (c - a)` of the kept triangles around the vertex, normalised.
+//!   A stored normal that is zero-length or non-finite (before or after the
+//!   transform) is replaced by that computed normal. Where the area-weighted
+//!   sum itself cancels to zero, the unit face normal of the first kept
+//!   triangle using the vertex is used;
+//! - the node hierarchy must be a set of disjoint trees (a node reached
+//!   twice, through a cycle or two parents, is an error);
+//! - an index out of range, a sparse accessor, an accessor of the wrong type
+//!   or one that does not fit its buffer view is an error; a primitive whose
+//!   node transform is singular (a zero scale) is skipped with a warning.
+//!
+//! # Materials
+//!
+//! See [`map_material`] for the exact rule. Materials are added to
+//! `Scene::materials` named `<file stem>/<material name or index>` (a
+//! primitive without material uses `<file stem>/default`), once per file.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use glam::{DMat3, DMat4, DQuat, DVec3};
+use gltf::accessor::{DataType, Dimensions};
+use gltf::mesh::Mode;
+
+use super::error::SceneError;
+use super::model::{
+    Camera, ImageSettings, Interpolation, Lighting, Material, Object, PointLight, RenderSettings,
+    Scene, Shape, TriangleMesh,
+};
+use super::toml_format::{DEFAULT_AMBIENT, DEFAULT_BACKGROUND};
+
+/// A parsed glTF file with its buffers loaded (images are never loaded).
+struct GltfFile {
+    label: String,
+    stem: String,
+    doc: gltf::Document,
+    buffers: Vec<gltf::buffer::Data>,
+    /// The raw JSON, for extensions the `gltf` crate is not built to read
+    /// (`KHR_materials_ior`).
+    raw: serde_json::Value,
+}
+
+fn open(path: &Path) -> Result<GltfFile, SceneError> {
+    let label = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| SceneError::Read {
+        file: label.clone(),
+        reason: e.to_string(),
+    })?;
+    let json_bytes: Vec<u8> = if bytes.starts_with(b"glTF") {
+        check_glb_header(&label, &bytes)?;
+        let glb = gltf::Glb::from_slice(&bytes).map_err(|e| {
+            SceneError::mesh(&label, format!("not a valid binary glTF (.glb) file ({e})"))
+        })?;
+        glb.json.into_owned()
+    } else {
+        bytes.clone()
+    };
+    let raw: serde_json::Value = serde_json::from_slice(&json_bytes).map_err(|e| {
+        SceneError::mesh(&label, format!("not a valid glTF 2.0 file (bad JSON: {e})"))
+    })?;
+    check_primitive_references(&label, &raw)?;
+    let gltf::Gltf { document, blob } = gltf::Gltf::from_slice(&bytes)
+        .map_err(|e| SceneError::mesh(&label, format!("not a valid glTF 2.0 file ({e})")))?;
+    let base = path.parent().unwrap_or_else(|| Path::new("."));
+    let buffers = gltf::import_buffers(&document, Some(base), blob).map_err(|e| {
+        SceneError::mesh(
+            &label,
+            format!(
+                "cannot load the glTF buffers ({e}); check that every .bin file it names exists"
+            ),
+        )
+    })?;
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "mesh".to_string());
+    Ok(GltfFile {
+        label,
+        stem,
+        doc: document,
+        buffers,
+        raw,
+    })
+}
+
+/// The `gltf` crate's validator indexes `accessors` with a primitive's
+/// POSITION before checking it exists; check every primitive's accessor
+/// references first.
+fn check_primitive_references(label: &str, raw: &serde_json::Value) -> Result<(), SceneError> {
+    let count = raw
+        .get("accessors")
+        .and_then(|a| a.as_array())
+        .map_or(0, Vec::len);
+    let meshes = raw.get("meshes").and_then(|m| m.as_array());
+    for (mi, mesh) in meshes.into_iter().flatten().enumerate() {
+        let prims = mesh.get("primitives").and_then(|p| p.as_array());
+        for (pi, prim) in prims.into_iter().flatten().enumerate() {
+            let attributes = prim.get("attributes").and_then(|a| a.as_object());
+            let refs = attributes
+                .into_iter()
+                .flatten()
+                .map(|(k, v)| (k.as_str(), v))
+                .chain(prim.get("indices").map(|v| ("indices", v)));
+            for (what, v) in refs {
+                let ok = v.as_u64().is_some_and(|i| i < count as u64);
+                if !ok {
+                    return Err(SceneError::mesh(
+                        label,
+                        format!(
+                            "mesh {mi}, primitive {pi}: {what} refers to accessor {v}, but the file has {count} accessors; expected an index below {count}"
+                        ),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The `gltf` crate subtracts 12 from the header's length field without a
+/// check; reject such headers first.
+fn check_glb_header(label: &str, bytes: &[u8]) -> Result<(), SceneError> {
+    let word = |at: usize| {
+        bytes
+            .get(at..at + 4)
+            .and_then(|s| <[u8; 4]>::try_from(s).ok())
+            .map(u32::from_le_bytes)
+    };
+    let bad = |what: &str| {
+        SceneError::mesh(
+            label,
+            format!("not a valid binary glTF (.glb) file ({what}); re-export the file"),
+        )
+    };
+    let version = word(4).ok_or_else(|| bad("the 12-byte header is truncated"))?;
+    let length = word(8).ok_or_else(|| bad("the 12-byte header is truncated"))?;
+    if version != 2 {
+        return Err(bad(&format!("version {version}, expected 2")));
+    }
+    if (length as usize) < 20 || length as usize > bytes.len() {
+        return Err(bad(&format!(
+            "header says {length} bytes but the file has {}",
+            bytes.len()
+        )));
+    }
+    Ok(())
+}
+
+fn f32x3(v: [f32; 3]) -> DVec3 {
+    DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]))
+}
+
+fn local_matrix(label: &str, node: &gltf::Node) -> Result<DMat4, SceneError> {
+    let m = match node.transform() {
+        gltf::scene::Transform::Matrix { matrix } => {
+            let cols: Vec<f64> = matrix.iter().flatten().map(|&x| f64::from(x)).collect();
+            let mut arr = [0.0; 16];
+            arr.copy_from_slice(&cols);
+            DMat4::from_cols_array(&arr)
+        }
+        gltf::scene::Transform::Decomposed {
+            translation,
+            rotation,
+            scale,
+        } => {
+            let q = DQuat::from_xyzw(
+                f64::from(rotation[0]),
+                f64::from(rotation[1]),
+                f64::from(rotation[2]),
+                f64::from(rotation[3]),
+            );
+            // Renormalise in f64 so f32-rounded unit quaternions stay exact.
+            let q = if q.length() > 0.0 {
+                q.normalize()
+            } else {
+                DQuat::IDENTITY
+            };
+            DMat4::from_scale_rotation_translation(f32x3(scale), q, f32x3(translation))
+        }
+    };
+    if !m.is_finite() {
+        return Err(SceneError::mesh(
+            label,
+            format!("{} has a non-finite transform", node_name(node)),
+        ));
+    }
+    Ok(m)
+}
+
+fn node_name(node: &gltf::Node) -> String {
+    match node.name() {
+        Some(n) if !n.is_empty() => format!("node `{n}` (index {})", node.index()),
+        _ => format!("node {}", node.index()),
+    }
+}
+
+fn mesh_name(mesh: &gltf::Mesh) -> String {
+    match mesh.name() {
+        Some(n) if !n.is_empty() => format!("mesh `{n}` (index {})", mesh.index()),
+        _ => format!("mesh {}", mesh.index()),
+    }
+}
+
+/// Every node reachable from the scene's roots with its world matrix, in
+/// depth-first order.
+fn walk_nodes<'a>(file: &'a GltfFile) -> Result<Vec<(gltf::Node<'a>, DMat4)>, SceneError> {
+    let roots: Vec<gltf::Node> = match file
+        .doc
+        .default_scene()
+        .or_else(|| file.doc.scenes().next())
+    {
+        Some(scene) => scene.nodes().collect(),
+        None => {
+            let mut is_child = vec![false; file.doc.nodes().len()];
+            for n in file.doc.nodes() {
+                for c in n.children() {
+                    if let Some(flag) = is_child.get_mut(c.index()) {
+                        *flag = true;
+                    }
+                }
+            }
+            file.doc
+                .nodes()
+                .filter(|n| !is_child.get(n.index()).copied().unwrap_or(false))
+                .collect()
+        }
+    };
+    let mut out = Vec::new();
+    let mut visited = vec![false; file.doc.nodes().len()];
+    let mut stack: Vec<(gltf::Node, DMat4)> = Vec::new();
+    for root in roots.into_iter().rev() {
+        stack.push((root, DMat4::IDENTITY));
+    }
+    while let Some((node, parent)) = stack.pop() {
+        match visited.get_mut(node.index()) {
+            Some(seen) if !*seen => *seen = true,
+            _ => {
+                return Err(SceneError::mesh(
+                    &file.label,
+                    format!(
+                        "{} appears more than once in the node hierarchy (a cycle or several parents); expected disjoint trees as glTF requires",
+                        node_name(&node)
+                    ),
+                ))
+            }
+        }
+        let world = parent * local_matrix(&file.label, &node)?;
+        let children: Vec<gltf::Node> = node.children().collect();
+        for child in children.into_iter().rev() {
+            stack.push((child, world));
+        }
+        out.push((node, world));
+    }
+    Ok(out)
+}
+
+/// Checks an accessor so that the `gltf` crate's reader cannot panic on it.
+fn check_accessor(
+    file: &GltfFile,
+    what: &str,
+    acc: &gltf::Accessor,
+    dims: Dimensions,
+    types: &[DataType],
+) -> Result<(), SceneError> {
+    let err = |msg: String| {
+        SceneError::mesh(
+            &file.label,
+            format!("{what} (accessor {}) {msg}", acc.index()),
+        )
+    };
+    if acc.sparse().is_some() {
+        return Err(err(
+            "is a sparse accessor, which is not supported; export without sparse accessors".into(),
+        ));
+    }
+    if acc.dimensions() != dims || !types.contains(&acc.data_type()) || acc.normalized() {
+        return Err(err(format!(
+            "has type {:?} {:?}{}; expected {:?} of {:?}",
+            acc.dimensions(),
+            acc.data_type(),
+            if acc.normalized() {
+                " (normalized)"
+            } else {
+                ""
+            },
+            dims,
+            types
+        )));
+    }
+    if acc.count() == 0 {
+        return Err(err("is empty".into()));
+    }
+    let view = acc.view().ok_or_else(|| err("has no buffer view".into()))?;
+    let elem = acc.size();
+    let stride = view.stride().unwrap_or(elem);
+    if stride < elem {
+        return Err(err(format!(
+            "has a byte stride {stride} smaller than its element size {elem}"
+        )));
+    }
+    let end = stride
+        .checked_mul(acc.count() - 1)
+        .and_then(|x| x.checked_add(elem))
+        .and_then(|x| x.checked_add(acc.offset()));
+    if end.is_none_or(|e| e > view.length()) {
+        return Err(err(format!(
+            "does not fit in its buffer view {} ({} bytes)",
+            view.index(),
+            view.length()
+        )));
+    }
+    let buffer_len = file
+        .buffers
+        .get(view.buffer().index())
+        .map_or(0, |b| b.len());
+    let view_end = view.offset().checked_add(view.length());
+    if view_end.is_none_or(|e| e > buffer_len) {
+        return Err(err(format!(
+            "uses buffer view {} which runs past the end of buffer {}",
+            view.index(),
+            view.buffer().index()
+        )));
+    }
+    Ok(())
+}
+
+/// One primitive's triangles in world space, or `None` when skipped.
+fn primitive_mesh(
+    file: &GltfFile,
+    mesh: &gltf::Mesh,
+    prim: &gltf::Primitive,
+    world: DMat4,
+    warnings: &mut Vec<String>,
+) -> Result<Option<TriangleMesh>, SceneError> {
+    let what = format!("{}, primitive {}", mesh_name(mesh), prim.index());
+    if prim.mode() != Mode::Triangles {
+        warnings.push(format!(
+            "{}: {what} has mode {:?}; only TRIANGLES is drawn, so it was skipped",
+            file.label,
+            prim.mode()
+        ));
+        return Ok(None);
+    }
+    let m3 = DMat3::from_mat4(world);
+    let det = m3.determinant();
+    if det == 0.0 || !det.is_finite() {
+        warnings.push(format!(
+            "{}: {what} has a singular node transform (a zero scale), so it was skipped",
+            file.label
+        ));
+        return Ok(None);
+    }
+    let normal_matrix = m3.inverse().transpose();
+    let flip = det < 0.0;
+
+    let pos_acc = prim.get(&gltf::Semantic::Positions).ok_or_else(|| {
+        SceneError::mesh(&file.label, format!("{what} has no POSITION attribute"))
+    })?;
+    let pos_what = format!("{what} POSITION");
+    check_accessor(
+        file,
+        &pos_what,
+        &pos_acc,
+        Dimensions::Vec3,
+        &[DataType::F32],
+    )?;
+    let nrm_acc = prim.get(&gltf::Semantic::Normals);
+    if let Some(acc) = &nrm_acc {
+        check_accessor(
+            file,
+            &format!("{what} NORMAL"),
+            acc,
+            Dimensions::Vec3,
+            &[DataType::F32],
+        )?;
+    }
+    if let Some(acc) = prim.indices() {
+        check_accessor(
+            file,
+            &format!("{what} indices"),
+            &acc,
+            Dimensions::Scalar,
+            &[DataType::U8, DataType::U16, DataType::U32],
+        )?;
+    }
+
+    let reader = prim.reader(|b| file.buffers.get(b.index()).map(|d| &d.0[..]));
+    let local: Vec<[f32; 3]> = reader
+        .read_positions()
+        .ok_or_else(|| SceneError::mesh(&file.label, format!("{pos_what} cannot be read")))?
+        .collect();
+    if local.len() != pos_acc.count() || local.len() > u32::MAX as usize {
+        return Err(SceneError::mesh(
+            &file.label,
+            format!(
+                "{pos_what} (accessor {}) could not be read completely",
+                pos_acc.index()
+            ),
+        ));
+    }
+    let mut positions = Vec::with_capacity(local.len());
+    for (i, p) in local.iter().enumerate() {
+        let w = world.transform_point3(f32x3(*p));
+        if !w.is_finite() {
+            let why = if p.iter().all(|c| c.is_finite()) {
+                "overflows to infinity under the node transform"
+            } else {
+                "is not a finite number"
+            };
+            return Err(SceneError::mesh(
+                &file.label,
+                format!(
+                    "{pos_what} (accessor {}) vertex {i} {why}; expected finite coordinates",
+                    pos_acc.index()
+                ),
+            ));
+        }
+        positions.push(w);
+    }
+    let n = positions.len();
+
+    let stored_normals: Option<Vec<DVec3>> = match (&nrm_acc, reader.read_normals()) {
+        (Some(_), Some(it)) => {
+            let v: Vec<DVec3> = it
+                .map(|nv| (normal_matrix * f32x3(nv)).normalize_or_zero())
+                .collect();
+            if v.len() == n {
+                Some(v)
+            } else {
+                warnings.push(format!(
+                    "{}: {what} has {} normals for {n} positions; normals were recomputed",
+                    file.label,
+                    v.len()
+                ));
+                None
+            }
+        }
+        _ => None,
+    };
+
+    let indices: Vec<u32> = match reader.read_indices() {
+        Some(it) => it.into_u32().collect(),
+        None => (0..n as u32).collect(),
+    };
+    if let Some(&bad) = indices.iter().find(|&&i| i as usize >= n) {
+        return Err(SceneError::mesh(
+            &file.label,
+            format!(
+                "{what} uses vertex index {bad} but POSITION has only {n} vertices; expected indices below {n}"
+            ),
+        ));
+    }
+    if indices.len() % 3 != 0 {
+        warnings.push(format!(
+            "{}: {what} has {} indices, not a multiple of 3; the last {} were ignored",
+            file.label,
+            indices.len(),
+            indices.len() % 3
+        ));
+    }
+
+    let mut triangles = Vec::with_capacity(indices.len() / 3);
+    let mut dropped = 0usize;
+    for t in indices.chunks_exact(3) {
+        let mut tri = [t[0], t[1], t[2]];
+        if flip {
+            tri.swap(1, 2);
+        }
+        if is_degenerate(&positions, tri) {
+            dropped += 1;
+        } else {
+            triangles.push(tri);
+        }
+    }
+    if dropped > 0 {
+        warnings.push(format!(
+            "{}: {what}: dropped {dropped} degenerate triangle(s) (repeated vertex or zero area)",
+            file.label
+        ));
+    }
+    if triangles.is_empty() {
+        return Err(SceneError::mesh(
+            &file.label,
+            format!("{what} has no non-degenerate triangle; expected at least one triangle with non-zero area"),
+        ));
+    }
+    Ok(Some(build_mesh(positions, stored_normals, triangles)))
+}
+
+/// The degenerate-triangle rule documented at the top of this module.
+pub(crate) fn is_degenerate(positions: &[DVec3], t: [u32; 3]) -> bool {
+    if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+        return true;
+    }
+    let (Some(a), Some(b), Some(c)) = (
+        positions.get(t[0] as usize),
+        positions.get(t[1] as usize),
+        positions.get(t[2] as usize),
+    ) else {
+        return true;
+    };
+    let (e1, e2, e3) = (*b - *a, *c - *a, *c - *b);
+    let longest = e1
+        .length_squared()
+        .max(e2.length_squared())
+        .max(e3.length_squared());
+    let twice_area = e1.cross(e2).length();
+    let well_shaped = twice_area.is_finite() && twice_area > 1e-12 * longest;
+    !well_shaped
+}
+
+/// Compacts the vertices to those the kept triangles use and fills in the
+/// normals (rule in the module docs). `triangles` must be in range.
+fn build_mesh(
+    positions: Vec<DVec3>,
+    stored: Option<Vec<DVec3>>,
+    triangles: Vec<[u32; 3]>,
+) -> TriangleMesh {
+    // Keep the used vertices in their original order.
+    let mut used = vec![false; positions.len()];
+    for t in &triangles {
+        for &i in t {
+            used[i as usize] = true;
+        }
+    }
+    let mut remap = vec![0u32; positions.len()];
+    let mut out_pos = Vec::new();
+    let mut out_stored = Vec::new();
+    for (i, p) in positions.iter().enumerate() {
+        if used[i] {
+            remap[i] = out_pos.len() as u32;
+            out_pos.push(*p);
+            out_stored.push(stored.as_ref().map_or(DVec3::ZERO, |s| s[i]));
+        }
+    }
+    let tris: Vec<[u32; 3]> = triangles
+        .iter()
+        .map(|t| t.map(|i| remap[i as usize]))
+        .collect();
+    let mut sum = vec![DVec3::ZERO; out_pos.len()];
+    let mut first_face = vec![DVec3::ZERO; out_pos.len()];
+    for t in &tris {
+        let [a, b, c] = t.map(|i| out_pos[i as usize]);
+        let face = (b - a).cross(c - a);
+        for &i in t {
+            sum[i as usize] += face;
+            if first_face[i as usize] == DVec3::ZERO {
+                first_face[i as usize] = face.normalize_or_zero();
+            }
+        }
+    }
+    let normals = out_stored
+        .iter()
+        .zip(sum.iter().zip(&first_face))
+        .map(|(s, (area, first))| {
+            if s.is_finite() && s.length_squared() > 0.0 {
+                *s
+            } else {
+                let n = area.normalize_or_zero();
+                if n == DVec3::ZERO {
+                    *first
+                } else {
+                    n
+                }
+            }
+        })
+        .collect();
+    TriangleMesh {
+        positions: out_pos,
+        normals,
+        triangles: tris,
+    }
+}
+
+/// Maps a glTF metallic-roughness material to the lecture's model.
+///
+/// With `base = baseColorFactor`, `m = metallicFactor`, `r = roughnessFactor`
+/// (both clamped to [0, 1]):
+///
+/// ```text
+/// color = base.rgb
+/// ka    = 0.2
+/// kd    = 0.8 * (1 - m * (1 - r))
+/// ks    = (0.04 + 0.96 * m) * (1 - r)
+/// p     = clamp(2 / max(r^4, 1e-4) - 2, 1, 500)
+/// kr    = m * (1 - r)
+/// kt    = 1 - base.alpha   when alphaMode is BLEND, else 0
+/// ior   = KHR_materials_ior.ior if present, else 1.5 when kt > 0, else 1.0
+/// ```
+///
+/// Diffuse fades only for smooth metals: a rough metal scatters light
+/// broadly, which this model can only show as diffuse. It also keeps a
+/// material without a PBR block (glTF defaults m = r = 1) from rendering
+/// ambient-only.
+///
+/// Textures are ignored. Then any of `ka`, `kd`, `ks`, `p`, `kr`, `kt`,
+/// `ior` present in the material's `extras` object replaces the computed
+/// value (it must be a finite number, `>= 0`, and `ior > 0`; other extras
+/// keys are ignored). A primitive without a material gets color 0.8 grey,
+/// ka 0.2, kd 0.8, ks 0, p 32, kr 0, kt 0, ior 1.
+pub fn map_material(
+    file_label: &str,
+    name: String,
+    mat: &gltf::Material,
+    raw_json: &serde_json::Value,
+) -> Result<Material, SceneError> {
+    let pbr = mat.pbr_metallic_roughness();
+    let base = pbr.base_color_factor();
+    let m = f64::from(pbr.metallic_factor()).clamp(0.0, 1.0);
+    let r = f64::from(pbr.roughness_factor()).clamp(0.0, 1.0);
+    let kt = if mat.alpha_mode() == gltf::material::AlphaMode::Blend {
+        (1.0 - f64::from(base[3])).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let ior_ext = mat.index().and_then(|i| {
+        raw_json
+            .get("materials")?
+            .get(i)?
+            .get("extensions")?
+            .get("KHR_materials_ior")?
+            .get("ior")?
+            .as_f64()
+            .filter(|x| x.is_finite() && *x > 0.0)
+    });
+    let mut out = Material {
+        name,
+        color: f32x3([base[0], base[1], base[2]]).max(DVec3::ZERO),
+        ka: 0.2,
+        kd: 0.8 * (1.0 - m * (1.0 - r)),
+        ks: (0.04 + 0.96 * m) * (1.0 - r),
+        p: (2.0 / r.powi(4).max(1e-4) - 2.0).clamp(1.0, 500.0),
+        kr: m * (1.0 - r),
+        kt,
+        ior: ior_ext.unwrap_or(if kt > 0.0 { 1.5 } else { 1.0 }),
+    };
+    if let Some(raw) = mat.extras() {
+        let value: serde_json::Value = serde_json::from_str(raw.get()).unwrap_or_default();
+        if let Some(obj) = value.as_object() {
+            let which = mat.name().map_or_else(
+                || format!("material {}", mat.index().unwrap_or(0)),
+                |n| format!("material `{n}`"),
+            );
+            for (key, slot) in [
+                ("ka", &mut out.ka),
+                ("kd", &mut out.kd),
+                ("ks", &mut out.ks),
+                ("p", &mut out.p),
+                ("kr", &mut out.kr),
+                ("kt", &mut out.kt),
+                ("ior", &mut out.ior),
+            ] {
+                let Some(v) = obj.get(key) else { continue };
+                let x = v.as_f64().filter(|x| x.is_finite()).ok_or_else(|| {
+                    SceneError::mesh(
+                        file_label,
+                        format!("{which}: extras key `{key}` is {v}; expected a finite number"),
+                    )
+                })?;
+                let ok = if key == "ior" { x > 0.0 } else { x >= 0.0 };
+                if !ok {
+                    return Err(SceneError::mesh(
+                        file_label,
+                        format!(
+                            "{which}: extras key `{key}` is {x}; expected a number {}",
+                            if key == "ior" { "> 0" } else { ">= 0" }
+                        ),
+                    ));
+                }
+                *slot = x;
+            }
+        }
+    }
+    Ok(out)
+}
+
+fn default_material(name: String) -> Material {
+    Material {
+        name,
+        color: DVec3::splat(0.8),
+        ka: 0.2,
+        kd: 0.8,
+        ks: 0.0,
+        p: 32.0,
+        kr: 0.0,
+        kt: 0.0,
+        ior: 1.0,
+    }
+}
+
+/// Adds `m` to `materials` and returns its index; an identical material
+/// (same name and values) already there is reused. A different material
+/// with the same name gets a `#2`, `#3`, ... suffix.
+pub(crate) fn push_material(materials: &mut Vec<Material>, m: Material) -> usize {
+    let base = m.name.clone();
+    let mut k = 1;
+    loop {
+        let name = if k == 1 {
+            base.clone()
+        } else {
+            format!("{base}#{k}")
+        };
+        let candidate = Material {
+            name: name.clone(),
+            ..m.clone()
+        };
+        match materials.iter().position(|x| x.name == name) {
+            None => {
+                materials.push(candidate);
+                return materials.len() - 1;
+            }
+            Some(i) if materials[i] == candidate => return i,
+            Some(_) => k += 1,
+        }
+    }
+}
+
+/// What a glTF file contributes to a scene.
+struct Contents<'a> {
+    objects: Vec<Object>,
+    nodes: Vec<(gltf::Node<'a>, DMat4)>,
+}
+
+fn contents<'a>(
+    file: &'a GltfFile,
+    post: DMat4,
+    material_override: Option<usize>,
+    materials: &mut Vec<Material>,
+    warnings: &mut Vec<String>,
+) -> Result<Contents<'a>, SceneError> {
+    let nodes = walk_nodes(file)?;
+    let mut per_file: HashMap<Option<usize>, usize> = HashMap::new();
+    let mut objects = Vec::new();
+    for (node, world) in &nodes {
+        let Some(mesh) = node.mesh() else { continue };
+        for prim in mesh.primitives() {
+            let Some(tri) = primitive_mesh(file, &mesh, &prim, post * *world, warnings)? else {
+                continue;
+            };
+            let material = match material_override {
+                Some(i) => i,
+                None => {
+                    let mat = prim.material();
+                    let key = mat.index();
+                    match per_file.get(&key) {
+                        Some(&i) => i,
+                        None => {
+                            let m = match key {
+                                Some(i) => {
+                                    let label = match mat.name() {
+                                        Some(n) if !n.is_empty() => n.to_string(),
+                                        _ => i.to_string(),
+                                    };
+                                    map_material(
+                                        &file.label,
+                                        format!("{}/{label}", file.stem),
+                                        &mat,
+                                        &file.raw,
+                                    )?
+                                }
+                                None => default_material(format!("{}/default", file.stem)),
+                            };
+                            let i = push_material(materials, m);
+                            per_file.insert(key, i);
+                            i
+                        }
+                    }
+                }
+            };
+            objects.push(Object {
+                shape: Shape::Mesh(tri),
+                material,
+            });
+        }
+    }
+    if objects.is_empty() {
+        return Err(SceneError::mesh(
+            &file.label,
+            "contains no triangle mesh in its scene; expected at least one mesh primitive with mode TRIANGLES",
+        ));
+    }
+    Ok(Contents { objects, nodes })
+}
+
+/// Loads every mesh of the glTF file at `path` for a TOML `mesh` object:
+/// world transform `post * node_world`, materials either `material_override`
+/// or the file's own (added to `materials`). Returns the objects.
+pub(crate) fn load_meshes(
+    path: &Path,
+    post: DMat4,
+    material_override: Option<usize>,
+    materials: &mut Vec<Material>,
+    warnings: &mut Vec<String>,
+) -> Result<Vec<Object>, SceneError> {
+    let file = open(path)?;
+    Ok(contents(&file, post, material_override, materials, warnings)?.objects)
+}
+
+/// Loads a glTF file as a whole scene (rules in the crate docs of `scene`):
+/// its meshes, the first perspective camera of the node tree (else a camera
+/// framing the bounding box), and its point lights.
+pub(crate) fn load_scene(path: &Path) -> Result<Scene, SceneError> {
+    let file = open(path)?;
+    let mut materials = Vec::new();
+    let mut warnings = Vec::new();
+    let Contents { objects, nodes } =
+        contents(&file, DMat4::IDENTITY, None, &mut materials, &mut warnings)?;
+
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for o in &objects {
+        if let Shape::Mesh(m) = &o.shape {
+            for p in &m.positions {
+                lo = lo.min(*p);
+                hi = hi.max(*p);
+            }
+        }
+    }
+    let center = (lo + hi) * 0.5;
+
+    let mut camera = None;
+    for (node, world) in &nodes {
+        let Some(cam) = node.camera() else { continue };
+        let gltf::camera::Projection::Perspective(persp) = cam.projection() else {
+            continue;
+        };
+        let fov = f64::from(persp.yfov()).to_degrees();
+        let position = world.transform_point3(DVec3::ZERO);
+        let forward = world.transform_vector3(DVec3::NEG_Z).normalize_or_zero();
+        let up = world.transform_vector3(DVec3::Y).normalize_or_zero();
+        let usable = fov > 0.0
+            && fov < 180.0
+            && position.is_finite()
+            && forward != DVec3::ZERO
+            && up.cross(forward).length() > 1e-9;
+        if !usable {
+            warnings.push(format!(
+                "{}: camera on {} is unusable (field of view {fov} degrees or a degenerate node transform); it was ignored",
+                file.label,
+                node_name(node)
+            ));
+            continue;
+        }
+        camera = Some(Camera {
+            position,
+            look_at: position + forward,
+            up,
+            fov_y_deg: fov,
+        });
+        break;
+    }
+    let camera = camera.unwrap_or_else(|| {
+        let fov = 40.0f64;
+        let radius = ((hi - lo).length() * 0.5).max(1e-6);
+        let distance = radius / (fov.to_radians() * 0.5).sin();
+        Camera {
+            position: center + DVec3::Z * distance,
+            look_at: center,
+            up: DVec3::Y,
+            fov_y_deg: fov,
+        }
+    });
+
+    let mut lights = Vec::new();
+    for (node, world) in &nodes {
+        let Some(light) = node.light() else { continue };
+        match light.kind() {
+            gltf::khr_lights_punctual::Kind::Point => {
+                let intensity = f32x3(light.color()) * f64::from(light.intensity());
+                let position = world.transform_point3(DVec3::ZERO);
+                if !intensity.is_finite() || intensity.min_element() < 0.0 || !position.is_finite()
+                {
+                    return Err(SceneError::mesh(
+                        &file.label,
+                        format!(
+                            "point light on {} has a negative or non-finite intensity or position; expected finite values >= 0",
+                            node_name(node)
+                        ),
+                    ));
+                }
+                lights.push(PointLight {
+                    position,
+                    intensity,
+                });
+            }
+            other => warnings.push(format!(
+                "{}: {} light on {} is not supported (only point lights are); it was skipped",
+                file.label,
+                match other {
+                    gltf::khr_lights_punctual::Kind::Directional => "directional",
+                    _ => "spot",
+                },
+                node_name(node)
+            )),
+        }
+    }
+    if lights.is_empty() {
+        let d = (camera.position - center).length().max(1e-6);
+        lights.push(PointLight {
+            position: camera.position,
+            intensity: DVec3::splat(d),
+        });
+        warnings.push(format!(
+            "{}: the file has no point light; added one at the camera with intensity {d:.3} so the scene is lit",
+            file.label
+        ));
+    }
+
+    Ok(Scene {
+        camera,
+        image: ImageSettings {
+            width: 640,
+            height: 480,
+            background: DEFAULT_BACKGROUND,
+        },
+        lighting: Lighting {
+            ambient: DVec3::splat(DEFAULT_AMBIENT),
+            k: 1.0,
+            interpolation: Interpolation::Perspective,
+            attenuation: true,
+        },
+        lights,
+        materials,
+        objects,
+        render: RenderSettings::default(),
+        warnings,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::PathBuf;
+
+    fn fixture(name: &str) -> PathBuf {
+        let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+        let in_tests = root.join("tests/data").join(name);
+        if in_tests.exists() {
+            in_tests
+        } else {
+            root.join("fixtures").join(name)
+        }
+    }
+
+    struct Loaded {
+        objects: Vec<Object>,
+        materials: Vec<Material>,
+        warnings: Vec<String>,
+    }
+
+    fn meshes(path: &Path, post: DMat4) -> Result<Loaded, SceneError> {
+        let mut materials = Vec::new();
+        let mut warnings = Vec::new();
+        let objects = load_meshes(path, post, None, &mut materials, &mut warnings)?;
+        Ok(Loaded {
+            objects,
+            materials,
+            warnings,
+        })
+    }
+
+    fn only_mesh(l: &Loaded) -> &TriangleMesh {
+        assert_eq!(l.objects.len(), 1);
+        match &l.objects[0].shape {
+            Shape::Mesh(m) => m,
+            other => panic!("{other:?}"),
+        }
+    }
+
+    fn err_of(path: &Path) -> String {
+        match meshes(path, DMat4::IDENTITY) {
+            Ok(_) => panic!("{} should not load", path.display()),
+            Err(e) => e.to_string(),
+        }
+    }
+
+    /// Geometric normals agree with the vertex normals, which are unit.
+    fn assert_winding_matches_normals(m: &TriangleMesh) {
+        for t in &m.triangles {
+            let [a, b, c] = t.map(|i| m.positions[i as usize]);
+            let g = (b - a).cross(c - a);
+            for &i in t {
+                let n = m.normals[i as usize];
+                assert!((n.length() - 1.0).abs() < 1e-12);
+                assert!(g.dot(n) > 0.0, "triangle {t:?} disagrees with normal {n}");
+            }
+        }
+    }
+
+    /// Writes a glTF with an external .bin: f32 positions, optional f32
+    /// normals, optional u32 indices. `patch` edits the JSON afterwards.
+    fn write_gltf(
+        dir: &Path,
+        name: &str,
+        positions: &[[f32; 3]],
+        normals: Option<&[[f32; 3]]>,
+        indices: Option<&[u32]>,
+        patch: impl FnOnce(&mut serde_json::Value),
+    ) -> PathBuf {
+        use serde_json::json;
+        let mut bin = Vec::new();
+        let mut views = Vec::new();
+        let mut accessors = Vec::new();
+        let mut attributes = serde_json::Map::new();
+        let mut add_vec3 = |bin: &mut Vec<u8>, data: &[[f32; 3]]| {
+            let offset = bin.len();
+            for v in data {
+                for c in v {
+                    bin.extend_from_slice(&c.to_le_bytes());
+                }
+            }
+            views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": data.len() * 12}));
+            accessors.push(json!({"bufferView": views.len() - 1, "componentType": 5126,
+                                  "count": data.len(), "type": "VEC3",
+                                  "min": [-1e9, -1e9, -1e9], "max": [1e9, 1e9, 1e9]}));
+            accessors.len() - 1
+        };
+        attributes.insert("POSITION".into(), json!(add_vec3(&mut bin, positions)));
+        if let Some(n) = normals {
+            attributes.insert("NORMAL".into(), json!(add_vec3(&mut bin, n)));
+        }
+        let mut prim = json!({"attributes": attributes});
+        if let Some(idx) = indices {
+            let offset = bin.len();
+            for i in idx {
+                bin.extend_from_slice(&i.to_le_bytes());
+            }
+            views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": idx.len() * 4}));
+            accessors.push(json!({"bufferView": views.len() - 1, "componentType": 5125,
+                                  "count": idx.len(), "type": "SCALAR"}));
+            prim["indices"] = json!(accessors.len() - 1);
+        }
+        let bin_name = format!("{name}.bin");
+        std::fs::write(dir.join(&bin_name), &bin).unwrap();
+        let mut doc = json!({
+            "asset": {"version": "2.0"},
+            "scene": 0,
+            "scenes": [{"nodes": [0]}],
+            "nodes": [{"mesh": 0}],
+            "meshes": [{"name": "m", "primitives": [prim]}],
+            "buffers": [{"uri": bin_name, "byteLength": bin.len()}],
+            "bufferViews": views,
+            "accessors": accessors,
+        });
+        patch(&mut doc);
+        let path = dir.join(format!("{name}.gltf"));
+        std::fs::write(&path, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
+        path
+    }
+
+    #[test]
+    fn indexed_triangle_with_normals_and_mapped_material() {
+        let l = meshes(&fixture("tri_indexed.gltf"), DMat4::IDENTITY).unwrap();
+        let m = only_mesh(&l);
+        assert_eq!(m.positions, vec![DVec3::ZERO, DVec3::X, DVec3::Y]);
+        assert_eq!(m.normals, vec![DVec3::Z; 3]);
+        assert_eq!(m.triangles, vec![[0, 1, 2]]);
+        assert!(l.warnings.is_empty(), "{:?}", l.warnings);
+        // metallic 0, roughness 0.5, extras p = 64 and ka = 0.1.
+        let mat = &l.materials[l.objects[0].material];
+        assert_eq!(mat.name, "tri_indexed/red");
+        assert_eq!(mat.color, DVec3::X);
+        assert_eq!(mat.kd, 0.8);
+        assert!((mat.ks - 0.02).abs() < 1e-12);
+        assert_eq!(mat.p, 64.0, "extras override the computed 30");
+        assert_eq!(mat.ka, 0.1, "extras override");
+        assert_eq!((mat.kr, mat.kt, mat.ior), (0.0, 0.0, 1.0));
+    }
+
+    #[test]
+    fn unindexed_primitive_uses_sequential_indices_and_default_material() {
+        let l = meshes(&fixture("tri_unindexed.gltf"), DMat4::IDENTITY).unwrap();
+        let m = only_mesh(&l);
+        assert_eq!(m.triangles, vec![[0, 1, 2], [3, 4, 5]]);
+        assert_eq!(m.positions.len(), 6);
+        let mat = &l.materials[l.objects[0].material];
+        assert_eq!(mat.name, "tri_unindexed/default");
+        assert_eq!(
+            (mat.color, mat.ka, mat.kd, mat.ks, mat.p),
+            (DVec3::splat(0.8), 0.2, 0.8, 0.0, 32.0)
+        );
+    }
+
+    #[test]
+    fn hierarchy_composes_node_transforms() {
+        let l = meshes(&fixture("hierarchy.gltf"), DMat4::IDENTITY).unwrap();
+        let m = only_mesh(&l);
+        let expected = [
+            DVec3::new(1.0, 4.0, 3.0),
+            DVec3::new(-1.0, 2.0, 3.0),
+            DVec3::new(1.0, 2.0, 5.0),
+        ];
+        for (p, e) in m.positions.iter().zip(expected) {
+            assert!((*p - e).length() < 1e-9, "{p} != {e}");
+        }
+        // Computed normals of a single triangle are its face normal.
+        let face = (expected[1] - expected[0])
+            .cross(expected[2] - expected[0])
+            .normalize();
+        for n in &m.normals {
+            assert!((*n - face).length() < 1e-9);
+        }
+        // A post transform (the TOML mesh object's T * R * S) applies after.
+        let post = DMat4::from_translation(DVec3::new(0.0, 0.0, -3.0));
+        let l = meshes(&fixture("hierarchy.gltf"), post).unwrap();
+        assert!((only_mesh(&l).positions[2] - DVec3::new(1.0, 2.0, 2.0)).length() < 1e-9);
+    }
+
+    #[test]
+    fn missing_normals_are_area_weighted() {
+        let l = meshes(&fixture("no_normals.gltf"), DMat4::IDENTITY).unwrap();
+        let m = only_mesh(&l);
+        assert_eq!(m.triangles.len(), 4);
+        let expected = [DVec3::splat(-1.0).normalize(), DVec3::X, DVec3::Y, DVec3::Z];
+        for (n, e) in m.normals.iter().zip(expected) {
+            assert!((*n - e).length() < 1e-12, "{n} != {e}");
+        }
+    }
+
+    #[test]
+    fn mirrored_node_flips_the_winding() {
+        let l = meshes(&fixture("mirrored.gltf"), DMat4::IDENTITY).unwrap();
+        let m = only_mesh(&l);
+        assert!(m.positions.contains(&DVec3::new(-1.0, 0.0, 0.0)));
+        assert_eq!(m.normals, vec![DVec3::Z; 3]);
+        assert_winding_matches_normals(m);
+        assert_eq!(m.triangles, vec![[0, 2, 1]]);
+    }
+
+    #[test]
+    fn degenerate_triangles_are_dropped_with_a_warning() {
+        let l = meshes(&fixture("degenerate.gltf"), DMat4::IDENTITY).unwrap();
+        let m = only_mesh(&l);
+        assert_eq!(m.triangles.len(), 2);
+        assert_eq!(
+            m.positions.len(),
+            4,
+            "the unused midpoint vertex is removed"
+        );
+        assert_eq!(m.normals, vec![DVec3::Z; 4]);
+        assert_eq!(l.warnings.len(), 1);
+        assert!(
+            l.warnings[0].contains("dropped 2 degenerate"),
+            "{:?}",
+            l.warnings
+        );
+        assert!(l.warnings[0].contains("degenerate.gltf"));
+    }
+
+    #[test]
+    fn degenerate_rule_is_relative() {
+        let tiny = [
+            DVec3::ZERO,
+            DVec3::new(1e-9, 0.0, 0.0),
+            DVec3::new(0.0, 1e-9, 0.0),
+        ];
+        assert!(!is_degenerate(&tiny, [0, 1, 2]), "small but well-shaped");
+        let sliver = [
+            DVec3::ZERO,
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(2.0, 1e-14, 0.0),
+        ];
+        assert!(is_degenerate(&sliver, [0, 1, 2]));
+        assert!(is_degenerate(&tiny, [0, 0, 2]));
+    }
+
+    #[test]
+    fn glb_cube_loads() {
+        let l = meshes(&fixture("cube.glb"), DMat4::IDENTITY).unwrap();
+        let m = only_mesh(&l);
+        assert_eq!((m.positions.len(), m.triangles.len()), (24, 12));
+        assert_winding_matches_normals(m);
+        let mat = &l.materials[0];
+        assert_eq!(mat.name, "cube/ochre");
+        assert!(
+            (mat.p - 30.0).abs() < 1e-9,
+            "roughness 0.5 -> p = 2 / 0.0625 - 2"
+        );
+    }
+
+    #[test]
+    fn broken_files_are_errors_naming_the_file() {
+        let e = err_of(&fixture("nan_position.gltf"));
+        for part in [
+            "nan_position.gltf",
+            "mesh `broken`",
+            "POSITION",
+            "accessor 0",
+            "vertex 1",
+            "finite",
+        ] {
+            assert!(e.contains(part), "`{part}` missing from: {e}");
+        }
+        let e = err_of(&fixture("corrupt.glb"));
+        assert!(
+            e.contains("corrupt.glb") && e.contains("not a valid"),
+            "{e}"
+        );
+        let dir = tempfile::tempdir().unwrap();
+        for (name, bytes) in [
+            ("empty.glb", &b""[..]),
+            ("short.glb", &b"glTF\x02\0\0\0\x05\0\0\0"[..]),
+            ("text.gltf", &b"{ not json"[..]),
+            ("v1.glb", &b"glTF\x01\0\0\0\x20\0\0\0"[..]),
+        ] {
+            let p = dir.path().join(name);
+            std::fs::write(&p, bytes).unwrap();
+            let e = err_of(&p);
+            assert!(e.contains(name), "{e}");
+        }
+        let e = err_of(&dir.path().join("absent.gltf"));
+        assert!(
+            e.contains("absent.gltf") && e.contains("cannot read"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn bad_geometry_is_an_error() {
+        let dir = tempfile::tempdir().unwrap();
+        let tri = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let p = write_gltf(dir.path(), "oob", &tri, None, Some(&[0, 1, 7]), |_| {});
+        let e = err_of(&p);
+        assert!(
+            e.contains("oob.gltf") && e.contains("index 7") && e.contains("3 vertices"),
+            "{e}"
+        );
+        let p = write_gltf(
+            dir.path(),
+            "flat",
+            &tri,
+            None,
+            Some(&[0, 1, 1, 2, 2, 2]),
+            |_| {},
+        );
+        let e = err_of(&p);
+        assert!(
+            e.contains("flat.gltf") && e.contains("no non-degenerate triangle"),
+            "{e}"
+        );
+        let p = write_gltf(dir.path(), "nobin", &tri, None, None, |d| {
+            d["buffers"][0]["uri"] = "missing.bin".into();
+        });
+        let e = err_of(&p);
+        assert!(e.contains("nobin.gltf") && e.contains("buffers"), "{e}");
+        let p = write_gltf(dir.path(), "vec2", &tri, None, None, |d| {
+            d["accessors"][0]["type"] = "VEC2".into();
+        });
+        let e = err_of(&p);
+        assert!(e.contains("vec2.gltf") && e.contains("POSITION"), "{e}");
+        let p = write_gltf(dir.path(), "toolong", &tri, None, None, |d| {
+            d["accessors"][0]["count"] = 1000.into();
+        });
+        let e = err_of(&p);
+        assert!(e.contains("toolong.gltf"), "{e}");
+        let p = write_gltf(dir.path(), "zeroscale", &tri, None, None, |d| {
+            d["nodes"][0]["scale"] = serde_json::json!([1.0, 0.0, 1.0]);
+        });
+        let e = err_of(&p);
+        assert!(
+            e.contains("zeroscale.gltf") && e.contains("no triangle mesh"),
+            "{e}"
+        );
+        let p = write_gltf(dir.path(), "badref", &tri, None, None, |d| {
+            d["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 9.into();
+        });
+        let e = err_of(&p);
+        assert!(e.contains("badref.gltf") && e.contains("accessor 9"), "{e}");
+        let p = write_gltf(dir.path(), "cycle", &tri, None, None, |d| {
+            d["nodes"] = serde_json::json!([{"mesh": 0, "children": [1]}, {"children": [0]}]);
+        });
+        let e = err_of(&p);
+        assert!(
+            e.contains("cycle.gltf") && e.contains("more than once"),
+            "{e}"
+        );
+        let p = write_gltf(dir.path(), "dag", &tri, None, None, |d| {
+            d["nodes"] = serde_json::json!([{"children": [1, 2]}, {"children": [2]}, {"mesh": 0}]);
+        });
+        let e = err_of(&p);
+        assert!(e.contains("dag.gltf") && e.contains("node 2"), "{e}");
+    }
+
+    #[test]
+    fn zero_or_nan_stored_normals_are_recomputed() {
+        let dir = tempfile::tempdir().unwrap();
+        let tri = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let normals = [[0.0, 0.0, 0.0], [f32::NAN, 0.0, 1.0], [0.0, 0.0, 2.0]];
+        let p = write_gltf(dir.path(), "zn", &tri, Some(&normals), None, |_| {});
+        let l = meshes(&p, DMat4::IDENTITY).unwrap();
+        assert_eq!(only_mesh(&l).normals, vec![DVec3::Z; 3]);
+    }
+
+    #[test]
+    fn extras_must_be_numbers() {
+        let dir = tempfile::tempdir().unwrap();
+        let tri = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let p = write_gltf(dir.path(), "extras", &tri, None, None, |d| {
+            d["materials"] =
+                serde_json::json!([{"name": "shiny", "extras": {"ks": "very", "kd": 0.1}}]);
+            d["meshes"][0]["primitives"][0]["material"] = 0.into();
+        });
+        let e = err_of(&p);
+        assert!(
+            e.contains("extras.gltf") && e.contains("`shiny`") && e.contains("`ks`"),
+            "{e}"
+        );
+        let p = write_gltf(dir.path(), "extras2", &tri, None, None, |d| {
+            d["materials"] = serde_json::json!([{"name": "shiny", "extras": {"ks": 0.7, "kr": 0.25, "ior": 1.7, "kt": 0.5}}]);
+            d["meshes"][0]["primitives"][0]["material"] = 0.into();
+        });
+        let l = meshes(&p, DMat4::IDENTITY).unwrap();
+        let m = &l.materials[0];
+        // Default glTF material: metallic 1, roughness 1 -> kd 0.8, p 1.
+        assert_eq!((m.kd, m.p), (0.8, 1.0));
+        assert_eq!((m.ks, m.kr, m.ior, m.kt), (0.7, 0.25, 1.7, 0.5));
+    }
+
+    #[test]
+    fn gltf_as_scene_uses_camera_and_point_light() {
+        let s = crate::scene::load(&fixture("scene_with_camera_light.gltf")).unwrap();
+        assert_eq!(s.camera.position, DVec3::new(0.0, 0.0, 5.0));
+        assert!((s.camera.look_at - DVec3::new(0.0, 0.0, 4.0)).length() < 1e-12);
+        assert_eq!(s.camera.up, DVec3::Y);
+        assert!((s.camera.fov_y_deg - 0.5f64.to_degrees()).abs() < 1e-9);
+        assert_eq!(s.lights.len(), 1, "the spot light is skipped");
+        assert_eq!(s.lights[0].position, DVec3::new(2.0, 3.0, 4.0));
+        assert_eq!(s.lights[0].intensity, DVec3::new(4.0, 2.0, 1.0));
+        assert!(
+            s.warnings.iter().any(|w| w.contains("spot")),
+            "{:?}",
+            s.warnings
+        );
+        assert_eq!(s.objects.len(), 1);
+        let m = &s.materials[s.objects[0].material];
+        assert_eq!(m.name, "scene_with_camera_light/window");
+        assert_eq!((m.kt, m.ior, m.p, m.kd), (0.75, 1.25, 500.0, 0.8));
+        assert!((m.ks - 0.04).abs() < 1e-12);
+        assert_eq!((s.image.width, s.image.height), (640, 480));
+        assert_eq!(s.lighting.ambient, DVec3::splat(0.2));
+        assert_eq!(s.render, RenderSettings::default());
+    }
+
+    #[test]
+    fn gltf_without_camera_or_light_is_framed_and_lit() {
+        let s = crate::scene::load(&fixture("cube.glb")).unwrap();
+        assert_eq!(s.camera.look_at, DVec3::ZERO);
+        let d = s.camera.position.z;
+        let r = 0.75f64.sqrt();
+        assert!((d - r / 20f64.to_radians().sin()).abs() < 1e-9);
+        assert_eq!(s.camera.fov_y_deg, 40.0);
+        assert_eq!(s.lights.len(), 1);
+        assert_eq!(s.lights[0].position, s.camera.position);
+        assert!((s.lights[0].intensity - DVec3::splat(d)).length() < 1e-12);
+        assert!(s.warnings.iter().any(|w| w.contains("no point light")));
+    }
+}

@@ -1,0 +1,168 @@
+//! The validated, renderer-independent description of a scene.
+//!
+//! Everything here is plain data in double precision and world space. Loaders
+//! (`toml_format`, `gltf_import`) produce it; renderers only read it. Nothing
+//! in this file touches a file, Vulkan, or an image.
+
+use glam::DVec3;
+
+/// A whole scene, validated: every number finite, every material index valid,
+/// every mesh with at least one non-degenerate triangle.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    pub camera: Camera,
+    pub image: ImageSettings,
+    pub lighting: Lighting,
+    pub lights: Vec<PointLight>,
+    pub materials: Vec<Material>,
+    pub objects: Vec<Object>,
+    pub render: RenderSettings,
+    /// Non-fatal findings of the loader (for example degenerate triangles that
+    /// were dropped). The CLI prints them; the library never does.
+    pub warnings: Vec<String>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    pub position: DVec3,
+    pub look_at: DVec3,
+    pub up: DVec3,
+    /// Vertical field of view in degrees, in (0, 180).
+    pub fov_y_deg: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImageSettings {
+    pub width: u32,
+    pub height: u32,
+    /// Linear RGB.
+    pub background: DVec3,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Interpolation {
+    /// Perspective-correct interpolation (GLSL `smooth`).
+    #[default]
+    Perspective,
+    /// Screen-space linear interpolation, the lecture's scanline rule
+    /// (GLSL `noperspective`).
+    Screen,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lighting {
+    /// Ia, per channel.
+    pub ambient: DVec3,
+    /// The constant k in Il / (d + k).
+    pub k: f64,
+    pub interpolation: Interpolation,
+    /// When false, lights are not attenuated with distance: Il instead of
+    /// Il / (d + k) (the lecture's formula before attenuation is introduced).
+    pub attenuation: bool,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointLight {
+    pub position: DVec3,
+    /// Il, per channel.
+    pub intensity: DVec3,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Material {
+    pub name: String,
+    /// Tints the ambient and diffuse terms (linear RGB).
+    pub color: DVec3,
+    pub ka: f64,
+    pub kd: f64,
+    pub ks: f64,
+    /// Glossiness (Phong exponent).
+    pub p: f64,
+    pub kr: f64,
+    pub kt: f64,
+    pub ior: f64,
+}
+
+#[derive(Debug, Clone)]
+pub struct Object {
+    pub shape: Shape,
+    /// Index into `Scene::materials`.
+    pub material: usize,
+}
+
+#[derive(Debug, Clone)]
+pub enum Shape {
+    Sphere {
+        center: DVec3,
+        radius: f64,
+        /// Tessellation for the raster modes: `segments` around the equator,
+        /// `segments / 2` (at least 2) from pole to pole.
+        segments: u32,
+    },
+    /// A finite square of edge `size` centred on `center`, facing `normal`
+    /// (unit length). Its edges follow `plane_axes(normal)`.
+    Plane {
+        center: DVec3,
+        normal: DVec3,
+        size: f64,
+        /// Grid cells per edge for the raster modes (1 = two triangles).
+        segments: u32,
+    },
+    /// An oriented box: `half_extents` along the columns of `rotation`.
+    Box {
+        center: DVec3,
+        half_extents: DVec3,
+        rotation: glam::DMat3,
+    },
+    /// A triangle mesh, already in world space.
+    Mesh(TriangleMesh),
+}
+
+/// Indexed triangles in world space with one unit normal per vertex.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct TriangleMesh {
+    pub positions: Vec<DVec3>,
+    pub normals: Vec<DVec3>,
+    /// Counter-clockwise seen from the side the geometric normal points to.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RenderSettings {
+    /// Ray tracing: maximum recursion depth.
+    pub depth: u32,
+    /// Ray tracing: adaptive depth cut-off on the ray weight.
+    pub cutoff: f64,
+    pub shadows: bool,
+    /// Ray tracing: samples per pixel.
+    pub samples: u32,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            depth: 5,
+            cutoff: 0.001,
+            shadows: true,
+            samples: 1,
+        }
+    }
+}
+
+/// Two unit vectors `(u, v)` spanning the plane with unit normal `n`, with
+/// `u x v = n`. `u` is built from the world axis least aligned with `n`
+/// (X, then Y, then Z on ties), so a floor facing +Y gets edges along the
+/// world X and Z axes.
+pub fn plane_axes(n: DVec3) -> (DVec3, DVec3) {
+    let a = n.abs();
+    let axis = if a.x <= a.y && a.x <= a.z {
+        DVec3::X
+    } else if a.y <= a.z {
+        DVec3::Y
+    } else {
+        DVec3::Z
+    };
+    let u = n.cross(axis).normalize();
+    let v = n.cross(u);
+    (u, v)
+}

@@ -1,0 +1,50 @@
+//! The shading modes a user can ask for.
+
+use std::fmt;
+use std::str::FromStr;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Shading {
+    Flat,
+    Gouraud,
+    Phong,
+    Raytrace,
+}
+
+impl Shading {
+    pub const ALL: [Shading; 4] = [
+        Shading::Flat,
+        Shading::Gouraud,
+        Shading::Phong,
+        Shading::Raytrace,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Shading::Flat => "flat",
+            Shading::Gouraud => "gouraud",
+            Shading::Phong => "phong",
+            Shading::Raytrace => "raytrace",
+        }
+    }
+}
+
+impl fmt::Display for Shading {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Shading {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Shading::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| {
+                format!("unknown shading mode `{s}`; expected flat, gouraud, phong or raytrace")
+            })
+    }
+}

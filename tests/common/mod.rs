@@ -1,0 +1,171 @@
+//! Shared helpers for the GPU tests: a context with the validation layer on,
+//! scenes built in code, and exact double-precision ray casts that say which
+//! surface point each pixel centre sees.
+#![allow(dead_code)]
+
+use std::sync::Arc;
+
+use glam::DVec3;
+use shadelab::camera::View;
+use shadelab::gpu::{GpuContext, GpuOptions};
+use shadelab::scene::*;
+use shadelab::shading::Shading;
+use shadelab::LinearImage;
+
+/// A context with the Khronos validation layer on: any validation message
+/// turns the render that caused it into an error, failing the test.
+pub fn gpu() -> Arc<GpuContext> {
+    let options = GpuOptions {
+        validation: true,
+        ..GpuOptions::from_env()
+    };
+    GpuContext::new(&options).expect("a Vulkan device with the validation layer")
+}
+
+pub fn render(context: &Arc<GpuContext>, scene: &Scene, shading: Shading) -> LinearImage {
+    match shadelab::render::render_gpu(context, scene, shading) {
+        Ok(r) => r.image,
+        Err(e) => panic!("render failed: {e}"),
+    }
+}
+
+pub fn material(color: DVec3, ka: f64, kd: f64, ks: f64, p: f64) -> Material {
+    Material {
+        name: "test".into(),
+        color,
+        ka,
+        kd,
+        ks,
+        p,
+        kr: 0.0,
+        kt: 0.0,
+        ior: 1.0,
+    }
+}
+
+/// A scene with a camera on +Z looking at the origin, one white light, no
+/// objects, and one material.
+pub fn scene(width: u32, height: u32, fov_y_deg: f64) -> Scene {
+    Scene {
+        camera: Camera {
+            position: DVec3::new(0.0, 0.0, 10.0),
+            look_at: DVec3::ZERO,
+            up: DVec3::Y,
+            fov_y_deg,
+        },
+        image: ImageSettings {
+            width,
+            height,
+            background: DVec3::ZERO,
+        },
+        lighting: Lighting {
+            ambient: DVec3::splat(0.2),
+            k: 1.0,
+            interpolation: Interpolation::Perspective,
+            attenuation: true,
+        },
+        lights: vec![PointLight {
+            position: DVec3::new(4.0, 5.0, 8.0),
+            intensity: DVec3::splat(10.0),
+        }],
+        materials: vec![material(DVec3::new(0.9, 0.6, 0.3), 0.3, 0.7, 0.5, 10.0)],
+        objects: Vec::new(),
+        render: RenderSettings::default(),
+        warnings: Vec::new(),
+    }
+}
+
+pub fn view(scene: &Scene) -> View {
+    View::new(scene, scene.image.width, scene.image.height)
+}
+
+/// The ray direction through the centre of pixel (x, y).
+pub fn pixel_ray(view: &View, x: u32, y: u32) -> DVec3 {
+    view.ray_direction(f64::from(x) + 0.5, f64::from(y) + 0.5)
+}
+
+/// Nearest intersection distance of a ray with a sphere.
+pub fn hit_sphere(origin: DVec3, dir: DVec3, center: DVec3, radius: f64) -> Option<f64> {
+    let oc = origin - center;
+    let b = oc.dot(dir);
+    let c = oc.length_squared() - radius * radius;
+    let disc = b * b - c;
+    if disc < 0.0 {
+        return None;
+    }
+    let t = -b - disc.sqrt();
+    (t > 0.0).then_some(t)
+}
+
+/// Nearest triangle hit: (triangle index, distance, barycentrics of b and c).
+pub fn hit_mesh(origin: DVec3, dir: DVec3, mesh: &TriangleMesh) -> Option<(usize, f64, f64, f64)> {
+    let mut best: Option<(usize, f64, f64, f64)> = None;
+    for (i, tri) in mesh.triangles.iter().enumerate() {
+        let [a, b, c] = tri.map(|k| mesh.positions[k as usize]);
+        let (e1, e2) = (b - a, c - a);
+        let pv = dir.cross(e2);
+        let det = e1.dot(pv);
+        if det.abs() < 1e-15 {
+            continue;
+        }
+        let tv = origin - a;
+        let u = tv.dot(pv) / det;
+        let qv = tv.cross(e1);
+        let v = dir.dot(qv) / det;
+        let t = e2.dot(qv) / det;
+        if u < 0.0 || v < 0.0 || u + v > 1.0 || t <= 0.0 {
+            continue;
+        }
+        if best.is_none_or(|(_, bt, _, _)| t < bt) {
+            best = Some((i, t, u, v));
+        }
+    }
+    best
+}
+
+/// For each pixel, the index of what its centre sees (None: background).
+/// `classify` maps a pixel to an id.
+pub fn id_map(
+    width: u32,
+    height: u32,
+    classify: impl Fn(u32, u32) -> Option<usize>,
+) -> Vec<Option<usize>> {
+    let mut ids = Vec::with_capacity((width * height) as usize);
+    for y in 0..height {
+        for x in 0..width {
+            ids.push(classify(x, y));
+        }
+    }
+    ids
+}
+
+/// Pixels whose 3x3 neighbourhood all see the same id: away from every edge,
+/// so the sub-pixel placement of an edge cannot change what they show.
+pub fn interior_pixels(width: u32, height: u32, ids: &[Option<usize>]) -> Vec<(u32, u32, usize)> {
+    let mut out = Vec::new();
+    for y in 1..height.saturating_sub(1) {
+        for x in 1..width.saturating_sub(1) {
+            let id = ids[(y * width + x) as usize];
+            let Some(id) = id else { continue };
+            let same = (-1i32..=1).all(|dy| {
+                (-1i32..=1).all(|dx| {
+                    let (nx, ny) = ((x as i32 + dx) as u32, (y as i32 + dy) as u32);
+                    ids[(ny * width + nx) as usize] == Some(id)
+                })
+            });
+            if same {
+                out.push((x, y, id));
+            }
+        }
+    }
+    out
+}
+
+pub fn to_dvec(rgb: [f32; 3]) -> DVec3 {
+    DVec3::new(f64::from(rgb[0]), f64::from(rgb[1]), f64::from(rgb[2]))
+}
+
+/// Largest per-channel absolute difference.
+pub fn max_abs_diff(a: DVec3, b: DVec3) -> f64 {
+    (a - b).abs().max_element()
+}

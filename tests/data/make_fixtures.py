@@ -1,0 +1,333 @@
+#!/usr/bin/env python3
+"""Writes the small glTF test fixtures used by the scene loader's unit tests.
+
+Standard library only. Run it from anywhere; it writes next to itself:
+
+    python3 make_fixtures.py
+
+Every file is tiny and hand-built so the tests can check exact numbers:
+
+- tri_indexed.gltf      one indexed triangle with normals (embedded base64),
+                        a material with `extras` overrides
+- tri_unindexed.gltf    two triangles, no index accessor, no material
+- hierarchy.gltf        parent (translation + scale) -> child (rotation)
+- no_normals.gltf       an indexed tetrahedron without NORMAL
+- degenerate.gltf       a quad plus a repeated-index and a collinear triangle
+- cube.glb              binary glTF: unit cube centred on the origin, normals
+- nan_position.gltf     a NaN in POSITION
+- corrupt.glb           truncated garbage with a glb magic
+- scene_with_camera_light.gltf
+                        a quad, a perspective camera, a point light and a spot
+                        light (KHR_lights_punctual), a BLEND material with
+                        KHR_materials_ior
+- mirrored.gltf         a triangle under a node with scale [-1, 1, 1]
+"""
+
+import base64
+import json
+import os
+import struct
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+FLOAT = 5126
+USHORT = 5123
+ARRAY_BUFFER = 34962
+ELEMENT_ARRAY_BUFFER = 34963
+
+
+class Builder:
+    """Accumulates one binary buffer plus the views and accessors into it."""
+
+    def __init__(self):
+        self.data = bytearray()
+        self.views = []
+        self.accessors = []
+
+    def _align(self):
+        while len(self.data) % 4:
+            self.data.append(0)
+
+    def vec3(self, values, with_bounds=True):
+        """Adds a VEC3 float accessor; returns its index."""
+        self._align()
+        offset = len(self.data)
+        for v in values:
+            self.data += struct.pack("<3f", *v)
+        self.views.append({"buffer": 0, "byteOffset": offset,
+                           "byteLength": len(values) * 12,
+                           "target": ARRAY_BUFFER})
+        acc = {"bufferView": len(self.views) - 1, "componentType": FLOAT,
+               "count": len(values), "type": "VEC3"}
+        if with_bounds:
+            finite = [v for v in values if all(c == c for c in v)]
+            acc["min"] = [min(v[i] for v in finite) for i in range(3)]
+            acc["max"] = [max(v[i] for v in finite) for i in range(3)]
+        self.accessors.append(acc)
+        return len(self.accessors) - 1
+
+    def indices(self, idx):
+        """Adds an unsigned-short SCALAR index accessor; returns its index."""
+        self._align()
+        offset = len(self.data)
+        for i in idx:
+            self.data += struct.pack("<H", i)
+        self.views.append({"buffer": 0, "byteOffset": offset,
+                           "byteLength": len(idx) * 2,
+                           "target": ELEMENT_ARRAY_BUFFER})
+        self.accessors.append({"bufferView": len(self.views) - 1,
+                               "componentType": USHORT, "count": len(idx),
+                               "type": "SCALAR"})
+        return len(self.accessors) - 1
+
+    def finish(self, doc, embed=True):
+        """Completes `doc` with buffers/views/accessors."""
+        self._align()
+        buf = {"byteLength": len(self.data)}
+        if embed:
+            buf["uri"] = ("data:application/octet-stream;base64,"
+                          + base64.b64encode(bytes(self.data)).decode("ascii"))
+        doc["asset"] = {"version": "2.0", "generator": "make_fixtures.py"}
+        doc["buffers"] = [buf]
+        doc["bufferViews"] = self.views
+        doc["accessors"] = self.accessors
+        return doc
+
+
+def write_gltf(name, doc):
+    with open(os.path.join(HERE, name), "w", encoding="utf-8") as f:
+        json.dump(doc, f, indent=1)
+        f.write("\n")
+
+
+def write_glb(name, doc, binary):
+    js = json.dumps(doc, separators=(",", ":")).encode("utf-8")
+    while len(js) % 4:
+        js += b" "
+    binary = bytes(binary)
+    while len(binary) % 4:
+        binary += b"\0"
+    total = 12 + 8 + len(js) + 8 + len(binary)
+    out = struct.pack("<4sII", b"glTF", 2, total)
+    out += struct.pack("<I4s", len(js), b"JSON") + js
+    out += struct.pack("<I4s", len(binary), b"BIN\0") + binary
+    with open(os.path.join(HERE, name), "wb") as f:
+        f.write(out)
+
+
+def tri_indexed():
+    b = Builder()
+    pos = b.vec3([(0, 0, 0), (1, 0, 0), (0, 1, 0)])
+    nrm = b.vec3([(0, 0, 1)] * 3)
+    idx = b.indices([0, 1, 2])
+    doc = {
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"name": "tri", "mesh": 0}],
+        "meshes": [{"name": "tri", "primitives": [{
+            "attributes": {"POSITION": pos, "NORMAL": nrm},
+            "indices": idx, "material": 0}]}],
+        "materials": [{
+            "name": "red",
+            "pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 1],
+                                     "metallicFactor": 0.0,
+                                     "roughnessFactor": 0.5},
+            "extras": {"p": 64, "ka": 0.1, "note": "not a material key"}}],
+    }
+    write_gltf("tri_indexed.gltf", b.finish(doc))
+
+
+def tri_unindexed():
+    b = Builder()
+    pos = b.vec3([(0, 0, 0), (1, 0, 0), (0, 1, 0),
+                  (1, 0, 0), (1, 1, 0), (0, 1, 0)])
+    nrm = b.vec3([(0, 0, 1)] * 6)
+    doc = {
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{
+            "attributes": {"POSITION": pos, "NORMAL": nrm}}]}],
+    }
+    write_gltf("tri_unindexed.gltf", b.finish(doc))
+
+
+def hierarchy():
+    # parent: T = (1, 2, 3), S = 2; child: 90 degrees about +Z.
+    # (1,0,0) -> (1,4,3); (0,1,0) -> (-1,2,3); (0,0,1) -> (1,2,5)
+    b = Builder()
+    pos = b.vec3([(1, 0, 0), (0, 1, 0), (0, 0, 1)])
+    idx = b.indices([0, 1, 2])
+    h = 0.7071067811865476
+    doc = {
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [
+            {"name": "parent", "translation": [1, 2, 3], "scale": [2, 2, 2],
+             "children": [1]},
+            {"name": "child", "rotation": [0, 0, h, h], "mesh": 0},
+        ],
+        "meshes": [{"name": "tri", "primitives": [{
+            "attributes": {"POSITION": pos}, "indices": idx}]}],
+    }
+    write_gltf("hierarchy.gltf", b.finish(doc))
+
+
+def no_normals():
+    b = Builder()
+    pos = b.vec3([(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)])
+    idx = b.indices([0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3])
+    doc = {
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"name": "tetra", "primitives": [{
+            "attributes": {"POSITION": pos}, "indices": idx}]}],
+    }
+    write_gltf("no_normals.gltf", b.finish(doc))
+
+
+def degenerate():
+    b = Builder()
+    # 0..3: unit quad in z = 0; 4: midpoint of edge 0-1 (collinear with 0, 1)
+    pos = b.vec3([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0.5, 0, 0)])
+    idx = b.indices([0, 1, 2, 0, 2, 3,   # the quad
+                     0, 0, 1,            # repeated index
+                     0, 4, 1])           # collinear
+    doc = {
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"name": "quad", "primitives": [{
+            "attributes": {"POSITION": pos}, "indices": idx}]}],
+    }
+    write_gltf("degenerate.gltf", b.finish(doc))
+
+
+def cube():
+    b = Builder()
+    positions, normals, idx = [], [], []
+    # (normal, u, v) with u x v = normal, so (-,-),(+,-),(+,+),(-,+) is CCW
+    faces = [((1, 0, 0), (0, 1, 0), (0, 0, 1)),
+             ((-1, 0, 0), (0, 0, 1), (0, 1, 0)),
+             ((0, 1, 0), (0, 0, 1), (1, 0, 0)),
+             ((0, -1, 0), (1, 0, 0), (0, 0, 1)),
+             ((0, 0, 1), (1, 0, 0), (0, 1, 0)),
+             ((0, 0, -1), (0, 1, 0), (1, 0, 0))]
+    for n, u, v in faces:
+        base = len(positions)
+        for su, sv in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+            positions.append(tuple(0.5 * n[i] + 0.5 * su * u[i] + 0.5 * sv * v[i]
+                                   for i in range(3)))
+            normals.append(n)
+        idx += [base, base + 1, base + 2, base, base + 2, base + 3]
+    pos = b.vec3(positions)
+    nrm = b.vec3(normals)
+    ind = b.indices(idx)
+    doc = {
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"name": "cube", "mesh": 0}],
+        "meshes": [{"name": "cube", "primitives": [{
+            "attributes": {"POSITION": pos, "NORMAL": nrm},
+            "indices": ind, "material": 0}]}],
+        "materials": [{
+            "name": "ochre",
+            "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.6, 0.2, 1],
+                                     "metallicFactor": 0.0,
+                                     "roughnessFactor": 0.5}}],
+    }
+    b.finish(doc, embed=False)
+    write_glb("cube.glb", doc, b.data)
+
+
+def nan_position():
+    b = Builder()
+    pos = b.vec3([(0, 0, 0), (float("nan"), 0, 0), (0, 1, 0)])
+    idx = b.indices([0, 1, 2])
+    doc = {
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"name": "broken", "primitives": [{
+            "attributes": {"POSITION": pos}, "indices": idx}]}],
+    }
+    write_gltf("nan_position.gltf", b.finish(doc))
+
+
+def corrupt():
+    data = struct.pack("<4sII", b"glTF", 2, 4096) + b"\x13\x37garbage" * 5
+    with open(os.path.join(HERE, "corrupt.glb"), "wb") as f:
+        f.write(data)
+
+
+def scene_with_camera_light():
+    b = Builder()
+    pos = b.vec3([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)])
+    nrm = b.vec3([(0, 0, 1)] * 4)
+    idx = b.indices([0, 1, 2, 0, 2, 3])
+    doc = {
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_ior"],
+        "extensions": {"KHR_lights_punctual": {"lights": [
+            {"type": "point", "color": [1.0, 0.5, 0.25], "intensity": 4.0},
+            {"type": "spot", "intensity": 10.0,
+             "spot": {"innerConeAngle": 0.1, "outerConeAngle": 0.5}},
+        ]}},
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1, 2, 3]}],
+        "nodes": [
+            {"name": "quad", "mesh": 0},
+            {"name": "cam", "camera": 0, "translation": [0, 0, 5]},
+            {"name": "lamp", "translation": [2, 3, 4],
+             "extensions": {"KHR_lights_punctual": {"light": 0}}},
+            {"name": "spot", "translation": [0, 5, 0],
+             "extensions": {"KHR_lights_punctual": {"light": 1}}},
+        ],
+        "cameras": [{"type": "perspective",
+                     "perspective": {"yfov": 0.5, "znear": 0.1,
+                                     "zfar": 100.0, "aspectRatio": 1.5}}],
+        "meshes": [{"name": "quad", "primitives": [{
+            "attributes": {"POSITION": pos, "NORMAL": nrm},
+            "indices": idx, "material": 0}]}],
+        "materials": [{
+            "name": "window",
+            "alphaMode": "BLEND",
+            "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 1.0, 0.25],
+                                     "metallicFactor": 0.0,
+                                     "roughnessFactor": 0.0},
+            "extensions": {"KHR_materials_ior": {"ior": 1.25}}}],
+    }
+    write_gltf("scene_with_camera_light.gltf", b.finish(doc))
+
+
+def mirrored():
+    b = Builder()
+    pos = b.vec3([(0, 0, 0), (1, 0, 0), (0, 1, 0)])
+    nrm = b.vec3([(0, 0, 1)] * 3)
+    idx = b.indices([0, 1, 2])
+    doc = {
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"name": "mirror", "scale": [-1, 1, 1], "mesh": 0}],
+        "meshes": [{"primitives": [{
+            "attributes": {"POSITION": pos, "NORMAL": nrm},
+            "indices": idx}]}],
+    }
+    write_gltf("mirrored.gltf", b.finish(doc))
+
+
+def main():
+    tri_indexed()
+    tri_unindexed()
+    hierarchy()
+    no_normals()
+    degenerate()
+    cube()
+    nan_position()
+    corrupt()
+    scene_with_camera_light()
+    mirrored()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,240 @@
+//! Flat and Gouraud shading, and screen against perspective interpolation,
+//! held to the lighting formula evaluated in double precision.
+
+mod common;
+
+use common::*;
+use glam::{DVec2, DVec3};
+use shadelab::cpu::lighting::shade;
+use shadelab::scene::{tessellate, Interpolation, Object, Scene, Shape};
+use shadelab::shading::Shading;
+
+/// f32 arithmetic on values below ~2 is good to ~1e-6; 1e-4 leaves a wide
+/// margin and is still 40 times finer than one 8-bit output step (1/255).
+const FLOAT_TOL: f64 = 1e-4;
+
+#[test]
+fn flat_gives_each_triangle_one_colour_the_formula_at_its_centroid() {
+    let mut s = scene(160, 160, 30.0);
+    s.materials[0].ks = 0.6;
+    s.objects.push(Object {
+        shape: Shape::Sphere {
+            center: DVec3::ZERO,
+            radius: 2.0,
+            segments: 12,
+        },
+        material: 0,
+    });
+    let image = render(&gpu(), &s, Shading::Flat);
+    let mesh = tessellate(&s.objects[0].shape);
+    let v = view(&s);
+    let ids = id_map(160, 160, |x, y| {
+        hit_mesh(v.eye, pixel_ray(&v, x, y), &mesh).map(|h| h.0)
+    });
+    let interior = interior_pixels(160, 160, &ids);
+    assert!(
+        interior.len() > 3000,
+        "too few interior pixels: {}",
+        interior.len()
+    );
+
+    let mut colour_of = std::collections::HashMap::new();
+    for &(x, y, tri) in &interior {
+        let got = image.get(x, y);
+        // Exactly one colour per triangle: bit-identical across its pixels.
+        let first = *colour_of.entry(tri).or_insert(got);
+        assert_eq!(first, got, "triangle {tri} has two colours");
+        let [a, b, c] = mesh.triangles[tri].map(|k| mesh.positions[k as usize]);
+        let centroid = (a + b + c) / 3.0;
+        let normal = (b - a).cross(c - a).normalize();
+        let want = shade(
+            &s.lighting,
+            &s.lights,
+            &s.materials[0],
+            centroid,
+            normal,
+            v.eye,
+        );
+        let err = max_abs_diff(to_dvec(got), want);
+        assert!(
+            err < FLOAT_TOL,
+            "triangle {tri} at ({x}, {y}): {got:?} vs formula {want}"
+        );
+    }
+    assert!(
+        colour_of.len() > 25,
+        "only {} triangles checked",
+        colour_of.len()
+    );
+    // And over the whole image (edges included) no pixel holds a colour that
+    // is not some triangle's or the background's.
+    let distinct: std::collections::HashSet<[u32; 3]> =
+        image.pixels.iter().map(|p| p.map(f32::to_bits)).collect();
+    assert!(distinct.len() <= mesh.triangles.len() + 1);
+}
+
+/// A camera and a screen-parallel grid whose vertices land exactly on pixel
+/// centres: 101x101 pixels, a 90 degree field of view (focal length 1), the
+/// plane 10 units away, 4x4 cells. Vertex columns and rows fall on pixel
+/// centres 10.5, 30.5, 50.5, 70.5 and 90.5.
+fn grid_scene() -> Scene {
+    let mut s = scene(101, 101, 90.0);
+    s.lights[0].position = DVec3::new(3.0, 2.0, 2.0);
+    s.materials[0].ks = 0.7;
+    s.materials[0].p = 6.0;
+    s.objects.push(Object {
+        shape: Shape::Plane {
+            center: DVec3::ZERO,
+            normal: DVec3::Z,
+            size: 2.0 * 10.0 * 40.0 / 50.5,
+            segments: 4,
+        },
+        material: 0,
+    });
+    s
+}
+
+fn vertex_intensity(s: &Scene, world: DVec3, normal: DVec3) -> DVec3 {
+    shade(
+        &s.lighting,
+        &s.lights,
+        &s.materials[0],
+        world,
+        normal,
+        s.camera.position,
+    )
+}
+
+#[test]
+fn gouraud_equals_formula_at_vertices_and_is_linear_along_edges() {
+    let s = grid_scene();
+    let image = render(&gpu(), &s, Shading::Gouraud);
+    let mesh = tessellate(&s.objects[0].shape);
+    let v = view(&s);
+    let mut checked_vertices = 0;
+    let mut on_pixel = std::collections::HashMap::new();
+    for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
+        let at = v.project(*p).unwrap();
+        let (px, py) = (at.x - 0.5, at.y - 0.5);
+        assert!(
+            (px - px.round()).abs() < 1e-6 && (py - py.round()).abs() < 1e-6,
+            "vertex not on a pixel centre"
+        );
+        let (px, py) = (px.round() as u32, py.round() as u32);
+        on_pixel.insert((px, py), vertex_intensity(&s, *p, *n));
+        // Border vertices sit on the square's outer edge, which the fill rule
+        // may leave uncovered; interior ones are always covered.
+        if (11..=89).contains(&px) && (11..=89).contains(&py) {
+            let err = max_abs_diff(to_dvec(image.get(px, py)), on_pixel[&(px, py)]);
+            assert!(err < FLOAT_TOL, "vertex at ({px}, {py}): error {err:.2e}");
+            checked_vertices += 1;
+        }
+    }
+    assert_eq!(checked_vertices, 9);
+    // Along the horizontal edge y = 50 between the vertices at x = 30 and
+    // x = 50 (and the next span), the value is linear between its ends.
+    for (x0, x1) in [(30u32, 50u32), (50, 70)] {
+        let (i0, i1) = (on_pixel[&(x0, 50)], on_pixel[&(x1, 50)]);
+        assert!(
+            max_abs_diff(i0, i1) > 0.02,
+            "choose a light that varies along the edge"
+        );
+        for x in x0..=x1 {
+            let t = f64::from(x - x0) / f64::from(x1 - x0);
+            let want = i0 * (1.0 - t) + i1 * t;
+            let err = max_abs_diff(to_dvec(image.get(x, 50)), want);
+            assert!(err < FLOAT_TOL, "edge pixel ({x}, 50): error {err:.2e}");
+        }
+    }
+}
+
+#[test]
+fn screen_and_perspective_agree_on_a_screen_parallel_plane() {
+    let context = gpu();
+    for shading in [Shading::Gouraud, Shading::Phong] {
+        let persp = grid_scene();
+        let mut screen = grid_scene();
+        screen.lighting.interpolation = Interpolation::Screen;
+        let (a, b) = (
+            render(&context, &persp, shading),
+            render(&context, &screen, shading),
+        );
+        let worst = a
+            .pixels
+            .iter()
+            .zip(&b.pixels)
+            .map(|(p, q)| max_abs_diff(to_dvec(*p), to_dvec(*q)))
+            .fold(0.0, f64::max);
+        assert!(worst < FLOAT_TOL, "{shading}: images differ by {worst}");
+    }
+}
+
+/// 2D barycentric coordinates of `p` in the triangle (a, b, c).
+fn barycentric(p: DVec2, a: DVec2, b: DVec2, c: DVec2) -> DVec3 {
+    let area = (b - a).perp_dot(c - a);
+    let wb = (p - a).perp_dot(c - a) / area;
+    let wc = (b - a).perp_dot(p - a) / area;
+    DVec3::new(1.0 - wb - wc, wb, wc)
+}
+
+#[test]
+fn screen_and_perspective_differ_as_predicted_on_a_tilted_plane() {
+    let mut s = scene(128, 128, 40.0);
+    s.camera.position = DVec3::new(0.0, 0.0, 6.0);
+    s.lights[0].position = DVec3::new(-3.0, 4.0, 3.0);
+    s.objects.push(Object {
+        // Tilted 70 degrees away from the camera, so depth varies strongly
+        // across each triangle, and small enough to stay inside the image:
+        // a clipped triangle gets new vertices whose `noperspective` values
+        // Vulkan leaves to the implementation.
+        shape: Shape::Plane {
+            center: DVec3::ZERO,
+            normal: DVec3::new(0.0, 70f64.to_radians().sin(), 70f64.to_radians().cos()),
+            size: 3.2,
+            segments: 1,
+        },
+        material: 0,
+    });
+    let context = gpu();
+    let persp_img = render(&context, &s, Shading::Gouraud);
+    let mut screen_scene = s.clone();
+    screen_scene.lighting.interpolation = Interpolation::Screen;
+    let screen_img = render(&context, &screen_scene, Shading::Gouraud);
+
+    let mesh = tessellate(&s.objects[0].shape);
+    let v = view(&s);
+    let ids = id_map(128, 128, |x, y| {
+        hit_mesh(v.eye, pixel_ray(&v, x, y), &mesh).map(|h| h.0)
+    });
+    let mut strongly_different = 0;
+    for (x, y, tri) in interior_pixels(128, 128, &ids) {
+        let corners = mesh.triangles[tri].map(|k| k as usize);
+        let intensity = corners.map(|k| vertex_intensity(&s, mesh.positions[k], mesh.normals[k]));
+        // Perspective-correct weights are the barycentrics of the 3D hit.
+        let (_, _, u, w) = hit_mesh(v.eye, pixel_ray(&v, x, y), &mesh).unwrap();
+        let persp = intensity[0] * (1.0 - u - w) + intensity[1] * u + intensity[2] * w;
+        // Screen-linear weights are the barycentrics in the image plane.
+        let screen_pts = corners.map(|k| v.project(mesh.positions[k]).unwrap());
+        let centre = DVec2::new(f64::from(x) + 0.5, f64::from(y) + 0.5);
+        let bary = barycentric(centre, screen_pts[0], screen_pts[1], screen_pts[2]);
+        let screen = intensity[0] * bary.x + intensity[1] * bary.y + intensity[2] * bary.z;
+
+        let got_persp = to_dvec(persp_img.get(x, y));
+        let got_screen = to_dvec(screen_img.get(x, y));
+        assert!(
+            max_abs_diff(got_persp, persp) < FLOAT_TOL,
+            "perspective at ({x}, {y})"
+        );
+        assert!(
+            max_abs_diff(got_screen, screen) < FLOAT_TOL,
+            "screen at ({x}, {y})"
+        );
+        if max_abs_diff(persp, screen) > 0.01 {
+            strongly_different += 1;
+        }
+    }
+    assert!(
+        strongly_different > 200,
+        "the tilt should make the rules disagree: {strongly_different} pixels"
+    );
+}
