@@ -1,0 +1,363 @@
+//! The `shadelab` binary as users and scripts drive it: outputs, exit
+//! statuses, and one clear error line for each kind of bad input, with no
+//! output file left behind.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn fixture(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
+struct Run {
+    code: i32,
+    stdout: String,
+    stderr: String,
+}
+
+fn shadelab(dir: &Path, args: &[&str]) -> Run {
+    let out = Command::new(env!("CARGO_BIN_EXE_shadelab"))
+        .args(args)
+        .current_dir(dir)
+        .env("SHADELAB_VALIDATION", "1")
+        .output()
+        .expect("the binary runs");
+    Run {
+        code: out.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    }
+}
+
+fn files_in(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+const CAMERA: &str = "[camera]\nposition = [0.0, 0.0, 5.0]\nlook_at = [0.0, 0.0, 0.0]\n";
+const SPHERE: &str =
+    "[materials.m]\ncolor = [1, 1, 1]\n[[objects]]\nshape = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"m\"\n";
+
+/// Renders `scene_text` (written as scene.toml) and expects exit status 2,
+/// one error line containing every word of `expect`, and no image written.
+fn assert_bad_input(scene_text: &str, extra_args: &[&str], expect: &[&str]) {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("scene.toml"), scene_text).unwrap();
+    let before = files_in(dir.path());
+    let mut args = vec!["render", "scene.toml", "--out", "out.png"];
+    args.extend_from_slice(extra_args);
+    let run = shadelab(dir.path(), &args);
+    assert_eq!(
+        run.code, 2,
+        "exit status for {expect:?}; stderr: {}",
+        run.stderr
+    );
+    assert!(!run.stderr.contains("panicked"), "a panic: {}", run.stderr);
+    let lines: Vec<&str> = run
+        .stderr
+        .lines()
+        .filter(|l| !l.trim().is_empty())
+        .collect();
+    assert_eq!(lines.len(), 1, "one error line, got: {}", run.stderr);
+    assert!(lines[0].starts_with("shadelab: error: "), "{}", lines[0]);
+    for word in expect {
+        assert!(
+            lines[0].contains(word),
+            "error should mention {word:?}: {}",
+            lines[0]
+        );
+    }
+    assert_eq!(
+        files_in(dir.path()),
+        before,
+        "no output (or temporary) file may be left"
+    );
+}
+
+#[test]
+fn renders_the_default_scene_to_png_and_exr() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = shadelab(
+        dir.path(),
+        &[
+            "render",
+            "--shading",
+            "gouraud",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--out",
+            "a.png",
+        ],
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let png = shadelab::output::read_image(&dir.path().join("a.png")).unwrap();
+    assert_eq!((png.width, png.height), (64, 48));
+    let run = shadelab(
+        dir.path(),
+        &[
+            "render",
+            "--shading",
+            "gouraud",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--out",
+            "a.exr",
+            "--json",
+        ],
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let json: serde_json::Value =
+        serde_json::from_str(run.stdout.trim()).expect("--json prints one JSON object");
+    assert_eq!(json["width"], 64);
+    assert_eq!(json["shading"], "gouraud");
+    let exr = shadelab::output::read_image(&dir.path().join("a.exr")).unwrap();
+    // The PNG is the EXR clamped and sRGB-encoded: within half an 8-bit step.
+    let mut lit = 0;
+    for (p, e) in png.pixels.iter().zip(&exr.pixels) {
+        for c in 0..3 {
+            let want = shadelab::output::linear_to_srgb8(e[c]);
+            let got = shadelab::output::linear_to_srgb8(p[c]);
+            assert_eq!(got, want);
+        }
+        if e[0] > 0.2 {
+            lit += 1;
+        }
+    }
+    assert!(lit > 100, "the default scene should show lit objects");
+}
+
+#[test]
+fn default_output_name_follows_scene_and_mode() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = shadelab(
+        dir.path(),
+        &[
+            "render",
+            "--shading",
+            "flat",
+            "--width",
+            "32",
+            "--height",
+            "32",
+        ],
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(dir.path().join("default-flat.png").is_file());
+}
+
+#[test]
+fn info_lists_the_device_in_use() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = shadelab(dir.path(), &["info", "--json"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let json: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    let selected = json["selected"].as_u64().expect("a selected device") as usize;
+    assert!(json["devices"][selected]["name"].is_string());
+}
+
+#[test]
+fn unknown_device_is_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = shadelab(
+        dir.path(),
+        &["--device", "no-such-gpu", "render", "--out", "x.png"],
+    );
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("no-such-gpu"));
+    assert!(!dir.path().join("x.png").exists());
+}
+
+#[test]
+fn malformed_toml() {
+    assert_bad_input(
+        "[camera\nposition = [0, 0, 5]\n",
+        &[],
+        &["scene.toml", "line 1"],
+    );
+}
+
+#[test]
+fn unknown_key() {
+    let text = format!("{CAMERA}colour = 1\n{SPHERE}");
+    assert_bad_input(&text, &[], &["scene.toml", "line 4", "colour"]);
+}
+
+#[test]
+fn missing_required_key() {
+    assert_bad_input(
+        "[camera]\nposition = [0.0, 0.0, 5.0]\n",
+        &[],
+        &["scene.toml", "look_at"],
+    );
+}
+
+#[test]
+fn wrong_type() {
+    let text = format!("{CAMERA}fov_y = \"wide\"\n{SPHERE}");
+    assert_bad_input(&text, &[], &["scene.toml", "line 4", "fov_y"]);
+}
+
+#[test]
+fn non_finite_number() {
+    let text = format!("{CAMERA}[lighting]\nk = nan\n{SPHERE}");
+    assert_bad_input(&text, &[], &["scene.toml", "line 5", "finite"]);
+    let text = format!("{CAMERA}[[lights]]\nposition = [0, inf, 0]\nintensity = 1\n{SPHERE}");
+    assert_bad_input(&text, &[], &["scene.toml", "line 5", "finite"]);
+}
+
+#[test]
+fn unknown_material() {
+    let text = format!(
+        "{CAMERA}{}",
+        SPHERE.replace("material = \"m\"", "material = \"marble\"")
+    );
+    assert_bad_input(&text, &[], &["scene.toml", "marble"]);
+}
+
+#[test]
+fn missing_mesh_file() {
+    let text = format!("{CAMERA}[[objects]]\nshape = \"mesh\"\nfile = \"models/missing.glb\"\n");
+    assert_bad_input(&text, &[], &["missing.glb"]);
+}
+
+#[test]
+fn corrupt_glb() {
+    let path = fixture("corrupt.glb");
+    let text = format!(
+        "{CAMERA}[[objects]]\nshape = \"mesh\"\nfile = {:?}\n",
+        path.display().to_string()
+    );
+    assert_bad_input(&text, &[], &["corrupt.glb"]);
+}
+
+#[test]
+fn nan_in_vertex_data() {
+    let path = fixture("nan_position.gltf");
+    let text = format!(
+        "{CAMERA}[[objects]]\nshape = \"mesh\"\nfile = {:?}\n",
+        path.display().to_string()
+    );
+    assert_bad_input(&text, &[], &["nan_position.gltf"]);
+}
+
+#[test]
+fn mesh_of_only_zero_area_triangles() {
+    let dir = tempfile::tempdir().unwrap();
+    // Three collinear points, in a glTF written here.
+    let positions: Vec<u8> = [0f32, 0., 0., 1., 0., 0., 2., 0., 0.]
+        .iter()
+        .flat_map(|f| f.to_le_bytes())
+        .collect();
+    let b64 = base64_encode(&positions);
+    let gltf = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}}}]}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[2,0,0]}}],
+        "bufferViews":[{{"buffer":0,"byteLength":36}}],
+        "buffers":[{{"byteLength":36,"uri":"data:application/octet-stream;base64,{b64}"}}]}}"#
+    );
+    let mesh = dir.path().join("flat.gltf");
+    std::fs::write(&mesh, gltf).unwrap();
+    let text = format!(
+        "{CAMERA}[[objects]]\nshape = \"mesh\"\nfile = {:?}\n",
+        mesh.display().to_string()
+    );
+    assert_bad_input(&text, &[], &["flat.gltf"]);
+}
+
+fn base64_encode(bytes: &[u8]) -> String {
+    const TABLE: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for chunk in bytes.chunks(3) {
+        let n = chunk
+            .iter()
+            .enumerate()
+            .fold(0u32, |acc, (i, b)| acc | u32::from(*b) << (16 - 8 * i));
+        for i in 0..4 {
+            if i <= chunk.len() {
+                out.push(TABLE[(n >> (18 - 6 * i) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn absurd_resolution_in_the_file() {
+    let text = format!("{CAMERA}[image]\nwidth = 0\n{SPHERE}");
+    assert_bad_input(&text, &[], &["scene.toml", "width"]);
+    let text = format!("{CAMERA}[image]\nheight = 100000\n{SPHERE}");
+    assert_bad_input(&text, &[], &["scene.toml", "height"]);
+}
+
+#[test]
+fn absurd_resolution_on_the_command_line() {
+    let text = format!("{CAMERA}{SPHERE}");
+    assert_bad_input(&text, &["--width", "100000"], &["--width", "100000"]);
+    assert_bad_input(&text, &["--height", "0"], &["--height"]);
+}
+
+#[test]
+fn unknown_output_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = shadelab(dir.path(), &["render", "--out", "picture.jpg"]);
+    assert_eq!(run.code, 2);
+    assert!(
+        run.stderr.contains(".png") && run.stderr.contains("picture.jpg"),
+        "{}",
+        run.stderr
+    );
+    assert!(files_in(dir.path()).is_empty());
+}
+
+#[test]
+fn missing_scene_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = shadelab(dir.path(), &["render", "nowhere.toml", "--out", "x.png"]);
+    assert_eq!(run.code, 2);
+    assert!(run.stderr.contains("nowhere.toml"), "{}", run.stderr);
+    assert!(files_in(dir.path()).is_empty());
+}
+
+#[test]
+fn unwritable_output_leaves_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = shadelab(
+        dir.path(),
+        &[
+            "render",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--out",
+            "no/such/dir/x.png",
+        ],
+    );
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("no/such/dir/x.png"), "{}", run.stderr);
+    assert!(files_in(dir.path()).is_empty());
+}
+
+#[test]
+fn usage_errors_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    assert_eq!(
+        shadelab(dir.path(), &["render", "--shading", "toon"]).code,
+        2
+    );
+    assert_eq!(shadelab(dir.path(), &["paint"]).code, 2);
+    assert_eq!(shadelab(dir.path(), &["--help"]).code, 0);
+}
