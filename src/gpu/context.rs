@@ -387,6 +387,27 @@ impl GpuContext {
         }
     }
 
+    /// Makes one deliberately invalid Vulkan call (a buffer with no usage
+    /// flags) and returns what the validation layer logged about it. Tests
+    /// use it to prove that the layer is loaded and its messages are caught;
+    /// without validation it returns nothing.
+    #[doc(hidden)]
+    pub fn provoke_validation_message(&self) -> Vec<String> {
+        self.take_validation_messages();
+        let info = vk::BufferCreateInfo::default()
+            .size(16)
+            .usage(vk::BufferUsageFlags::empty());
+        // SAFETY: an empty usage mask is invalid usage that the validation
+        // layer reports; lavapipe and every driver we target still create (or
+        // refuse) the buffer without harm, and it is destroyed at once.
+        unsafe {
+            if let Ok(buffer) = self.device.create_buffer(&info, None) {
+                self.device.destroy_buffer(buffer, None);
+            }
+        }
+        self.take_validation_messages()
+    }
+
     pub fn max_image_dimension(&self) -> u32 {
         self.limits.max_image_dimension2_d
     }
