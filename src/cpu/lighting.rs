@@ -55,11 +55,6 @@ pub fn shade(
     intensity
 }
 
-/// A unit normal, or zero for a vector too short to have a direction.
-pub fn unit_or_zero(n: DVec3) -> DVec3 {
-    n.normalize_or_zero()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,7 +3,7 @@
 use std::sync::Arc;
 
 use ash::vk;
-use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::vulkan::Allocation;
 use gpu_allocator::MemoryLocation;
 
 use super::context::GpuContext;
@@ -34,23 +34,12 @@ impl Buffer {
         let raw = unsafe { device.create_buffer(&info, None) }.during("vkCreateBuffer")?;
         // SAFETY: `raw` was just created on this device.
         let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
-        let allocation = context
-            .allocator
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .allocate(&AllocationCreateDesc {
-                name,
-                requirements,
-                location,
-                linear: true,
-                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            });
-        let allocation = match allocation {
+        let allocation = match context.allocate(name, requirements, location, true) {
             Ok(a) => a,
             Err(e) => {
                 // SAFETY: the buffer is unused and owned here.
                 unsafe { device.destroy_buffer(raw, None) };
-                return Err(e.into());
+                return Err(e);
             }
         };
         // SAFETY: the allocation satisfies the buffer's requirements.
@@ -104,12 +93,7 @@ impl Drop for Buffer {
         // submission waits on its fence before resources are dropped).
         unsafe { self.context.device.destroy_buffer(self.raw, None) };
         if let Some(a) = self.allocation.take() {
-            let _ = self
-                .context
-                .allocator
-                .lock()
-                .unwrap_or_else(|e| e.into_inner())
-                .free(a);
+            self.context.free(a);
         }
     }
 }

@@ -387,6 +387,38 @@ impl GpuContext {
         }
     }
 
+    /// Sub-allocates device memory for a buffer or image.
+    pub(crate) fn allocate(
+        &self,
+        name: &str,
+        requirements: vk::MemoryRequirements,
+        location: gpu_allocator::MemoryLocation,
+        linear: bool,
+    ) -> Result<gpu_allocator::vulkan::Allocation, GpuError> {
+        let desc = gpu_allocator::vulkan::AllocationCreateDesc {
+            name,
+            requirements,
+            location,
+            linear,
+            allocation_scheme: gpu_allocator::vulkan::AllocationScheme::GpuAllocatorManaged,
+        };
+        Ok(self
+            .allocator
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .allocate(&desc)?)
+    }
+
+    /// Returns memory from `allocate`; called from destructors, so a failure
+    /// (which would mean a double free) is ignored rather than panicking.
+    pub(crate) fn free(&self, allocation: gpu_allocator::vulkan::Allocation) {
+        let _ = self
+            .allocator
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .free(allocation);
+    }
+
     /// Makes one deliberately invalid Vulkan call (a buffer with no usage
     /// flags) and returns what the validation layer logged about it. Tests
     /// use it to prove that the layer is loaded and its messages are caught;

@@ -3,7 +3,7 @@
 use std::sync::Arc;
 
 use ash::vk;
-use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::vulkan::Allocation;
 use gpu_allocator::MemoryLocation;
 
 use super::context::GpuContext;
@@ -50,17 +50,7 @@ impl Image {
         };
         // SAFETY: `raw` was just created on this device.
         let requirements = unsafe { device.get_image_memory_requirements(raw) };
-        let allocation = context
-            .allocator
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .allocate(&AllocationCreateDesc {
-                name,
-                requirements,
-                location: MemoryLocation::GpuOnly,
-                linear: false,
-                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            })?;
+        let allocation = context.allocate(name, requirements, MemoryLocation::GpuOnly, false)?;
         // SAFETY: the allocation satisfies the image's requirements.
         unsafe { device.bind_image_memory(raw, allocation.memory(), allocation.offset()) }
             .during("vkBindImageMemory")?;
@@ -94,12 +84,7 @@ impl Drop for Image {
             self.context.device.destroy_image(self.raw, None);
         }
         if let Some(a) = self.allocation.take() {
-            let _ = self
-                .context
-                .allocator
-                .lock()
-                .unwrap_or_else(|e| e.into_inner())
-                .free(a);
+            self.context.free(a);
         }
     }
 }

@@ -958,13 +958,9 @@ mod tests {
     use std::path::PathBuf;
 
     fn fixture(name: &str) -> PathBuf {
-        let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-        let in_tests = root.join("tests/data").join(name);
-        if in_tests.exists() {
-            in_tests
-        } else {
-            root.join("fixtures").join(name)
-        }
+        PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data")
+            .join(name)
     }
 
     struct Loaded {

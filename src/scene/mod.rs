@@ -78,60 +78,10 @@ pub fn from_toml_str(text: &str, base_dir: &Path, label: &str) -> Result<Scene, 
 
 /// The built-in default scene ([`DEFAULT_SCENE_TOML`]).
 pub fn default_scene() -> Scene {
-    match from_toml_str(DEFAULT_SCENE_TOML, Path::new("."), "default.toml") {
-        Ok(scene) => scene,
-        // Unreachable: a unit test proves the embedded scene parses. Keep a
-        // usable fallback rather than panicking.
-        Err(e) => fallback_scene(e.to_string()),
-    }
-}
-
-fn fallback_scene(why: String) -> Scene {
-    use glam::DVec3;
-    Scene {
-        camera: Camera {
-            position: DVec3::new(0.0, 0.0, 5.0),
-            look_at: DVec3::ZERO,
-            up: DVec3::Y,
-            fov_y_deg: 40.0,
-        },
-        image: ImageSettings {
-            width: 640,
-            height: 480,
-            background: toml_format::DEFAULT_BACKGROUND,
-        },
-        lighting: Lighting {
-            ambient: DVec3::splat(toml_format::DEFAULT_AMBIENT),
-            k: 1.0,
-            interpolation: Interpolation::Perspective,
-            attenuation: true,
-        },
-        lights: vec![PointLight {
-            position: DVec3::new(4.0, 6.0, 5.0),
-            intensity: DVec3::splat(8.0),
-        }],
-        materials: vec![Material {
-            name: "default".into(),
-            color: DVec3::ONE,
-            ka: 0.2,
-            kd: 0.8,
-            ks: 0.0,
-            p: 32.0,
-            kr: 0.0,
-            kt: 0.0,
-            ior: 1.0,
-        }],
-        objects: vec![Object {
-            shape: Shape::Sphere {
-                center: DVec3::ZERO,
-                radius: 1.0,
-                segments: 32,
-            },
-            material: 0,
-        }],
-        render: RenderSettings::default(),
-        warnings: vec![format!("the built-in default scene failed to parse: {why}")],
-    }
+    // The text is compiled in and a unit test parses it, so failure here is
+    // a build defect, not bad input.
+    from_toml_str(DEFAULT_SCENE_TOML, Path::new("."), "default.toml")
+        .expect("the embedded default scene parses (see the unit test)")
 }
 
 #[cfg(test)]

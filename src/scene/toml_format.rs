@@ -973,13 +973,9 @@ samples = 1                       # ray tracing: samples per pixel
 "#;
 
     fn fixture(name: &str) -> PathBuf {
-        let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-        let in_tests = root.join("tests/data").join(name);
-        if in_tests.exists() {
-            in_tests
-        } else {
-            root.join("fixtures").join(name)
-        }
+        PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data")
+            .join(name)
     }
 
     fn parse_ok(text: &str) -> Scene {
