@@ -1,17 +1,39 @@
-//! One entry point that renders a scene in a shading mode on a backend.
+//! One entry point that renders a scene in a shading mode on a backend:
+//! the Vulkan pipelines or the CPU reference.
 
 use std::sync::Arc;
+use std::time::Instant;
 
+use crate::cpu;
 use crate::error::Error;
-use crate::gpu::{raster, GpuContext, RasterMode, RasterTimings};
+use crate::gpu::{raster, GpuContext};
 use crate::linear_image::LinearImage;
 use crate::scene::Scene;
-use crate::shading::Shading;
+use crate::shading::{RasterMode, Shading};
+
+/// Where a render spent its time, in milliseconds.
+#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+pub struct Timings {
+    /// The whole render, host work and read-back included.
+    pub total_ms: f64,
+    /// GPU only: the draw, between timestamp queries.
+    pub gpu_ms: Option<f64>,
+    /// GPU only: shader modules and pipeline creation.
+    pub pipeline_ms: Option<f64>,
+}
 
 /// A rendered image and where the time went.
 pub struct Rendered {
     pub image: LinearImage,
-    pub timings: RasterTimings,
+    pub timings: Timings,
+}
+
+fn raster_mode(shading: Shading) -> Result<RasterMode, Error> {
+    shading.raster_mode().ok_or_else(|| {
+        Error::Usage(
+            "--shading raytrace is not available yet (the ray tracer is tracked as issue 4); use flat, gouraud or phong".into(),
+        )
+    })
 }
 
 pub fn render_gpu(
@@ -19,19 +41,38 @@ pub fn render_gpu(
     scene: &Scene,
     shading: Shading,
 ) -> Result<Rendered, Error> {
-    let mode = match shading {
-        Shading::Flat => RasterMode::Flat,
-        Shading::Gouraud => RasterMode::Gouraud,
-        Shading::Phong => RasterMode::Phong,
-        Shading::Raytrace => {
-            return Err(Error::Usage(
-                "--shading raytrace is not available yet (the ray tracer is tracked as issue 4); use flat, gouraud or phong".into(),
-            ))
-        }
-    };
-    let out = raster::render(context, scene, mode)?;
+    let out = raster::render(context, scene, raster_mode(shading)?)?;
     Ok(Rendered {
         image: out.image,
-        timings: out.timings,
+        timings: Timings {
+            total_ms: out.timings.total_ms,
+            gpu_ms: Some(out.timings.gpu_ms),
+            pipeline_ms: Some(out.timings.pipeline_ms),
+        },
     })
+}
+
+/// The CPU reference (`f64`), with the per-pixel ids of what each pixel
+/// shows: the edges of these regions are where the sub-pixel placement of an
+/// edge may legitimately differ between renderers.
+pub fn render_cpu(scene: &Scene, shading: Shading) -> Result<(Rendered, Vec<Option<u32>>), Error> {
+    let mode = raster_mode(shading)?;
+    let started = Instant::now();
+    let out = cpu::raster::render(scene, mode);
+    let rendered = Rendered {
+        image: out.image,
+        timings: Timings {
+            total_ms: started.elapsed().as_secs_f64() * 1e3,
+            gpu_ms: None,
+            pipeline_ms: None,
+        },
+    };
+    // Flat shading changes colour at every triangle edge; the other modes
+    // are continuous inside an object.
+    let ids = if mode == RasterMode::Flat {
+        out.triangle_ids
+    } else {
+        out.object_ids
+    };
+    Ok((rendered, ids))
 }

@@ -48,3 +48,23 @@ impl FromStr for Shading {
             })
     }
 }
+
+/// The three modes a rasterizer (GPU or CPU) implements.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum RasterMode {
+    Flat,
+    Gouraud,
+    Phong,
+}
+
+impl Shading {
+    /// The raster mode for this shading, or `None` for ray tracing.
+    pub fn raster_mode(self) -> Option<RasterMode> {
+        match self {
+            Shading::Flat => Some(RasterMode::Flat),
+            Shading::Gouraud => Some(RasterMode::Gouraud),
+            Shading::Phong => Some(RasterMode::Phong),
+            Shading::Raytrace => None,
+        }
+    }
+}

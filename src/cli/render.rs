@@ -116,6 +116,19 @@ fn apply_overrides(scene: &mut Scene, args: &RenderArgs) -> Result<(), Failure> 
     Ok(())
 }
 
+/// The CPU reference holds the image in f64 before it is written; the same
+/// pixel cap as the GPU path keeps that bounded.
+fn check_cpu_size(scene: &Scene) -> Result<(), Failure> {
+    let pixels = u64::from(scene.image.width) * u64::from(scene.image.height);
+    if pixels > shadelab::gpu::raster::MAX_PIXELS {
+        return Err(usage(format!(
+            "a {}x{} image exceeds the limit of 8192 x 8192 pixels; choose a smaller --width/--height",
+            scene.image.width, scene.image.height
+        )));
+    }
+    Ok(())
+}
+
 pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
     let (mut scene, stem) = load_scene(args.scene.as_deref())?;
     apply_overrides(&mut scene, &args)?;
@@ -128,13 +141,15 @@ pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
         .unwrap_or_else(|| PathBuf::from(format!("{stem}-{}.png", args.shading)));
     // Check the output name before spending time on the render.
     shadelab::output::ImageFormat::from_path(&out)?;
-    if args.backend == "cpu" {
-        return Err(usage(
-            "--backend cpu is not available yet (the CPU reference is tracked as issue 3); use --backend gpu".into(),
-        ));
-    }
-    let context = GpuContext::new(options)?;
-    let rendered = shadelab::render::render_gpu(&context, &scene, args.shading)?;
+    let (rendered, device) = if args.backend == "cpu" {
+        check_cpu_size(&scene)?;
+        let (rendered, _) = shadelab::render::render_cpu(&scene, args.shading)?;
+        (rendered, "CPU reference (f64)".to_string())
+    } else {
+        let context = GpuContext::new(options)?;
+        let rendered = shadelab::render::render_gpu(&context, &scene, args.shading)?;
+        (rendered, context.info.name.clone())
+    };
     shadelab::output::write_image(&rendered.image, &out)?;
     if args.json {
         let value = serde_json::json!({
@@ -143,7 +158,7 @@ pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
             "backend": args.backend,
             "width": rendered.image.width,
             "height": rendered.image.height,
-            "device": context.info.name,
+            "device": device,
             "timings_ms": rendered.timings,
         });
         println!("{value}");
@@ -155,7 +170,7 @@ pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
             rendered.image.height,
             args.shading,
             rendered.timings.total_ms,
-            context.info.name
+            device
         );
     }
     Ok(())

@@ -15,4 +15,4 @@ mod validation;
 
 pub use context::{list_devices, DeviceInfo, GpuContext, GpuOptions};
 pub use error::GpuError;
-pub use raster::{RasterMode, RasterOutput, RasterTimings};
+pub use raster::{RasterOutput, RasterTimings};

@@ -20,19 +20,13 @@ use super::shader_catalog::{self as shaders, ShaderBlob};
 use crate::camera::View;
 use crate::linear_image::LinearImage;
 use crate::scene::{Interpolation, Scene};
+use crate::shading::RasterMode;
 
 pub const COLOR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 /// A cap on pixels per image (8192 x 8192): the float target and its
 /// read-back copy take 16 bytes per pixel each.
 pub const MAX_PIXELS: u64 = 8192 * 8192;
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum RasterMode {
-    Flat,
-    Gouraud,
-    Phong,
-}
 
 /// Where a render spent its time.
 #[derive(Debug, Clone, Copy, Default, serde::Serialize)]

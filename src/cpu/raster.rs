@@ -1,0 +1,435 @@
+//! The CPU reference rasterizer: flat, Gouraud and Phong in `f64`, following
+//! Vulkan's rules so that it differs from the GPU only by float rounding and
+//! the sub-pixel placement of silhouette edges.
+//!
+//! Conventions it shares with the GPU path: the same tessellation
+//! (`scene::tessellate`), camera and projection (`camera.rs`), pixel centres
+//! at half-integers, window coordinates snapped to 1/256 pixel (lavapipe's
+//! `subPixelPrecisionBits = 8`) for the coverage test, the top-left fill
+//! rule, near-plane clipping, a strict "nearer wins" reversed depth test with
+//! scene order breaking ties, and no face culling. It shares no shading code
+//! with the shaders: the formula is `cpu::lighting`.
+
+use glam::{DVec2, DVec3, DVec4};
+use rayon::prelude::*;
+
+use super::clip::{clip_near, ClipVertex};
+use super::lighting::shade;
+use crate::camera::View;
+use crate::linear_image::LinearImage;
+use crate::scene::{tessellate, Interpolation, Scene};
+use crate::shading::RasterMode;
+
+/// Sub-pixel grid of the coverage test: 1/256 pixel.
+const SUBPIXEL: f64 = 256.0;
+/// Rows rasterized together by one task.
+const BAND_ROWS: u32 = 8;
+
+/// The reference image and, per pixel, what it shows.
+pub struct CpuRender {
+    pub image: LinearImage,
+    /// `scene.objects` index per pixel, `None` for the background.
+    pub object_ids: Vec<Option<u32>>,
+    /// Triangle per pixel, numbered across all objects in scene order.
+    /// Flat shading changes colour at every triangle edge, so its edge
+    /// pixels are found from these rather than from `object_ids`.
+    pub triangle_ids: Vec<Option<u32>>,
+}
+
+/// One screen-space triangle ready to rasterize.
+struct Triangle {
+    object: u32,
+    /// Index of the unclipped triangle across the whole scene.
+    primitive: u32,
+    /// Window coordinates in pixels, unsnapped (for interpolation).
+    window: [DVec2; 3],
+    /// Snapped to the sub-pixel grid (for coverage).
+    snapped: [DVec2; 3],
+    /// Reversed depth `near / w` per vertex.
+    depth: [f64; 3],
+    /// `1 / w` per vertex, for perspective-correct interpolation.
+    inv_w: [f64; 3],
+    vertices: [ClipVertex; 3],
+    /// Flat mode: the colour of the whole (unclipped) triangle.
+    flat_color: DVec3,
+    /// Pixel bounds (inclusive), clamped to the image.
+    min: (u32, u32),
+    max: (u32, u32),
+}
+
+fn window_of(view: &View, clip: DVec4) -> DVec2 {
+    let ndc = DVec2::new(clip.x / clip.w, clip.y / clip.w);
+    DVec2::new(
+        (ndc.x + 1.0) * 0.5 * f64::from(view.width),
+        (ndc.y + 1.0) * 0.5 * f64::from(view.height),
+    )
+}
+
+fn snap(p: DVec2) -> DVec2 {
+    (p * SUBPIXEL).round() / SUBPIXEL
+}
+
+/// Edge function of (a, b) at p: positive on one side, zero on the line.
+fn edge(a: DVec2, b: DVec2, p: DVec2) -> f64 {
+    (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x)
+}
+
+/// Whether the edge a -> b of a triangle whose interior has positive edge
+/// functions is a top or a left edge (y grows downward): a sample exactly on
+/// such an edge is covered, on any other edge it is not.
+fn is_top_left(a: DVec2, b: DVec2) -> bool {
+    let d = b - a;
+    (d.y == 0.0 && d.x > 0.0) || d.y < 0.0
+}
+
+fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle> {
+    let clip_from_rel = view.clip_from_relative();
+    let mut triangles = Vec::new();
+    let mut next_primitive = 0u32;
+    for (object_index, object) in scene.objects.iter().enumerate() {
+        let material = &scene.materials[object.material];
+        let mesh = tessellate(&object.shape);
+        let vertices: Vec<ClipVertex> = mesh
+            .positions
+            .iter()
+            .zip(&mesh.normals)
+            .map(|(p, n)| {
+                let rel = *p - view.eye;
+                let intensity = if mode == RasterMode::Gouraud {
+                    shade(
+                        &scene.lighting,
+                        &scene.lights,
+                        material,
+                        *p,
+                        n.normalize_or_zero(),
+                        view.eye,
+                    )
+                } else {
+                    DVec3::ZERO
+                };
+                ClipVertex {
+                    clip: clip_from_rel * rel.extend(1.0),
+                    position: rel,
+                    normal: *n,
+                    intensity,
+                }
+            })
+            .collect();
+        for tri in &mesh.triangles {
+            let primitive = next_primitive;
+            next_primitive += 1;
+            let [a, b, c] = tri.map(|i| vertices[i as usize]);
+            let flat_color = if mode == RasterMode::Flat {
+                let [pa, pb, pc] = tri.map(|i| mesh.positions[i as usize]);
+                let normal = (pb - pa).cross(pc - pa).normalize_or_zero();
+                shade(
+                    &scene.lighting,
+                    &scene.lights,
+                    material,
+                    (pa + pb + pc) / 3.0,
+                    normal,
+                    view.eye,
+                )
+            } else {
+                DVec3::ZERO
+            };
+            let polygon = clip_near([a, b, c], view.near);
+            for k in 1..polygon.len().saturating_sub(1) {
+                let verts = [polygon[0], polygon[k], polygon[k + 1]];
+                let ids = (object_index as u32, primitive);
+                if let Some(t) = screen_triangle(view, ids, verts, flat_color) {
+                    triangles.push(t);
+                }
+            }
+        }
+    }
+    triangles
+}
+
+fn screen_triangle(
+    view: &View,
+    (object, primitive): (u32, u32),
+    vertices: [ClipVertex; 3],
+    flat_color: DVec3,
+) -> Option<Triangle> {
+    let window = vertices.map(|v| window_of(view, v.clip));
+    let snapped = window.map(snap);
+    if edge(snapped[0], snapped[1], snapped[2]) == 0.0 {
+        return None; // no area on the sub-pixel grid: covers no sample
+    }
+    let lo = snapped[0].min(snapped[1]).min(snapped[2]);
+    let hi = snapped[0].max(snapped[1]).max(snapped[2]);
+    let (w, h) = (f64::from(view.width), f64::from(view.height));
+    if hi.x < 0.0 || hi.y < 0.0 || lo.x > w || lo.y > h {
+        return None;
+    }
+    // Pixels whose centre (x + 0.5) can fall inside [lo, hi].
+    let first = |v: f64| (v - 0.5).ceil().max(0.0) as u32;
+    let last = |v: f64, n: u32| ((v - 0.5).floor().max(-1.0) as i64).min(i64::from(n) - 1);
+    let (x1, y1) = (last(hi.x, view.width), last(hi.y, view.height));
+    if x1 < 0 || y1 < 0 {
+        return None;
+    }
+    Some(Triangle {
+        object,
+        primitive,
+        window,
+        snapped,
+        depth: vertices.map(|v| v.clip.z / v.clip.w),
+        inv_w: vertices.map(|v| 1.0 / v.clip.w),
+        vertices,
+        flat_color,
+        min: (first(lo.x), first(lo.y)),
+        max: (x1 as u32, y1 as u32),
+    })
+}
+
+/// Screen-space barycentrics of `p` if the sample is covered.
+fn coverage(t: &Triangle, p: DVec2) -> Option<[f64; 3]> {
+    let [a, b, c] = t.snapped;
+    let area = edge(a, b, c);
+    // Orient so the interior has positive edge functions.
+    let (a, b, c) = if area > 0.0 { (a, b, c) } else { (a, c, b) };
+    for (u, v) in [(a, b), (b, c), (c, a)] {
+        let e = edge(u, v, p);
+        if e < 0.0 || (e == 0.0 && !is_top_left(u, v)) {
+            return None;
+        }
+    }
+    // Interpolation weights from the unsnapped positions.
+    let [a, b, c] = t.window;
+    let area = edge(a, b, c);
+    Some([
+        edge(b, c, p) / area,
+        edge(c, a, p) / area,
+        edge(a, b, p) / area,
+    ])
+}
+
+fn shade_sample(
+    scene: &Scene,
+    view: &View,
+    mode: RasterMode,
+    t: &Triangle,
+    bary: [f64; 3],
+) -> DVec3 {
+    let weights = match scene.lighting.interpolation {
+        Interpolation::Screen => bary,
+        Interpolation::Perspective => {
+            let w = [
+                bary[0] * t.inv_w[0],
+                bary[1] * t.inv_w[1],
+                bary[2] * t.inv_w[2],
+            ];
+            let sum = w[0] + w[1] + w[2];
+            [w[0] / sum, w[1] / sum, w[2] / sum]
+        }
+    };
+    let mix = |f: fn(&ClipVertex) -> DVec3| {
+        f(&t.vertices[0]) * weights[0]
+            + f(&t.vertices[1]) * weights[1]
+            + f(&t.vertices[2]) * weights[2]
+    };
+    match mode {
+        RasterMode::Flat => t.flat_color,
+        RasterMode::Gouraud => mix(|v| v.intensity),
+        RasterMode::Phong => {
+            let position = mix(|v| v.position) + view.eye;
+            let normal = mix(|v| v.normal).normalize_or_zero();
+            let material = &scene.materials[scene.objects[t.object as usize].material];
+            shade(
+                &scene.lighting,
+                &scene.lights,
+                material,
+                position,
+                normal,
+                view.eye,
+            )
+        }
+    }
+}
+
+/// The rows one task rasterizes.
+struct Band {
+    pixels: Vec<[f32; 3]>,
+    object_ids: Vec<Option<u32>>,
+    triangle_ids: Vec<Option<u32>>,
+}
+
+/// Renders `scene` at its image size in `mode`.
+pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
+    let (width, height) = (scene.image.width, scene.image.height);
+    let view = View::new(scene, width, height);
+    let triangles = setup_triangles(scene, &view, mode);
+    let background = scene.image.background;
+    let bands: Vec<Band> = (0..height.div_ceil(BAND_ROWS))
+        .into_par_iter()
+        .map(|band| {
+            let y0 = band * BAND_ROWS;
+            let y1 = (y0 + BAND_ROWS).min(height);
+            let count = ((y1 - y0) * width) as usize;
+            let mut color = vec![background; count];
+            let mut ids = vec![None; count];
+            let mut tri_ids = vec![None; count];
+            // Reversed depth: cleared to 0, nearer is greater.
+            let mut depth = vec![0.0f64; count];
+            for t in &triangles {
+                if t.max.1 < y0 || t.min.1 >= y1 {
+                    continue;
+                }
+                for y in t.min.1.max(y0)..=t.max.1.min(y1 - 1) {
+                    for x in t.min.0..=t.max.0 {
+                        let p = DVec2::new(f64::from(x) + 0.5, f64::from(y) + 0.5);
+                        let Some(bary) = coverage(t, p) else { continue };
+                        let z = bary[0] * t.depth[0] + bary[1] * t.depth[1] + bary[2] * t.depth[2];
+                        let i = ((y - y0) * width + x) as usize;
+                        if z > depth[i] {
+                            depth[i] = z;
+                            ids[i] = Some(t.object);
+                            tri_ids[i] = Some(t.primitive);
+                            color[i] = shade_sample(scene, &view, mode, t, bary);
+                        }
+                    }
+                }
+            }
+            Band {
+                pixels: color.iter().map(|c| c.as_vec3().to_array()).collect(),
+                object_ids: ids,
+                triangle_ids: tri_ids,
+            }
+        })
+        .collect();
+    let mut image = LinearImage {
+        width,
+        height,
+        pixels: Vec::with_capacity((width * height) as usize),
+    };
+    let mut object_ids = Vec::with_capacity((width * height) as usize);
+    let mut triangle_ids = Vec::with_capacity((width * height) as usize);
+    for band in bands {
+        image.pixels.extend(band.pixels);
+        object_ids.extend(band.object_ids);
+        triangle_ids.extend(band.triangle_ids);
+    }
+    CpuRender {
+        image,
+        object_ids,
+        triangle_ids,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn triangle(points: [DVec2; 3]) -> Triangle {
+        let v = ClipVertex {
+            clip: DVec4::ONE,
+            position: DVec3::ZERO,
+            normal: DVec3::Z,
+            intensity: DVec3::ZERO,
+        };
+        Triangle {
+            object: 0,
+            primitive: 0,
+            window: points,
+            snapped: points.map(snap),
+            depth: [1.0; 3],
+            inv_w: [1.0; 3],
+            vertices: [v; 3],
+            flat_color: DVec3::ZERO,
+            min: (0, 0),
+            max: (0, 0),
+        }
+    }
+
+    /// A fan of triangles around a centre, and a grid of squares split along
+    /// both diagonals, all with edges through pixel centres: the top-left
+    /// rule must cover every sample inside exactly once (no cracks, no
+    /// double hits), in either winding.
+    #[test]
+    fn shared_edges_cover_each_sample_exactly_once() {
+        let mut tris = Vec::new();
+        let centre = DVec2::new(8.5, 8.5);
+        let ring: Vec<DVec2> = (0..12)
+            .map(|k| {
+                let a = f64::from(k) * std::f64::consts::TAU / 12.0;
+                centre + DVec2::new(a.cos(), a.sin()) * 6.0
+            })
+            .collect();
+        for k in 0..12 {
+            let (a, b) = (ring[k], ring[(k + 1) % 12]);
+            // Alternate windings: coverage must not depend on it.
+            tris.push(if k % 2 == 0 {
+                [centre, a, b]
+            } else {
+                [centre, b, a]
+            });
+        }
+        for gx in 0..4 {
+            for gy in 0..4 {
+                let o = DVec2::new(20.5 + 2.0 * f64::from(gx), 0.5 + 2.0 * f64::from(gy));
+                let (a, b, c, d) = (
+                    o,
+                    o + DVec2::X * 2.0,
+                    o + DVec2::new(2.0, 2.0),
+                    o + DVec2::Y * 2.0,
+                );
+                tris.extend([[a, b, c], [a, c, d]]);
+            }
+        }
+        let tris: Vec<Triangle> = tris.into_iter().map(triangle).collect();
+        for y in 0..10 {
+            for x in 0..30 {
+                let p = DVec2::new(f64::from(x) + 0.5, f64::from(y) + 0.5);
+                let hits = tris.iter().filter(|t| coverage(t, p).is_some()).count();
+                let in_fan = (p - centre).length() < 5.5;
+                let in_grid = (20.5..28.5).contains(&p.x) && (0.5..8.5).contains(&p.y);
+                if in_fan || in_grid {
+                    assert_eq!(hits, 1, "sample ({x}, {y}) covered {hits} times");
+                } else {
+                    assert!(hits <= 1, "sample ({x}, {y}) covered {hits} times");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn top_left_rule_on_a_lone_square() {
+        // A square with corners on pixel centres covers its top and left
+        // edge samples but not its bottom and right ones: 4 x 4 of 5 x 5.
+        let (a, b, c, d) = (
+            DVec2::new(0.5, 0.5),
+            DVec2::new(4.5, 0.5),
+            DVec2::new(4.5, 4.5),
+            DVec2::new(0.5, 4.5),
+        );
+        let tris = [triangle([a, b, c]), triangle([a, c, d])];
+        let mut covered = 0;
+        for y in 0..6 {
+            for x in 0..6 {
+                let p = DVec2::new(f64::from(x) + 0.5, f64::from(y) + 0.5);
+                if tris.iter().any(|t| coverage(t, p).is_some()) {
+                    assert!(x < 4 && y < 4, "({x}, {y}) is on the bottom or right edge");
+                    covered += 1;
+                }
+            }
+        }
+        assert_eq!(covered, 16);
+    }
+
+    #[test]
+    fn barycentrics_reproduce_the_sample() {
+        let pts = [
+            DVec2::new(1.0, 1.0),
+            DVec2::new(9.0, 2.0),
+            DVec2::new(3.0, 8.0),
+        ];
+        let t = triangle(pts);
+        let p = DVec2::new(4.5, 3.5);
+        let b = coverage(&t, p).unwrap();
+        let back = pts[0] * b[0] + pts[1] * b[1] + pts[2] * b[2];
+        assert!((back - p).length() < 1e-12);
+        assert!((b[0] + b[1] + b[2] - 1.0).abs() < 1e-12);
+    }
+}
