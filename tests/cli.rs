@@ -361,3 +361,41 @@ fn usage_errors_exit_2() {
     assert_eq!(shadelab(dir.path(), &["paint"]).code, 2);
     assert_eq!(shadelab(dir.path(), &["--help"]).code, 0);
 }
+
+#[test]
+fn cpu_backend_renders_the_same_picture() {
+    let dir = tempfile::tempdir().unwrap();
+    for backend in ["gpu", "cpu"] {
+        let out = format!("{backend}.png");
+        let run = shadelab(
+            dir.path(),
+            &[
+                "render",
+                "--backend",
+                backend,
+                "--width",
+                "80",
+                "--height",
+                "60",
+                "--out",
+                &out,
+            ],
+        );
+        assert_eq!(run.code, 0, "{backend}: {}", run.stderr);
+    }
+    let gpu = shadelab::output::read_image(&dir.path().join("gpu.png")).unwrap();
+    let cpu = shadelab::output::read_image(&dir.path().join("cpu.png")).unwrap();
+    // 8-bit images of the same render: equal except where a silhouette edge
+    // lands on the other side of a sample (a few percent of pixels at most).
+    let differing = gpu
+        .pixels
+        .iter()
+        .zip(&cpu.pixels)
+        .filter(|(g, c)| g != c)
+        .count();
+    assert!(
+        differing * 50 < gpu.pixels.len(),
+        "{differing} of {} pixels differ",
+        gpu.pixels.len()
+    );
+}
