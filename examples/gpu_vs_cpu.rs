@@ -16,6 +16,7 @@ fn main() {
         let (w, h) = (scene.image.width as usize, scene.image.height as usize);
         let mut interior = (0.0f64, 0usize, 0.0f64);
         let mut edge = (0.0f64, 0usize, 0.0f64);
+        let (mut over_1e2, mut over_1e1) = (0usize, 0usize);
         for y in 0..h {
             for x in 0..w {
                 let i = y * w + x;
@@ -24,6 +25,12 @@ fn main() {
                     .fold(0.0, f64::max);
                 let same = (y > 0 && y + 1 < h && x > 0 && x + 1 < w)
                     && (0..9).all(|k| ids[(y + k / 3 - 1) * w + x + k % 3 - 1] == ids[i]);
+                if !same && err > 0.01 {
+                    over_1e2 += 1;
+                }
+                if !same && err > 0.1 {
+                    over_1e1 += 1;
+                }
                 let bucket = if same { &mut interior } else { &mut edge };
                 bucket.0 = bucket.0.max(err);
                 bucket.1 += 1;
@@ -31,8 +38,8 @@ fn main() {
             }
         }
         println!(
-            "{shading:8} interior: max {:.2e} mean {:.2e} ({} px)   silhouette: max {:.2e} mean {:.2e} ({} px)   cpu {:.0} ms",
-            interior.0, interior.2 / interior.1 as f64, interior.1, edge.0, edge.2 / edge.1.max(1) as f64, edge.1, cpu.timings.total_ms
+            "{shading:8} interior: max {:.2e} mean {:.2e} ({} px)   edges: max {:.2e} mean {:.2e} ({} px, {} over 0.01, {} over 0.1)   cpu {:.0} ms",
+            interior.0, interior.2 / interior.1 as f64, interior.1, edge.0, edge.2 / edge.1.max(1) as f64, edge.1, over_1e2, over_1e1, cpu.timings.total_ms
         );
     }
 }

@@ -9,6 +9,7 @@ pub mod camera;
 pub mod cpu;
 pub mod error;
 pub mod gpu;
+pub mod junit;
 pub mod linear_image;
 pub mod output;
 pub mod render;
