@@ -26,20 +26,20 @@ pub struct DiffArgs {
     #[arg(long, value_name = "[FIGURE=]X")]
     threshold: Vec<String>,
     /// Limit on the mean FLIP error [default: 0.02].
-    #[arg(long, value_name = "X")]
+    #[arg(long, value_name = "X", allow_negative_numbers = true)]
     flip_mean: Option<f64>,
     /// Limit on the largest per-pixel error (max over channels, linear) [default: 1.0].
-    #[arg(long, value_name = "X")]
+    #[arg(long, value_name = "X", allow_negative_numbers = true)]
     max_abs: Option<f64>,
     /// Limit on the 99th percentile of the per-pixel error [default: 0.05].
-    #[arg(long, value_name = "X")]
+    #[arg(long, value_name = "X", allow_negative_numbers = true)]
     p99_abs: Option<f64>,
     /// The per-pixel error that `fraction_over` counts pixels above.
-    #[arg(long, value_name = "X", default_value_t = Settings::default().pixel_threshold)]
+    #[arg(long, value_name = "X", allow_negative_numbers = true, default_value_t = Settings::default().pixel_threshold)]
     pixel_threshold: f64,
     /// The step between neighbouring pixels of EXPECTED that marks an edge,
     /// splitting the figures into interior and silhouette pixels.
-    #[arg(long, value_name = "X", default_value_t = EDGE_THRESHOLD)]
+    #[arg(long, value_name = "X", allow_negative_numbers = true, default_value_t = EDGE_THRESHOLD)]
     edge_threshold: f64,
     /// Write the FLIP error map, magma-coloured, to this image (.png or .exr).
     #[arg(long, value_name = "FILE.png")]

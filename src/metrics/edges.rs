@@ -62,11 +62,11 @@ pub fn gradient_mask(image: &LinearImage, threshold: f64) -> Vec<bool> {
         for x in 0..w {
             let i = y * w + x;
             // Each step is looked at once, from its left or upper pixel.
-            if x + 1 < w && !(step(image.pixels[i], image.pixels[i + 1]) <= threshold) {
+            if x + 1 < w && step(image.pixels[i], image.pixels[i + 1]) > threshold {
                 mask[i] = true;
                 mask[i + 1] = true;
             }
-            if y + 1 < h && !(step(image.pixels[i], image.pixels[i + w]) <= threshold) {
+            if y + 1 < h && step(image.pixels[i], image.pixels[i + w]) > threshold {
                 mask[i] = true;
                 mask[i + w] = true;
             }
