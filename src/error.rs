@@ -5,6 +5,7 @@
 //! compare, not by an error.
 
 use crate::gpu::GpuError;
+use crate::metrics::MetricsError;
 use crate::output::OutputError;
 use crate::scene::SceneError;
 
@@ -16,6 +17,8 @@ pub enum Error {
     Gpu(#[from] GpuError),
     #[error(transparent)]
     Output(#[from] OutputError),
+    #[error(transparent)]
+    Metrics(#[from] MetricsError),
     #[error("{0}")]
     Usage(String),
 }
@@ -23,7 +26,7 @@ pub enum Error {
 impl Error {
     pub fn exit_code(&self) -> i32 {
         match self {
-            Error::Scene(_) | Error::Output(_) | Error::Usage(_) => 2,
+            Error::Scene(_) | Error::Output(_) | Error::Metrics(_) | Error::Usage(_) => 2,
             Error::Gpu(e) if e.is_bad_input() => 2,
             Error::Gpu(_) => 3,
         }

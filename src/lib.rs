@@ -2,8 +2,9 @@
 //!
 //! Data flows one way: a scene file becomes a validated `scene::Scene`; a
 //! renderer (`gpu` raster today) turns it into a `LinearImage`; `output`
-//! encodes that to PNG or EXR. The lighting model every renderer follows is
-//! `docs/lighting-model.md` of the shared contracts.
+//! encodes that to PNG or EXR; `metrics` compares two such images. The
+//! lighting model every renderer follows is `docs/lighting-model.md` of the
+//! shared contracts.
 
 pub mod camera;
 pub mod cpu;
@@ -11,6 +12,7 @@ pub mod error;
 pub mod gpu;
 pub mod junit;
 pub mod linear_image;
+pub mod metrics;
 pub mod output;
 pub mod render;
 pub mod scene;

@@ -131,7 +131,8 @@ pub fn read_image(path: &Path) -> Result<LinearImage, OutputError> {
         path: path.to_owned(),
         message,
     };
-    let format = ImageFormat::from_path(path).map_err(|e| read_err(e.to_string()))?;
+    let format = ImageFormat::from_path(path)
+        .map_err(|_| read_err("the file name must end in .png or .exr".into()))?;
     let decoded = image::ImageReader::open(path)
         .map_err(|e| read_err(e.to_string()))?
         .with_guessed_format()

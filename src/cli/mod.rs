@@ -1,5 +1,6 @@
 //! Argument parsing and dispatch to one module per subcommand.
 
+mod diff;
 mod info;
 mod render;
 
@@ -29,6 +30,9 @@ struct Cli {
 enum Command {
     /// Render a scene to a PNG (8-bit sRGB) or EXR (linear float) image.
     Render(render::RenderArgs),
+    /// Compare two images (PNG or EXR): error figures, FLIP, an optional heat
+    /// map; exit status 1 when a figure is over its threshold.
+    Diff(diff::DiffArgs),
     /// List the Vulkan devices and show which one shadelab uses.
     Info(info::InfoArgs),
 }
@@ -82,6 +86,7 @@ pub fn run() -> ExitCode {
     }
     let result = match cli.command {
         Command::Render(args) => render::run(args, &gpu_options),
+        Command::Diff(args) => diff::run(args),
         Command::Info(args) => info::run(args, &gpu_options),
     };
     match result {

@@ -1,0 +1,229 @@
+//! `shadelab diff`: compare two image files, report every figure, and exit 1
+//! when a figure is over its threshold.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use shadelab::metrics::{
+    self, format_figure, Comparison, ErrorStats, Settings, Thresholds, Verdict,
+};
+use shadelab::output::{self, ImageFormat};
+
+use super::Failure;
+
+/// The `--edge-threshold` default: a step of 0.1 in linear intensity between
+/// neighbours counts as an edge (see `metrics::edges::gradient_mask`).
+const EDGE_THRESHOLD: f64 = 0.1;
+
+#[derive(Args)]
+pub struct DiffArgs {
+    /// The reference image (.png or .exr).
+    expected: PathBuf,
+    /// The image to check against it (.png or .exr).
+    actual: PathBuf,
+    /// A threshold: `FIGURE=X` for flip_mean, max_abs or p99_abs, or a bare
+    /// X for flip_mean. May be repeated; the flags below win over it.
+    #[arg(long, value_name = "[FIGURE=]X")]
+    threshold: Vec<String>,
+    /// Limit on the mean FLIP error [default: 0.02].
+    #[arg(long, value_name = "X", allow_negative_numbers = true)]
+    flip_mean: Option<f64>,
+    /// Limit on the largest per-pixel error (max over channels, linear) [default: 1.0].
+    #[arg(long, value_name = "X", allow_negative_numbers = true)]
+    max_abs: Option<f64>,
+    /// Limit on the 99th percentile of the per-pixel error [default: 0.05].
+    #[arg(long, value_name = "X", allow_negative_numbers = true)]
+    p99_abs: Option<f64>,
+    /// The per-pixel error that `fraction_over` counts pixels above.
+    #[arg(long, value_name = "X", allow_negative_numbers = true, default_value_t = Settings::default().pixel_threshold)]
+    pixel_threshold: f64,
+    /// The step between neighbouring pixels of EXPECTED that marks an edge,
+    /// splitting the figures into interior and silhouette pixels.
+    #[arg(long, value_name = "X", allow_negative_numbers = true, default_value_t = EDGE_THRESHOLD)]
+    edge_threshold: f64,
+    /// Write the FLIP error map, magma-coloured, to this image (.png or .exr).
+    #[arg(long, value_name = "FILE.png")]
+    heatmap: Option<PathBuf>,
+    /// Print one JSON object with every figure on stdout.
+    #[arg(long)]
+    json: bool,
+}
+
+fn usage(message: String) -> Failure {
+    Failure { code: 2, message }
+}
+
+fn check_limit(name: &str, value: f64) -> Result<f64, Failure> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(usage(format!(
+            "{name} {value} is invalid; expected a number >= 0"
+        )))
+    }
+}
+
+/// The thresholds from `--threshold` and the per-figure flags, on top of the
+/// defaults.
+fn thresholds(args: &DiffArgs) -> Result<Thresholds, Failure> {
+    let mut t = Thresholds::default();
+    for entry in &args.threshold {
+        let (figure, text) = entry.split_once('=').unwrap_or(("flip_mean", entry));
+        let value = text.trim().parse::<f64>().map_err(|_| {
+            usage(format!(
+                "--threshold {entry} is invalid; expected X or FIGURE=X with a number X"
+            ))
+        })?;
+        let value = check_limit("--threshold", value)?;
+        match figure.trim() {
+            "flip_mean" => t.flip_mean = value,
+            "max_abs" => t.max_abs = value,
+            "p99_abs" => t.p99_abs = value,
+            other => {
+                return Err(usage(format!(
+                    "--threshold {entry}: unknown figure {other:?}; expected flip_mean, max_abs or p99_abs"
+                )))
+            }
+        }
+    }
+    if let Some(v) = args.flip_mean {
+        t.flip_mean = check_limit("--flip-mean", v)?;
+    }
+    if let Some(v) = args.max_abs {
+        t.max_abs = check_limit("--max-abs", v)?;
+    }
+    if let Some(v) = args.p99_abs {
+        t.p99_abs = check_limit("--p99-abs", v)?;
+    }
+    Ok(t)
+}
+
+pub fn run(args: DiffArgs) -> Result<(), Failure> {
+    let thresholds = thresholds(&args)?;
+    let settings = Settings {
+        pixel_threshold: check_limit("--pixel-threshold", args.pixel_threshold)?,
+        ..Settings::default()
+    };
+    let edge_threshold = check_limit("--edge-threshold", args.edge_threshold)?;
+    // Check the heat map's name before reading anything.
+    if let Some(path) = &args.heatmap {
+        ImageFormat::from_path(path)?;
+    }
+    let expected = output::read_image(&args.expected)?;
+    let actual = output::read_image(&args.actual)?;
+    let mask = metrics::gradient_mask(&expected, edge_threshold);
+    let comparison =
+        metrics::compare_with(&expected, &actual, Some(&mask), &settings).map_err(|e| {
+            usage(format!(
+                "cannot compare {} with {}: {e}",
+                args.expected.display(),
+                args.actual.display()
+            ))
+        })?;
+    if let Some(path) = &args.heatmap {
+        output::write_image(&metrics::flip_heatmap(&comparison.flip), path)?;
+    }
+    let verdicts = thresholds.verdicts(&comparison);
+    let failures = thresholds.check(&comparison);
+
+    if args.json {
+        let mut value = serde_json::to_value(&comparison).expect("figures serialise");
+        let extra = serde_json::json!({
+            "expected": args.expected,
+            "actual": args.actual,
+            "pass": failures.is_empty(),
+            "failures": failures,
+            "verdicts": verdicts,
+            "thresholds": thresholds,
+            "settings": settings,
+            "edge_threshold": edge_threshold,
+            "heatmap": args.heatmap,
+        });
+        let object = value.as_object_mut().expect("a comparison is an object");
+        object.extend(extra.as_object().expect("an object").clone());
+        println!("{value}");
+    } else {
+        print_report(&args, &comparison, &verdicts, edge_threshold);
+    }
+
+    if failures.is_empty() {
+        Ok(())
+    } else {
+        Err(Failure {
+            code: 1,
+            message: format!(
+                "{} differs from {} beyond the thresholds: {}",
+                args.actual.display(),
+                args.expected.display(),
+                failures.join("; ")
+            ),
+        })
+    }
+}
+
+fn print_report(args: &DiffArgs, c: &Comparison, verdicts: &[Verdict], edge_threshold: f64) {
+    let show = |p: &Path| p.display().to_string();
+    println!("expected  {}", show(&args.expected));
+    println!("actual    {}", show(&args.actual));
+    println!(
+        "size      {}x{}; silhouette = pixels of expected at a step > {edge_threshold} to a neighbour",
+        c.width, c.height
+    );
+    if let Some(path) = &args.heatmap {
+        println!("heat map  {}", show(path));
+    }
+    println!();
+    println!("{:<12} {:>12} {:>10}  result", "figure", "value", "limit");
+    for v in verdicts {
+        println!(
+            "{:<12} {:>12} {:>10}  {}",
+            v.figure,
+            format_figure(v.value),
+            v.limit,
+            if v.pass { "PASS" } else { "FAIL" }
+        );
+    }
+    println!();
+    let columns = [Some(&c.stats), c.interior.as_ref(), c.silhouette.as_ref()];
+    println!(
+        "{:<14} {:>12} {:>12} {:>12}",
+        "figure", "all", "interior", "silhouette"
+    );
+    let row = |name: &str, f: &dyn Fn(&ErrorStats) -> String| {
+        let cell = |i: usize| columns[i].map_or_else(|| "-".to_string(), f);
+        println!(
+            "{:<14} {:>12} {:>12} {:>12}",
+            name,
+            cell(0),
+            cell(1),
+            cell(2)
+        );
+    };
+    row("pixels", &|s| s.pixels.to_string());
+    row("max_abs", &|s| format_figure(s.max_abs));
+    row("p99_abs", &|s| format_figure(s.p99_abs));
+    row("mean_abs", &|s| format_figure(s.mean_abs));
+    row("rmse", &|s| format_figure(s.rmse));
+    row("psnr (dB)", &|s| {
+        if s.psnr.is_finite() {
+            format!("{:.2}", s.psnr)
+        } else {
+            "inf".into()
+        }
+    });
+    row(&format!("over {}", c.stats.pixel_threshold), &|s| {
+        format_figure(s.fraction_over)
+    });
+    if c.stats.non_finite > 0 {
+        row("non-finite", &|s| s.non_finite.to_string());
+    }
+    println!();
+    println!(
+        "FLIP (LDR, {} pixels per degree): mean {}, median {}, p99 {}, max {}",
+        c.flip.pixels_per_degree,
+        format_figure(c.flip.mean),
+        format_figure(c.flip.median),
+        format_figure(c.flip.p99),
+        format_figure(c.flip.max)
+    );
+}

@@ -1,0 +1,298 @@
+//! Comparing two images: error statistics, FLIP, heat maps and silhouette
+//! masks, and the thresholds a comparison passes or fails.
+//!
+//! Works on `LinearImage` values only. Nothing here reads or writes a file,
+//! knows about Vulkan, prints or exits; `shadelab diff` (src/cli/diff.rs) does
+//! that around it. One job per file:
+//!
+//! - `stats.rs`: pixel-wise figures (max, mean, RMSE, PSNR, 99th percentile)
+//! - `flip.rs`: NVIDIA's FLIP through the `nv-flip` crate
+//! - `heatmap.rs`: the FLIP map as a magma-coloured image
+//! - `edges.rs`: silhouette masks, from object ids or from image gradients
+
+pub mod edges;
+pub mod flip;
+pub mod heatmap;
+pub mod stats;
+
+use serde::Serialize;
+
+use crate::linear_image::LinearImage;
+
+pub use edges::{gradient_mask, silhouette_mask};
+pub use flip::{flip, FlipStats};
+pub use heatmap::flip_heatmap;
+pub use stats::ErrorStats;
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MetricsError {
+    #[error("the images differ in size: expected is {expected_width}x{expected_height}, actual is {actual_width}x{actual_height}")]
+    SizeMismatch {
+        expected_width: u32,
+        expected_height: u32,
+        actual_width: u32,
+        actual_height: u32,
+    },
+    #[error("the images have no pixels ({width}x{height})")]
+    Empty { width: u32, height: u32 },
+    #[error("the mask has {mask} entries for {pixels} pixels")]
+    MaskLength { mask: usize, pixels: usize },
+}
+
+/// How the figures are measured (not whether they pass: see `Thresholds`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Settings {
+    /// The pixel error `ErrorStats::fraction_over` counts against. Default
+    /// 0.01 in linear intensity: more than an 8-bit sRGB round trip can cause
+    /// (at most half a step, 0.0045 at white), so two renders that differ
+    /// only by being saved as PNG count no pixel.
+    pub pixel_threshold: f64,
+    /// FLIP's observer. Default 67 (`flip::PIXELS_PER_DEGREE`).
+    pub pixels_per_degree: f32,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            pixel_threshold: 0.01,
+            pixels_per_degree: flip::PIXELS_PER_DEGREE,
+        }
+    }
+}
+
+/// Every figure of one comparison of an actual image against an expected one.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Comparison {
+    pub width: u32,
+    pub height: u32,
+    /// Over every pixel.
+    pub stats: ErrorStats,
+    /// Over every pixel (FLIP looks at neighbourhoods, so it is not split).
+    pub flip: FlipStats,
+    /// Over the pixels outside the mask; `None` without a mask.
+    pub interior: Option<ErrorStats>,
+    /// Over the pixels inside the mask; `None` without a mask.
+    pub silhouette: Option<ErrorStats>,
+}
+
+/// Compares `actual` against `expected` with the default `Settings`.
+/// `mask` (true = silhouette, one entry per pixel, see `edges`) adds the
+/// interior and silhouette figures.
+pub fn compare(
+    expected: &LinearImage,
+    actual: &LinearImage,
+    mask: Option<&[bool]>,
+) -> Result<Comparison, MetricsError> {
+    compare_with(expected, actual, mask, &Settings::default())
+}
+
+/// `compare` with explicit `Settings`.
+pub fn compare_with(
+    expected: &LinearImage,
+    actual: &LinearImage,
+    mask: Option<&[bool]>,
+    settings: &Settings,
+) -> Result<Comparison, MetricsError> {
+    if (expected.width, expected.height) != (actual.width, actual.height) {
+        return Err(MetricsError::SizeMismatch {
+            expected_width: expected.width,
+            expected_height: expected.height,
+            actual_width: actual.width,
+            actual_height: actual.height,
+        });
+    }
+    if expected.pixels.is_empty() {
+        return Err(MetricsError::Empty {
+            width: expected.width,
+            height: expected.height,
+        });
+    }
+    if let Some(m) = mask {
+        if m.len() != expected.pixels.len() {
+            return Err(MetricsError::MaskLength {
+                mask: m.len(),
+                pixels: expected.pixels.len(),
+            });
+        }
+    }
+    let threshold = settings.pixel_threshold;
+    let interior_mask: Option<Vec<bool>> = mask.map(|m| m.iter().map(|&s| !s).collect());
+    Ok(Comparison {
+        width: expected.width,
+        height: expected.height,
+        stats: ErrorStats::compute(expected, actual, None, threshold),
+        flip: flip::flip(expected, actual, settings.pixels_per_degree),
+        interior: interior_mask
+            .as_deref()
+            .map(|m| ErrorStats::compute(expected, actual, Some(m), threshold)),
+        silhouette: mask.map(|m| ErrorStats::compute(expected, actual, Some(m), threshold)),
+    })
+}
+
+/// The limits a comparison must stay within. A figure passes when it is at
+/// or below its limit; NaN never passes.
+///
+/// The defaults are for a GPU render against a reference of the same scene:
+///
+/// - `flip_mean` 0.02: the mean perceptual difference wgpu's image tests
+///   allow. Differences in the last bits of shading and a few edge pixels stay
+///   well below it; a wrong highlight or a missing light does not.
+/// - `p99_abs` 0.05: 99% of pixels within 5% of full intensity, so up to 1%
+///   of pixels (silhouettes, where rasterisers disagree about coverage) may
+///   differ by anything.
+/// - `max_abs` 1.0: any single pixel may differ by up to full scale (an edge
+///   pixel that one side covers and the other does not), but not more: this
+///   catches NaN, infinity and values blown far past 1 in an EXR.
+///
+/// `shadelab check` (the GPU against the CPU reference) will set its own
+/// thresholds, measured on the reference scenes.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Thresholds {
+    pub flip_mean: f64,
+    pub max_abs: f64,
+    pub p99_abs: f64,
+}
+
+impl Default for Thresholds {
+    fn default() -> Self {
+        Self {
+            flip_mean: 0.02,
+            max_abs: 1.0,
+            p99_abs: 0.05,
+        }
+    }
+}
+
+/// One thresholded figure: its name (as in JSON), value, limit and verdict.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Verdict {
+    pub figure: &'static str,
+    pub value: f64,
+    pub limit: f64,
+    pub pass: bool,
+}
+
+impl Thresholds {
+    /// Each thresholded figure of `comparison` with its verdict.
+    pub fn verdicts(&self, comparison: &Comparison) -> [Verdict; 3] {
+        let verdict = |figure, value: f64, limit: f64| Verdict {
+            figure,
+            value,
+            limit,
+            pass: value <= limit,
+        };
+        [
+            verdict("flip_mean", comparison.flip.mean, self.flip_mean),
+            verdict("max_abs", comparison.stats.max_abs, self.max_abs),
+            verdict("p99_abs", comparison.stats.p99_abs, self.p99_abs),
+        ]
+    }
+
+    /// One line per failed threshold, naming the figure, its value and the
+    /// limit; empty when the comparison passes.
+    pub fn check(&self, comparison: &Comparison) -> Vec<String> {
+        self.verdicts(comparison)
+            .iter()
+            .filter(|v| !v.pass)
+            .map(|v| {
+                format!(
+                    "{} {} exceeds the limit {}",
+                    v.figure,
+                    format_figure(v.value),
+                    v.limit
+                )
+            })
+            .collect()
+    }
+}
+
+/// A figure for people: six decimals, or three significant digits in
+/// scientific notation when that would hide a small non-zero value.
+pub fn format_figure(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && v.abs() < 1e-4 {
+        format!("{v:.2e}")
+    } else {
+        format!("{v:.6}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn size_mismatch_names_both_sizes() {
+        let a = LinearImage::new(4, 3, [0.0; 3]);
+        let b = LinearImage::new(3, 4, [0.0; 3]);
+        let e = compare(&a, &b, None).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "the images differ in size: expected is 4x3, actual is 3x4"
+        );
+    }
+
+    #[test]
+    fn empty_images_and_wrong_masks_are_errors() {
+        let empty = LinearImage::new(0, 5, [0.0; 3]);
+        assert!(matches!(
+            compare(&empty, &empty, None),
+            Err(MetricsError::Empty { .. })
+        ));
+        let a = LinearImage::new(2, 2, [0.0; 3]);
+        assert_eq!(
+            compare(&a, &a, Some(&[true; 3])).unwrap_err(),
+            MetricsError::MaskLength { mask: 3, pixels: 4 }
+        );
+    }
+
+    #[test]
+    fn identical_images_pass() {
+        let mut a = LinearImage::new(8, 8, [0.1, 0.2, 0.3]);
+        a.set(2, 2, [0.9, 0.9, 0.9]);
+        let c = compare(&a, &a, None).unwrap();
+        assert_eq!((c.stats.max_abs, c.flip.mean), (0.0, 0.0));
+        assert!(c.interior.is_none() && c.silhouette.is_none());
+        assert!(Thresholds::default().check(&c).is_empty());
+    }
+
+    #[test]
+    fn mask_splits_interior_and_silhouette() {
+        let expected = LinearImage::new(4, 1, [0.0; 3]);
+        let mut actual = expected.clone();
+        actual.set(0, 0, [0.2; 3]);
+        actual.set(3, 0, [0.8; 3]);
+        let mask = [false, false, false, true];
+        let c = compare(&expected, &actual, Some(&mask)).unwrap();
+        let (interior, silhouette) = (c.interior.unwrap(), c.silhouette.unwrap());
+        assert_eq!((interior.pixels, silhouette.pixels), (3, 1));
+        assert!((interior.max_abs - 0.2).abs() < 1e-7);
+        assert!((silhouette.max_abs - 0.8).abs() < 1e-7);
+        assert!((c.stats.max_abs - 0.8).abs() < 1e-7);
+    }
+
+    #[test]
+    fn check_names_each_failed_figure() {
+        let expected = LinearImage::new(16, 16, [0.0; 3]);
+        let mut actual = expected.clone();
+        actual.set(5, 5, [0.5; 3]);
+        let c = compare(&expected, &actual, None).unwrap();
+        // One pixel of 256 is under 1%: p99 is 0, max is 0.5.
+        let strict = Thresholds {
+            flip_mean: 1.0,
+            max_abs: 0.25,
+            p99_abs: 0.0,
+        };
+        let failed = strict.check(&c);
+        assert_eq!(failed.len(), 1, "{failed:?}");
+        assert!(failed[0].starts_with("max_abs 0.5"), "{}", failed[0]);
+        assert!(failed[0].ends_with("limit 0.25"), "{}", failed[0]);
+        let nan = Comparison {
+            flip: FlipStats {
+                mean: f64::NAN,
+                ..c.flip.clone()
+            },
+            ..c
+        };
+        assert!(strict.check(&nan)[0].starts_with("flip_mean NaN"));
+    }
+}

@@ -1,0 +1,383 @@
+//! `shadelab diff` as scripts drive it, and FLIP against NVIDIA's reference
+//! implementation. No GPU: every image is built here or read from
+//! tests/data/flip/.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use shadelab::output::{read_image, write_image};
+use shadelab::LinearImage;
+
+fn flip_data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/flip")
+        .join(name)
+}
+
+struct Run {
+    code: i32,
+    stdout: String,
+    stderr: String,
+}
+
+fn shadelab(dir: &Path, args: &[&str]) -> Run {
+    let out = Command::new(env!("CARGO_BIN_EXE_shadelab"))
+        .args(args)
+        .current_dir(dir)
+        .env("SHADELAB_VALIDATION", "1")
+        .output()
+        .expect("the binary runs");
+    Run {
+        code: out.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    }
+}
+
+fn json(run: &Run) -> serde_json::Value {
+    serde_json::from_str(run.stdout.trim()).expect("--json prints one JSON object")
+}
+
+/// Exit status 2 and exactly one `shadelab: error:` line holding each of
+/// `words`.
+fn assert_bad_input(run: &Run, words: &[&str]) {
+    assert_eq!(run.code, 2, "stderr: {}", run.stderr);
+    assert!(!run.stderr.contains("panicked"), "{}", run.stderr);
+    let lines: Vec<&str> = run.stderr.lines().filter(|l| !l.is_empty()).collect();
+    assert_eq!(lines.len(), 1, "one error line, got: {}", run.stderr);
+    assert!(lines[0].starts_with("shadelab: error: "), "{}", lines[0]);
+    for word in words {
+        assert!(lines[0].contains(word), "{word:?} in: {}", lines[0]);
+    }
+}
+
+/// 4x2 of 0.25 grey, and the same with two pixels changed by amounts exact
+/// in binary (so EXR holds them exactly).
+fn known_pair() -> (LinearImage, LinearImage) {
+    let expected = LinearImage::new(4, 2, [0.25; 3]);
+    let mut actual = expected.clone();
+    actual.set(0, 0, [0.75, 0.25, 0.25]); // +0.5 red
+    actual.set(3, 1, [0.25, 0.125, 0.5]); // -0.125 green, +0.25 blue
+    (expected, actual)
+}
+
+fn write_pair(dir: &Path, expected: &LinearImage, actual: &LinearImage, ext: &str) {
+    write_image(expected, &dir.join(format!("expected.{ext}"))).unwrap();
+    write_image(actual, &dir.join(format!("actual.{ext}"))).unwrap();
+}
+
+#[test]
+fn identical_images_have_zero_error_and_exit_0() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut image = LinearImage::new(20, 10, [0.1, 0.5, 0.9]);
+    image.set(4, 4, [3.0, 0.0, 0.0]);
+    write_pair(dir.path(), &image, &image, "exr");
+    let run = shadelab(dir.path(), &["diff", "expected.exr", "actual.exr"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(run.stderr.is_empty(), "{}", run.stderr);
+    assert_eq!(run.stdout.matches("PASS").count(), 3, "{}", run.stdout);
+    assert!(!run.stdout.contains("FAIL"));
+
+    let run = shadelab(
+        dir.path(),
+        &["diff", "expected.exr", "actual.exr", "--json"],
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let j = json(&run);
+    assert_eq!(j["pass"], true);
+    for figure in ["max_abs", "mean_abs", "rmse", "p99_abs", "fraction_over"] {
+        assert_eq!(j["stats"][figure], 0.0, "{figure}");
+    }
+    assert!(j["stats"]["psnr"].is_null(), "infinite PSNR is null");
+    assert_eq!(j["flip"]["mean"], 0.0);
+}
+
+#[test]
+fn known_difference_by_hand() {
+    let dir = tempfile::tempdir().unwrap();
+    let (expected, actual) = known_pair();
+    write_pair(dir.path(), &expected, &actual, "exr");
+    // Loose limits: this test is about the figures, not the verdict.
+    let run = shadelab(
+        dir.path(),
+        &[
+            "diff",
+            "expected.exr",
+            "actual.exr",
+            "--json",
+            "--flip-mean",
+            "1",
+            "--p99-abs",
+            "1",
+        ],
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let stats = &json(&run)["stats"];
+    let get = |k: &str| stats[k].as_f64().unwrap();
+    // Channel differences 0.5, 0.125, 0.25 over 8 pixels x 3 channels:
+    // MSE = (0.25 + 0.015625 + 0.0625) / 24 = 0.013671875.
+    let mse: f64 = 0.328_125 / 24.0;
+    assert!((get("rmse") - mse.sqrt()).abs() < 1e-6, "{}", get("rmse"));
+    assert!((get("rmse") - 0.116_926_79).abs() < 1e-6);
+    assert!((get("max_abs") - 0.5).abs() < 1e-6);
+    // Pixel errors (max over channels): 0.5, 0.25 and six zeros.
+    assert!((get("mean_abs") - 0.75 / 8.0).abs() < 1e-6);
+    assert!((get("psnr") - 18.641_719).abs() < 1e-5, "{}", get("psnr"));
+    assert_eq!(get("fraction_over"), 0.25, "2 of 8 pixels over 0.01");
+    assert_eq!(stats["pixels"], 8);
+}
+
+#[test]
+fn png_and_exr_mix() {
+    // A PNG decodes to linear, so it compares with the EXR of the same
+    // 8-bit values at zero error.
+    let dir = tempfile::tempdir().unwrap();
+    let mut image = LinearImage::new(8, 8, [0.0; 3]);
+    for y in 0..8 {
+        for x in 0..8 {
+            image.set(x, y, [x as f32 / 7.0, y as f32 / 7.0, 0.5]);
+        }
+    }
+    write_image(&image, &dir.path().join("a.png")).unwrap();
+    let decoded = read_image(&dir.path().join("a.png")).unwrap();
+    write_image(&decoded, &dir.path().join("a.exr")).unwrap();
+    let run = shadelab(dir.path(), &["diff", "a.png", "a.exr", "--json"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_eq!(json(&run)["stats"]["max_abs"], 0.0);
+}
+
+#[test]
+fn mismatched_sizes_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    write_image(&LinearImage::new(4, 3, [0.0; 3]), &dir.path().join("a.png")).unwrap();
+    write_image(&LinearImage::new(3, 4, [0.0; 3]), &dir.path().join("b.exr")).unwrap();
+    let run = shadelab(dir.path(), &["diff", "a.png", "b.exr"]);
+    assert_bad_input(&run, &["a.png", "b.exr", "4x3", "3x4"]);
+    assert!(run.stdout.is_empty());
+}
+
+#[test]
+fn unreadable_input_exits_2() {
+    let dir = tempfile::tempdir().unwrap();
+    write_image(&LinearImage::new(4, 4, [0.0; 3]), &dir.path().join("a.png")).unwrap();
+    std::fs::write(
+        dir.path().join("corrupt.png"),
+        b"\x89PNG\r\n\x1a\nnot really",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("picture.jpg"), b"").unwrap();
+
+    let run = shadelab(dir.path(), &["diff", "a.png", "missing.png"]);
+    assert_bad_input(&run, &["missing.png"]);
+    let run = shadelab(dir.path(), &["diff", "corrupt.png", "a.png"]);
+    assert_bad_input(&run, &["corrupt.png"]);
+    let run = shadelab(dir.path(), &["diff", "a.png", "picture.jpg"]);
+    assert_bad_input(&run, &["picture.jpg", ".png or .exr"]);
+    assert_eq!(shadelab(dir.path(), &["diff", "a.png"]).code, 2);
+}
+
+#[test]
+fn bad_thresholds_and_heat_map_names_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let image = LinearImage::new(4, 4, [0.0; 3]);
+    write_pair(dir.path(), &image, &image, "png");
+    let pair = ["diff", "expected.png", "actual.png"];
+    let with = |extra: &[&str]| {
+        let mut args = pair.to_vec();
+        args.extend_from_slice(extra);
+        shadelab(dir.path(), &args)
+    };
+    assert_bad_input(&with(&["--flip-mean", "-1"]), &["--flip-mean"]);
+    assert_bad_input(&with(&["--threshold", "psnr=3"]), &["psnr"]);
+    assert_bad_input(&with(&["--threshold", "max_abs=x"]), &["max_abs=x"]);
+    assert_bad_input(&with(&["--heatmap", "heat.jpg"]), &["heat.jpg"]);
+    assert_bad_input(&with(&["--heatmap", "no/such/dir/h.png"]), &["h.png"]);
+    assert!(!dir.path().join("heat.jpg").exists());
+}
+
+#[test]
+fn over_threshold_exits_1_naming_the_figure() {
+    let dir = tempfile::tempdir().unwrap();
+    let (expected, actual) = known_pair();
+    write_pair(dir.path(), &expected, &actual, "exr");
+    let pair = ["diff", "expected.exr", "actual.exr"];
+    let with = |extra: &[&str]| {
+        let mut args = pair.to_vec();
+        args.extend_from_slice(extra);
+        shadelab(dir.path(), &args)
+    };
+
+    // Only max_abs (0.5) is over its limit.
+    let run = with(&["--max-abs", "0.4", "--flip-mean", "1", "--p99-abs", "1"]);
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    let lines: Vec<&str> = run.stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "{}", run.stderr);
+    assert!(
+        lines[0].contains("max_abs 0.500000 exceeds the limit 0.4"),
+        "{}",
+        lines[0]
+    );
+    assert!(!lines[0].contains("flip_mean") && !lines[0].contains("p99_abs"));
+    let table_row = run
+        .stdout
+        .lines()
+        .find(|l| l.starts_with("max_abs") && l.contains("0.4"))
+        .expect("a table row for max_abs");
+    assert!(table_row.ends_with("FAIL"), "{table_row}");
+
+    // The same through --threshold FIGURE=X; a bare X is flip_mean.
+    let run = with(&[
+        "--threshold",
+        "max_abs=0.4",
+        "--threshold",
+        "1",
+        "--p99-abs",
+        "1",
+    ]);
+    assert_eq!(run.code, 1);
+    assert!(run.stderr.contains("max_abs"), "{}", run.stderr);
+    assert!(!run.stderr.contains("flip_mean"), "{}", run.stderr);
+    // The per-figure flag wins over --threshold.
+    let run = with(&[
+        "--threshold",
+        "max_abs=0.4",
+        "--max-abs",
+        "0.5",
+        "--threshold",
+        "1",
+        "--p99-abs",
+        "1",
+    ]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+
+    // Defaults: p99_abs (0.5 > 0.05) and flip_mean fail, max_abs passes.
+    let run = with(&["--json"]);
+    assert_eq!(run.code, 1);
+    assert!(run.stderr.contains("p99_abs") && run.stderr.contains("flip_mean"));
+    let j = json(&run);
+    assert_eq!(j["pass"], false);
+    let failures: Vec<&str> = j["failures"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_str().unwrap())
+        .collect();
+    assert_eq!(failures.len(), 2, "{failures:?}");
+    assert!(failures[0].starts_with("flip_mean") && failures[1].starts_with("p99_abs"));
+    // Every figure is there.
+    for part in ["stats", "interior", "silhouette"] {
+        for figure in [
+            "max_abs",
+            "mean_abs",
+            "rmse",
+            "psnr",
+            "fraction_over",
+            "p99_abs",
+            "pixels",
+            "non_finite",
+        ] {
+            // An empty part (this pair has no edges) has an infinite PSNR.
+            let value = &j[part][figure];
+            assert!(
+                value.is_number() || (figure == "psnr" && value.is_null()),
+                "{part}.{figure}: {j}"
+            );
+        }
+    }
+    for figure in ["mean", "median", "p99", "max", "pixels_per_degree"] {
+        assert!(j["flip"][figure].is_number(), "flip.{figure}");
+    }
+    assert_eq!(j["thresholds"]["flip_mean"], 0.02);
+    assert_eq!(j["thresholds"]["max_abs"], 1.0);
+    assert_eq!(j["thresholds"]["p99_abs"], 0.05);
+    assert_eq!(
+        (j["width"].as_u64(), j["height"].as_u64()),
+        (Some(4), Some(2))
+    );
+}
+
+#[test]
+fn gradient_mask_splits_interior_and_silhouette() {
+    // 10x10 black with a white 4x4 square at x, y in 3..=6: the step marks
+    // the square's 12 border pixels and the 16 pixels just outside it.
+    let dir = tempfile::tempdir().unwrap();
+    let mut expected = LinearImage::new(10, 10, [0.0; 3]);
+    for y in 3..=6 {
+        for x in 3..=6 {
+            expected.set(x, y, [1.0; 3]);
+        }
+    }
+    // The actual image misses the square's top-left corner pixel (an edge
+    // difference) and is off by 0.02 at an interior pixel far away.
+    let mut actual = expected.clone();
+    actual.set(3, 3, [0.0; 3]);
+    actual.set(0, 9, [0.02, 0.0, 0.0]);
+    write_pair(dir.path(), &expected, &actual, "exr");
+    let run = shadelab(
+        dir.path(),
+        &["diff", "expected.exr", "actual.exr", "--json"],
+    );
+    let j = json(&run);
+    assert_eq!(j["silhouette"]["pixels"], 28);
+    assert_eq!(j["interior"]["pixels"], 72);
+    assert_eq!(j["silhouette"]["max_abs"], 1.0);
+    let interior_max = j["interior"]["max_abs"].as_f64().unwrap();
+    assert!((interior_max - 0.02).abs() < 1e-6, "{interior_max}");
+}
+
+/// The mean FLIP that NVIDIA's reference implementation reports for
+/// tests/data/flip/{reference,test}.png (made by make_pair.py):
+///
+/// ```text
+/// $ flip -r reference.png -t test.png -ppd 67      # flip-evaluator 1.7 (FLIP v1.7), PyPI
+///      Mean: 0.228790
+///      Max: 0.966368
+/// ```
+///
+/// and `flip_evaluator.evaluate(..., "LDR", parameters={"ppd": 67.0})[1]`
+/// = 0.22878988087177277, the unrounded mean.
+const REFERENCE_FLIP_MEAN: f64 = 0.228_789_880_871_772_77;
+const REFERENCE_FLIP_MAX: f64 = 0.966_368;
+
+/// `nv-flip` builds NVIDIA's C++ FLIP, an older copy than 1.7's but the same
+/// LDR algorithm in f32. What may differ is only rounding: the order of the
+/// mean's sum (we add in f64; FLIP pools in its own histogram code) and the
+/// compiler's use of fused multiply-add. Measured: 2.1e-8. The tolerance,
+/// 1e-5, is 500 times that and still 2000 times finer than the default
+/// threshold 0.02, so it cannot hide a difference that changes a verdict.
+#[test]
+fn flip_matches_nvidias_reference() {
+    let expected = read_image(&flip_data("reference.png")).unwrap();
+    let actual = read_image(&flip_data("test.png")).unwrap();
+    let f = shadelab::metrics::flip(&expected, &actual, 67.0);
+    assert!(
+        (f.mean - REFERENCE_FLIP_MEAN).abs() < 1e-5,
+        "ours {} against the reference's {REFERENCE_FLIP_MEAN}",
+        f.mean
+    );
+    // The reference prints the maximum to 6 decimals.
+    assert!((f.max - REFERENCE_FLIP_MAX).abs() <= 5e-7, "{}", f.max);
+
+    // The CLI reports the same, and its heat map is the reference's magma
+    // error map (`flip ... -d DIR`, saved as reference-flip-magma.png)
+    // pixel for pixel.
+    let dir = tempfile::tempdir().unwrap();
+    let run = shadelab(
+        dir.path(),
+        &[
+            "diff",
+            flip_data("reference.png").to_str().unwrap(),
+            flip_data("test.png").to_str().unwrap(),
+            "--json",
+            "--heatmap",
+            "heat.png",
+        ],
+    );
+    assert_eq!(run.code, 1, "this pair is over the default thresholds");
+    let mean = json(&run)["flip"]["mean"].as_f64().unwrap();
+    assert!((mean - REFERENCE_FLIP_MEAN).abs() < 1e-5, "{mean}");
+    let ours = read_image(&dir.path().join("heat.png")).unwrap();
+    let theirs = read_image(&flip_data("reference-flip-magma.png")).unwrap();
+    assert_eq!((ours.width, ours.height), (48, 32));
+    assert!(ours == theirs, "the heat map differs from the reference's");
+}
