@@ -10,3 +10,7 @@ cargo fmt --all -- --check
 cargo clippy --release --all-targets -- -D warnings
 export SHADELAB_VALIDATION=1
 cargo test --release
+# GPU against the CPU reference on every scene, as a CI job of a user's
+# would run it: images and a JUnit report are kept under target/check/.
+./target/release/shadelab check --out target/check --junit target/check/default.xml
+./target/release/shadelab check assets/*.toml --out target/check --junit target/check/assets.xml

@@ -12,7 +12,8 @@ fn main() {
     let context = shadelab::gpu::GpuContext::new(&shadelab::gpu::GpuOptions::from_env()).unwrap();
     for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
         let gpu = shadelab::render::render_gpu(&context, &scene, shading).unwrap();
-        let (cpu, ids) = shadelab::render::render_cpu(&scene, shading).unwrap();
+        let (cpu, coverage) = shadelab::render::render_cpu(&scene, shading).unwrap();
+        let ids = coverage.surface_ids;
         let (w, h) = (scene.image.width as usize, scene.image.height as usize);
         let mut interior = (0.0f64, 0usize, 0.0f64);
         let mut edge = (0.0f64, 0usize, 0.0f64);

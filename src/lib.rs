@@ -7,6 +7,7 @@
 //! shared contracts.
 
 pub mod camera;
+pub mod check;
 pub mod cpu;
 pub mod error;
 pub mod gpu;

@@ -52,10 +52,20 @@ pub fn render_gpu(
     })
 }
 
-/// The CPU reference (`f64`), with the per-pixel ids of what each pixel
-/// shows: the edges of these regions are where the sub-pixel placement of an
-/// edge may legitimately differ between renderers.
-pub fn render_cpu(scene: &Scene, shading: Shading) -> Result<(Rendered, Vec<Option<u32>>), Error> {
+/// What the CPU reference knows about each pixel besides its colour.
+pub struct Coverage {
+    /// `scene.objects` index per pixel (`None`: background).
+    pub object_ids: Vec<Option<u32>>,
+    /// The surface of constant shading rules per pixel: the triangle in flat
+    /// mode (its colour changes at every triangle edge), else the object.
+    pub surface_ids: Vec<Option<u32>>,
+    /// Samples so close to a visible edge that another conforming
+    /// rasterizer may cover them differently (`cpu::raster::EDGE_MARGIN`).
+    pub near_edge: Vec<bool>,
+}
+
+/// The CPU reference (`f64`) and what it knows about each pixel.
+pub fn render_cpu(scene: &Scene, shading: Shading) -> Result<(Rendered, Coverage), Error> {
     let mode = raster_mode(shading)?;
     let started = Instant::now();
     let out = cpu::raster::render(scene, mode);
@@ -67,12 +77,15 @@ pub fn render_cpu(scene: &Scene, shading: Shading) -> Result<(Rendered, Vec<Opti
             pipeline_ms: None,
         },
     };
-    // Flat shading changes colour at every triangle edge; the other modes
-    // are continuous inside an object.
-    let ids = if mode == RasterMode::Flat {
+    let surface_ids = if mode == RasterMode::Flat {
         out.triangle_ids
     } else {
-        out.object_ids
+        out.object_ids.clone()
     };
-    Ok((rendered, ids))
+    let coverage = Coverage {
+        object_ids: out.object_ids,
+        surface_ids,
+        near_edge: out.near_edge,
+    };
+    Ok((rendered, coverage))
 }

@@ -399,3 +399,88 @@ fn cpu_backend_renders_the_same_picture() {
         gpu.pixels.len()
     );
 }
+
+#[test]
+fn check_passes_and_writes_images_and_junit() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = shadelab(
+        dir.path(),
+        &[
+            "check",
+            "--width",
+            "96",
+            "--height",
+            "72",
+            "--junit",
+            "report.xml",
+        ],
+    );
+    assert_eq!(run.code, 0, "{}\n{}", run.stdout, run.stderr);
+    assert_eq!(
+        run.stdout
+            .lines()
+            .filter(|l| l.starts_with("PASS default/"))
+            .count(),
+        3,
+        "{}",
+        run.stdout
+    );
+    for mode in ["flat", "gouraud", "phong"] {
+        for kind in ["expected", "actual", "diff"] {
+            let path = dir
+                .path()
+                .join(format!("check-out/default/{mode}-{kind}.png"));
+            let image = shadelab::output::read_image(&path).unwrap();
+            assert_eq!((image.width, image.height), (96, 72));
+        }
+    }
+    let xml = std::fs::read_to_string(dir.path().join("report.xml")).unwrap();
+    assert!(xml.contains("tests=\"3\" failures=\"0\""), "{xml}");
+}
+
+#[test]
+fn check_over_threshold_exits_1_with_a_junit_failure() {
+    let dir = tempfile::tempdir().unwrap();
+    // No GPU matches an f64 reference to 1e-12: every mode must fail.
+    let run = shadelab(
+        dir.path(),
+        &[
+            "check",
+            "--shading",
+            "phong",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--interior-max-abs",
+            "1e-12",
+            "--junit",
+            "r.xml",
+            "--json",
+        ],
+    );
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    let json: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    assert_eq!(json["failed"], 1);
+    assert!(json["cases"][0]["failures"][0]
+        .as_str()
+        .unwrap()
+        .contains("interior max error"));
+    let xml = std::fs::read_to_string(dir.path().join("r.xml")).unwrap();
+    assert!(
+        xml.contains("failures=\"1\"") && xml.contains("<failure message=\"interior max error"),
+        "{xml}"
+    );
+    assert!(run.stderr.contains("1 of 1 cases failed"), "{}", run.stderr);
+}
+
+#[test]
+fn check_rejects_bad_input_before_rendering() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = shadelab(dir.path(), &["check", "missing.toml"]);
+    assert_eq!(run.code, 2);
+    assert!(run.stderr.contains("missing.toml"));
+    assert!(!dir.path().join("check-out").exists());
+    let run = shadelab(dir.path(), &["check", "--flip-mean", "-1"]);
+    assert_eq!(run.code, 2);
+}

@@ -74,8 +74,12 @@ fn screen_interpolation_agrees_on_a_tilted_plane() {
     // Interior pixels only: the tilted edges do not pass through samples,
     // so their sub-pixel placement may differ (f32 against f64 positions).
     let gpu_image = render(&gpu(), &s, Shading::Gouraud);
-    let (cpu, ids) = shadelab::render::render_cpu(&s, Shading::Gouraud).unwrap();
-    let ids: Vec<Option<usize>> = ids.iter().map(|i| i.map(|v| v as usize)).collect();
+    let (cpu, coverage) = shadelab::render::render_cpu(&s, Shading::Gouraud).unwrap();
+    let ids: Vec<Option<usize>> = coverage
+        .surface_ids
+        .iter()
+        .map(|i| i.map(|v| v as usize))
+        .collect();
     let interior = interior_pixels(96, 96, &ids);
     assert!(interior.len() > 500);
     for (x, y, _) in interior {
@@ -103,10 +107,14 @@ fn a_floor_running_under_the_eye_is_clipped_alike() {
     });
     for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
         let gpu_image = render(&gpu(), &s, shading);
-        let (cpu, ids) = shadelab::render::render_cpu(&s, shading).unwrap();
+        let (cpu, coverage) = shadelab::render::render_cpu(&s, shading).unwrap();
         assert!(gpu_image.pixels.iter().flatten().all(|v| v.is_finite()));
         assert!(cpu.image.pixels.iter().flatten().all(|v| v.is_finite()));
-        let ids: Vec<Option<usize>> = ids.iter().map(|i| i.map(|v| v as usize)).collect();
+        let ids: Vec<Option<usize>> = coverage
+            .surface_ids
+            .iter()
+            .map(|i| i.map(|v| v as usize))
+            .collect();
         let interior = interior_pixels(96, 96, &ids);
         assert!(
             interior.len() > 2000,

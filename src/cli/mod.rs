@@ -1,5 +1,6 @@
 //! Argument parsing and dispatch to one module per subcommand.
 
+mod check;
 mod diff;
 mod info;
 mod render;
@@ -30,6 +31,8 @@ struct Cli {
 enum Command {
     /// Render a scene to a PNG (8-bit sRGB) or EXR (linear float) image.
     Render(render::RenderArgs),
+    /// Render on the GPU and with the CPU reference, and compare.
+    Check(check::CheckArgs),
     /// Compare two images (PNG or EXR): error figures, FLIP, an optional heat
     /// map; exit status 1 when a figure is over its threshold.
     Diff(diff::DiffArgs),
@@ -86,6 +89,7 @@ pub fn run() -> ExitCode {
     }
     let result = match cli.command {
         Command::Render(args) => render::run(args, &gpu_options),
+        Command::Check(args) => check::run(args, &gpu_options),
         Command::Diff(args) => diff::run(args),
         Command::Info(args) => info::run(args, &gpu_options),
     };

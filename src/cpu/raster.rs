@@ -24,6 +24,12 @@ use crate::shading::RasterMode;
 const SUBPIXEL: f64 = 256.0;
 /// Rows rasterized together by one task.
 const BAND_ROWS: u32 = 8;
+/// Samples closer than this (in pixels) to the boundary of a visible
+/// triangle may be covered differently by the GPU: it snaps f32 window
+/// coordinates to 1/256 pixel where this renderer snaps f64 ones, so a vertex
+/// can land one grid step (0.0039 px) away, plus f32 rounding of positions
+/// (under 0.001 px even at 16384 pixels). 1/64 px is three times their sum.
+pub const EDGE_MARGIN: f64 = 1.0 / 64.0;
 
 /// The reference image and, per pixel, what it shows.
 pub struct CpuRender {
@@ -31,9 +37,11 @@ pub struct CpuRender {
     /// `scene.objects` index per pixel, `None` for the background.
     pub object_ids: Vec<Option<u32>>,
     /// Triangle per pixel, numbered across all objects in scene order.
-    /// Flat shading changes colour at every triangle edge, so its edge
-    /// pixels are found from these rather than from `object_ids`.
     pub triangle_ids: Vec<Option<u32>>,
+    /// Pixels whose sample lies within `EDGE_MARGIN` of the boundary of a
+    /// triangle that is not hidden there: the only pixels where another
+    /// conforming rasterizer may legitimately show something else.
+    pub near_edge: Vec<bool>,
 }
 
 /// One screen-space triangle ready to rasterize.
@@ -206,6 +214,24 @@ fn coverage(t: &Triangle, p: DVec2) -> Option<[f64; 3]> {
     ])
 }
 
+/// Signed distance in pixels from `p` to the triangle's boundary (positive
+/// inside), and the barycentrics of `p` (extrapolated outside).
+fn boundary_distance(t: &Triangle, p: DVec2) -> (f64, [f64; 3]) {
+    let [a, b, c] = t.window;
+    let area = edge(a, b, c);
+    let sign = area.signum();
+    let distance = [(a, b), (b, c), (c, a)]
+        .iter()
+        .map(|&(u, v)| sign * edge(u, v, p) / (v - u).length())
+        .fold(f64::INFINITY, f64::min);
+    let bary = [
+        edge(b, c, p) / area,
+        edge(c, a, p) / area,
+        edge(a, b, p) / area,
+    ];
+    (distance, bary)
+}
+
 fn shade_sample(
     scene: &Scene,
     view: &View,
@@ -254,6 +280,7 @@ struct Band {
     pixels: Vec<[f32; 3]>,
     object_ids: Vec<Option<u32>>,
     triangle_ids: Vec<Option<u32>>,
+    near_edge: Vec<bool>,
 }
 
 /// Renders `scene` at its image size in `mode`.
@@ -292,10 +319,34 @@ pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
                     }
                 }
             }
+            // Second pass, against the final depth: mark samples near the
+            // boundary of every triangle that is not behind what they show.
+            let mut near_edge = vec![false; count];
+            for t in &triangles {
+                if t.max.1 + 1 < y0 || t.min.1 > y1 {
+                    continue;
+                }
+                let ys = t.min.1.saturating_sub(1).max(y0)..=(t.max.1 + 1).min(y1 - 1);
+                for y in ys {
+                    for x in t.min.0.saturating_sub(1)..=(t.max.0 + 1).min(width - 1) {
+                        let p = DVec2::new(f64::from(x) + 0.5, f64::from(y) + 0.5);
+                        let (distance, bary) = boundary_distance(t, p);
+                        if distance.abs() > EDGE_MARGIN {
+                            continue;
+                        }
+                        let z = bary[0] * t.depth[0] + bary[1] * t.depth[1] + bary[2] * t.depth[2];
+                        let i = ((y - y0) * width + x) as usize;
+                        if z >= depth[i] * (1.0 - 1e-9) {
+                            near_edge[i] = true;
+                        }
+                    }
+                }
+            }
             Band {
                 pixels: color.iter().map(|c| c.as_vec3().to_array()).collect(),
                 object_ids: ids,
                 triangle_ids: tri_ids,
+                near_edge,
             }
         })
         .collect();
@@ -306,15 +357,18 @@ pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
     };
     let mut object_ids = Vec::with_capacity((width * height) as usize);
     let mut triangle_ids = Vec::with_capacity((width * height) as usize);
+    let mut near_edge = Vec::with_capacity((width * height) as usize);
     for band in bands {
         image.pixels.extend(band.pixels);
         object_ids.extend(band.object_ids);
         triangle_ids.extend(band.triangle_ids);
+        near_edge.extend(band.near_edge);
     }
     CpuRender {
         image,
         object_ids,
         triangle_ids,
+        near_edge,
     }
 }
 

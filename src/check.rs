@@ -1,0 +1,148 @@
+//! `check`: a scene rendered on the GPU and with the CPU reference, the
+//! difference measured, and a verdict against thresholds set from
+//! measurement.
+//!
+//! Pixels are split by what the CPU reference knows of them: an edge pixel's
+//! sample lies within `cpu::raster::EDGE_MARGIN` (1/64 px) of the boundary
+//! of a visible triangle, where a conforming rasterizer working from f32
+//! positions may cover it differently; every other pixel is interior and
+//! must agree to float rounding, however small its triangle. Only the share
+//! of edge pixels that differ is bounded.
+
+use std::sync::Arc;
+
+use crate::error::Error;
+use crate::gpu::GpuContext;
+use crate::linear_image::LinearImage;
+use crate::metrics::flip::{flip, FlipStats};
+use crate::metrics::stats::ErrorStats;
+use crate::render::{render_cpu, render_gpu};
+use crate::scene::Scene;
+use crate::shading::Shading;
+
+/// FLIP's default viewing condition: a 0.7 m away 24" 4K monitor.
+pub const PIXELS_PER_DEGREE: f32 = 67.0;
+
+/// The limits a GPU render must keep against the CPU reference.
+///
+/// Defaults from measurement (README, "The CPU reference"): over the default
+/// scene and every scene in `assets/` at their own sizes, in every raster
+/// mode, the largest interior error was 8.4e-5 (over 99.6% of the pixels),
+/// at most 2 edge pixels of 307200 (0.00065% of the image) differed by more
+/// than 0.01, and the largest FLIP mean was 1.0e-5.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+pub struct CheckThresholds {
+    /// Largest error at an interior pixel. 1e-3: 12x the worst measured, and
+    /// still 4x finer than one 8-bit output step.
+    pub interior_max_abs: f64,
+    /// Largest share of the image made of edge pixels whose error exceeds
+    /// `edge_pixel_error`. 0.05%: 77x the worst measured (about 150 pixels
+    /// at 640x480).
+    pub edge_fraction: f64,
+    /// What counts as a differing edge pixel: 0.01 (2.5 8-bit steps).
+    pub edge_pixel_error: f64,
+    /// Largest mean FLIP over the whole image. 1e-3: 100x the worst measured,
+    /// and 20x below the 0.02 of `diff`'s default (a just visible change).
+    pub flip_mean: f64,
+}
+
+impl Default for CheckThresholds {
+    fn default() -> Self {
+        Self {
+            interior_max_abs: 1e-3,
+            edge_fraction: 5e-4,
+            edge_pixel_error: 0.01,
+            flip_mean: 1e-3,
+        }
+    }
+}
+
+/// One scene in one mode, checked.
+pub struct CheckOutcome {
+    pub shading: Shading,
+    /// The CPU reference.
+    pub expected: LinearImage,
+    /// The GPU render.
+    pub actual: LinearImage,
+    pub interior: ErrorStats,
+    pub edges: ErrorStats,
+    /// Edge pixels differing by more than the edge tolerance, as a share of
+    /// the whole image.
+    pub edge_share: f64,
+    pub flip: FlipStats,
+    /// One line per threshold exceeded, with the figure and the limit.
+    pub failures: Vec<String>,
+    pub gpu_ms: f64,
+    pub cpu_ms: f64,
+}
+
+impl CheckOutcome {
+    pub fn passed(&self) -> bool {
+        self.failures.is_empty()
+    }
+}
+
+/// A figure passes at or below its limit; NaN never passes.
+fn within(value: f64, limit: f64) -> bool {
+    value <= limit
+}
+
+/// Renders `scene` on the GPU and `reference` (normally the same scene) with
+/// the CPU reference, and compares. A different `reference` is how the tests
+/// show that perturbing the reference is caught.
+pub fn check(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    reference: &Scene,
+    shading: Shading,
+    limits: &CheckThresholds,
+) -> Result<CheckOutcome, Error> {
+    let actual = render_gpu(context, scene, shading)?;
+    let (expected, coverage) = render_cpu(reference, shading)?;
+    let edge_mask = coverage.near_edge;
+    let interior_mask: Vec<bool> = edge_mask.iter().map(|e| !e).collect();
+    let pixel = limits.edge_pixel_error;
+    let interior = ErrorStats::compute(&expected.image, &actual.image, Some(&interior_mask), pixel);
+    let edges = ErrorStats::compute(&expected.image, &actual.image, Some(&edge_mask), pixel);
+    let flip = flip(&expected.image, &actual.image, PIXELS_PER_DEGREE);
+
+    let mut failures = Vec::new();
+    if !within(interior.max_abs, limits.interior_max_abs) {
+        failures.push(format!(
+            "interior max error {:.3e} > {:.1e} ({} interior pixels)",
+            interior.max_abs, limits.interior_max_abs, interior.pixels
+        ));
+    }
+    let differing_edges = edges.fraction_over * edges.pixels as f64;
+    let image_pixels = (interior.pixels + edges.pixels).max(1) as f64;
+    let edge_share = differing_edges / image_pixels;
+    if !within(edge_share, limits.edge_fraction) {
+        failures.push(format!(
+            "{differing_edges:.0} edge pixels ({:.4}% of the image) differ by more than {pixel} > {:.3}%",
+            edge_share * 100.0,
+            limits.edge_fraction * 100.0
+        ));
+    }
+    if !within(flip.mean, limits.flip_mean) {
+        failures.push(format!(
+            "FLIP mean {:.2e} > {:.1e}",
+            flip.mean, limits.flip_mean
+        ));
+    }
+    let non_finite = interior.non_finite + edges.non_finite;
+    if non_finite > 0 {
+        failures.push(format!("{non_finite} pixels are NaN or infinite"));
+    }
+    Ok(CheckOutcome {
+        shading,
+        gpu_ms: actual.timings.total_ms,
+        cpu_ms: expected.timings.total_ms,
+        expected: expected.image,
+        actual: actual.image,
+        interior,
+        edges,
+        edge_share,
+        flip,
+        failures,
+    })
+}

@@ -1,0 +1,199 @@
+//! `shadelab check`: every scene in every mode, GPU against the CPU
+//! reference; images for CI to keep, a verdict line per case, optionally a
+//! JUnit report; exit status 1 when any case fails.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use shadelab::check::{check, CheckOutcome, CheckThresholds};
+use shadelab::gpu::{GpuContext, GpuOptions};
+use shadelab::junit::{self, TestCase};
+use shadelab::metrics::heatmap::flip_heatmap;
+use shadelab::output::{write_atomically, write_image};
+use shadelab::shading::Shading;
+
+use super::render::load_scene;
+use super::Failure;
+
+#[derive(Args)]
+pub struct CheckArgs {
+    /// Scene files; the built-in default scene if none.
+    scenes: Vec<PathBuf>,
+    /// Modes to check, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "flat,gouraud,phong", value_parser = parse_shading)]
+    shading: Vec<Shading>,
+    /// Folder for <scene>/<mode>-{expected,actual,diff}.png.
+    #[arg(long, default_value = "check-out")]
+    out: PathBuf,
+    /// Also write a JUnit XML report here.
+    #[arg(long)]
+    junit: Option<PathBuf>,
+    /// Print one JSON object with every figure on stdout.
+    #[arg(long)]
+    json: bool,
+    /// Override the scenes' image width.
+    #[arg(long)]
+    width: Option<u32>,
+    /// Override the scenes' image height.
+    #[arg(long)]
+    height: Option<u32>,
+    /// Largest error allowed at an interior pixel.
+    #[arg(long, default_value_t = CheckThresholds::default().interior_max_abs)]
+    interior_max_abs: f64,
+    /// Largest share (0-1) of the image allowed to be edge pixels that differ
+    /// by more than 0.01.
+    #[arg(long, default_value_t = CheckThresholds::default().edge_fraction)]
+    edge_fraction: f64,
+    /// Largest mean FLIP allowed over the image.
+    #[arg(long, default_value_t = CheckThresholds::default().flip_mean)]
+    flip_mean: f64,
+}
+
+fn parse_shading(s: &str) -> Result<Shading, String> {
+    s.parse()
+}
+
+fn usage(message: String) -> Failure {
+    Failure { code: 2, message }
+}
+
+fn io_failure(path: &Path, e: impl std::fmt::Display) -> Failure {
+    usage(format!("cannot write {}: {e}", path.display()))
+}
+
+pub fn run(args: CheckArgs, options: &GpuOptions) -> Result<(), Failure> {
+    let limits = CheckThresholds {
+        interior_max_abs: args.interior_max_abs,
+        edge_fraction: args.edge_fraction,
+        flip_mean: args.flip_mean,
+        ..CheckThresholds::default()
+    };
+    for (name, v) in [
+        ("--interior-max-abs", limits.interior_max_abs),
+        ("--edge-fraction", limits.edge_fraction),
+        ("--flip-mean", limits.flip_mean),
+    ] {
+        if !v.is_finite() || v < 0.0 {
+            return Err(usage(format!(
+                "{name} {v} is invalid; expected a number >= 0"
+            )));
+        }
+    }
+    if let Some(mode) = args.shading.iter().find(|s| s.raster_mode().is_none()) {
+        return Err(usage(format!(
+            "--shading {mode} cannot be checked yet (the ray tracer is tracked as issue 4)"
+        )));
+    }
+    // Load every scene first: a bad one stops the run before any rendering.
+    let mut scenes = Vec::new();
+    let paths: Vec<Option<&Path>> = if args.scenes.is_empty() {
+        vec![None]
+    } else {
+        args.scenes.iter().map(|p| Some(p.as_path())).collect()
+    };
+    for path in paths {
+        let (mut scene, stem) = load_scene(path)?;
+        for (name, value) in [("--width", args.width), ("--height", args.height)] {
+            if value.is_some_and(|v| v == 0 || v > 16384) {
+                return Err(usage(format!(
+                    "{name} is out of range; expected 1 to 16384 pixels"
+                )));
+            }
+        }
+        scene.image.width = args.width.unwrap_or(scene.image.width);
+        scene.image.height = args.height.unwrap_or(scene.image.height);
+        let mut name = stem;
+        if scenes.iter().any(|(_, n): &(_, String)| *n == name) {
+            name = format!("{name}-{}", scenes.len() + 1);
+        }
+        scenes.push((scene, name));
+    }
+    let context = GpuContext::new(options)?;
+    let mut cases = Vec::new();
+    let mut reports = Vec::new();
+    let mut failed = 0;
+    for (scene, name) in &scenes {
+        let folder = args.out.join(name);
+        std::fs::create_dir_all(&folder).map_err(|e| io_failure(&folder, e))?;
+        for &shading in &args.shading {
+            let outcome = check(&context, scene, scene, shading, &limits)?;
+            write_images(&folder, &outcome)?;
+            let verdict = if outcome.passed() { "PASS" } else { "FAIL" };
+            if !outcome.passed() {
+                failed += 1;
+            }
+            let summary = summary(&outcome);
+            if !args.json {
+                println!("{verdict} {name}/{shading}  {summary}");
+                for f in &outcome.failures {
+                    println!("     {f}");
+                }
+            }
+            cases.push(TestCase {
+                classname: name.clone(),
+                name: shading.to_string(),
+                time_s: (outcome.gpu_ms + outcome.cpu_ms) / 1e3,
+                failure: (!outcome.passed()).then(|| outcome.failures.join("\n")),
+                output: summary,
+            });
+            reports.push(serde_json::json!({
+                "scene": name,
+                "shading": shading,
+                "passed": outcome.passed(),
+                "failures": outcome.failures,
+                "interior": outcome.interior,
+                "edges": outcome.edges,
+                "edge_share": outcome.edge_share,
+                "flip_mean": outcome.flip.mean,
+                "flip_p99": outcome.flip.p99,
+                "gpu_ms": outcome.gpu_ms,
+                "cpu_ms": outcome.cpu_ms,
+                "images": folder.join(shading.to_string()),
+            }));
+        }
+    }
+    if let Some(path) = &args.junit {
+        let xml = junit::render("shadelab check", &cases);
+        write_atomically(path, xml.as_bytes())?;
+    }
+    if args.json {
+        let value = serde_json::json!({ "thresholds": limits, "cases": reports, "failed": failed });
+        println!("{value}");
+    } else {
+        println!(
+            "{} of {} cases passed; images in {}",
+            cases.len() - failed,
+            cases.len(),
+            args.out.display()
+        );
+    }
+    if failed > 0 {
+        return Err(Failure {
+            code: 1,
+            message: format!("{failed} of {} cases failed their thresholds", cases.len()),
+        });
+    }
+    Ok(())
+}
+
+fn summary(o: &CheckOutcome) -> String {
+    format!(
+        "interior max {:.1e}  differing edge pixels {:.4}%  FLIP mean {:.1e}  (GPU {:.0} ms, CPU {:.0} ms)",
+        o.interior.max_abs,
+        o.edge_share * 100.0,
+        o.flip.mean,
+        o.gpu_ms,
+        o.cpu_ms
+    )
+}
+
+fn write_images(folder: &Path, o: &CheckOutcome) -> Result<(), Failure> {
+    let mode = o.shading.to_string();
+    write_image(&o.expected, &folder.join(format!("{mode}-expected.png")))?;
+    write_image(&o.actual, &folder.join(format!("{mode}-actual.png")))?;
+    write_image(
+        &flip_heatmap(&o.flip),
+        &folder.join(format!("{mode}-diff.png")),
+    )?;
+    Ok(())
+}
