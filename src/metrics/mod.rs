@@ -19,7 +19,7 @@ use serde::Serialize;
 
 use crate::linear_image::LinearImage;
 
-pub use edges::{gradient_mask, silhouette_mask};
+pub use edges::gradient_mask;
 pub use flip::{flip, FlipStats};
 pub use heatmap::flip_heatmap;
 pub use stats::ErrorStats;
