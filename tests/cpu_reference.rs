@@ -12,23 +12,6 @@ use shadelab::shading::Shading;
 /// f32 against f64 on values below ~2 (see raster_modes.rs).
 const FLOAT_TOL: f64 = 1e-4;
 
-/// The 4x4 grid of raster_modes.rs: vertices on pixel centres, so every
-/// triangle edge (horizontal, vertical and diagonal) passes through samples.
-fn grid_scene() -> Scene {
-    let mut s = scene(101, 101, 90.0);
-    s.lights[0].position = DVec3::new(3.0, 2.0, 2.0);
-    s.objects.push(Object {
-        shape: Shape::Plane {
-            center: DVec3::ZERO,
-            normal: DVec3::Z,
-            size: 2.0 * 10.0 * 40.0 / 50.5,
-            segments: 4,
-        },
-        material: 0,
-    });
-    s
-}
-
 fn assert_same_everywhere(scene: &Scene, shading: Shading) {
     let gpu_image = render(&gpu(), scene, shading);
     let (cpu, _) = shadelab::render::render_cpu(scene, shading).unwrap();

@@ -2,8 +2,11 @@
 //! implementation. No GPU: every image is built here or read from
 //! tests/data/flip/.
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+use common::cli::{shadelab, Run};
 
 use shadelab::output::{read_image, write_image};
 use shadelab::LinearImage;
@@ -12,26 +15,6 @@ fn flip_data(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/flip")
         .join(name)
-}
-
-struct Run {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
-
-fn shadelab(dir: &Path, args: &[&str]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_shadelab"))
-        .args(args)
-        .current_dir(dir)
-        .env("SHADELAB_VALIDATION", "1")
-        .output()
-        .expect("the binary runs");
-    Run {
-        code: out.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    }
 }
 
 fn json(run: &Run) -> serde_json::Value {

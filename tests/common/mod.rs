@@ -3,6 +3,8 @@
 //! surface point each pixel centre sees.
 #![allow(dead_code)]
 
+pub mod cli;
+
 use std::sync::Arc;
 
 use glam::DVec3;
@@ -168,4 +170,23 @@ pub fn to_dvec(rgb: [f32; 3]) -> DVec3 {
 /// Largest per-channel absolute difference.
 pub fn max_abs_diff(a: DVec3, b: DVec3) -> f64 {
     (a - b).abs().max_element()
+}
+
+/// A screen-parallel 4x4 grid whose vertices land exactly on pixel centres:
+/// 101x101 pixels, a 90 degree field of view (focal length 1), the plane 10
+/// units away. Vertex columns and rows fall on pixel centres 10.5, 30.5,
+/// 50.5, 70.5 and 90.5, so every triangle edge passes through samples.
+pub fn grid_scene() -> Scene {
+    let mut s = scene(101, 101, 90.0);
+    s.lights[0].position = DVec3::new(3.0, 2.0, 2.0);
+    s.objects.push(Object {
+        shape: Shape::Plane {
+            center: DVec3::ZERO,
+            normal: DVec3::Z,
+            size: 2.0 * 10.0 * 40.0 / 50.5,
+            segments: 4,
+        },
+        material: 0,
+    });
+    s
 }
