@@ -16,6 +16,7 @@ pub mod linear_image;
 pub mod metrics;
 pub mod output;
 pub mod render;
+pub mod rt_scene;
 pub mod scene;
 pub mod shading;
 

@@ -1,0 +1,197 @@
+//! The scene as both ray tracers (the compute shader and the CPU twin) see
+//! it: exact spheres, finite planes and oriented boxes, mesh triangles with a
+//! bounding volume hierarchy, materials and lights. Everything is in
+//! camera-relative coordinates (world minus eye, subtracted in `f64`), so the
+//! eye is the origin and scenes far from the world origin keep precision.
+//!
+//! Every primitive carries the index of the scene object it came from: when
+//! two hits are at exactly the same distance the lower index wins, the
+//! same rule as the raster modes' "first drawn wins".
+
+use glam::{DMat3, DVec3, Vec3A};
+use obvhs::bvh2::Bvh2;
+
+use crate::scene::{plane_axes, Lighting, Material, PointLight, RenderSettings, Scene, Shape};
+
+#[derive(Debug, Clone, Copy)]
+pub struct RtSphere {
+    pub center: DVec3,
+    pub radius: f64,
+    pub material: u32,
+    pub object: u32,
+}
+
+/// A finite square: points `center + a u + b v` with `|a|, |b| <= half_size`.
+#[derive(Debug, Clone, Copy)]
+pub struct RtPlane {
+    pub center: DVec3,
+    pub normal: DVec3,
+    pub u: DVec3,
+    pub v: DVec3,
+    pub half_size: f64,
+    pub material: u32,
+    pub object: u32,
+}
+
+/// An oriented box: `rotation` maps box-local axes to world axes.
+#[derive(Debug, Clone, Copy)]
+pub struct RtBox {
+    pub center: DVec3,
+    pub half_extents: DVec3,
+    pub rotation: DMat3,
+    pub material: u32,
+    pub object: u32,
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct RtTriangle {
+    pub positions: [DVec3; 3],
+    /// Unit vertex normals, interpolated with the hit's barycentrics.
+    pub normals: [DVec3; 3],
+    pub material: u32,
+    pub object: u32,
+}
+
+pub struct RtScene {
+    /// The eye in world space; every position below is relative to it.
+    pub eye: DVec3,
+    pub spheres: Vec<RtSphere>,
+    pub planes: Vec<RtPlane>,
+    pub boxes: Vec<RtBox>,
+    pub triangles: Vec<RtTriangle>,
+    /// Over `triangles`, built from their f32-rounded positions. Its boxes
+    /// bound the f32 triangles; the CPU widens them slightly before use.
+    pub bvh: Bvh2,
+    pub materials: Vec<Material>,
+    /// Positions relative to the eye.
+    pub lights: Vec<PointLight>,
+    pub lighting: Lighting,
+    pub background: DVec3,
+    pub render: RenderSettings,
+}
+
+impl RtScene {
+    pub fn new(scene: &Scene) -> Self {
+        let eye = scene.camera.position;
+        let mut rt = RtScene {
+            eye,
+            spheres: Vec::new(),
+            planes: Vec::new(),
+            boxes: Vec::new(),
+            triangles: Vec::new(),
+            bvh: Bvh2::default(),
+            materials: scene.materials.clone(),
+            lights: scene
+                .lights
+                .iter()
+                .map(|l| PointLight {
+                    position: l.position - eye,
+                    intensity: l.intensity,
+                })
+                .collect(),
+            lighting: scene.lighting,
+            background: scene.image.background,
+            render: scene.render,
+        };
+        for (index, object) in scene.objects.iter().enumerate() {
+            let (material, object_index) = (object.material as u32, index as u32);
+            match &object.shape {
+                Shape::Sphere { center, radius, .. } => rt.spheres.push(RtSphere {
+                    center: *center - eye,
+                    radius: *radius,
+                    material,
+                    object: object_index,
+                }),
+                Shape::Plane {
+                    center,
+                    normal,
+                    size,
+                    ..
+                } => {
+                    let (u, v) = plane_axes(*normal);
+                    rt.planes.push(RtPlane {
+                        center: *center - eye,
+                        normal: *normal,
+                        u,
+                        v,
+                        half_size: size * 0.5,
+                        material,
+                        object: object_index,
+                    });
+                }
+                Shape::Box {
+                    center,
+                    half_extents,
+                    rotation,
+                } => rt.boxes.push(RtBox {
+                    center: *center - eye,
+                    half_extents: *half_extents,
+                    rotation: *rotation,
+                    material,
+                    object: object_index,
+                }),
+                Shape::Mesh(mesh) => {
+                    for tri in &mesh.triangles {
+                        let [a, b, c] = tri.map(|i| i as usize);
+                        rt.triangles.push(RtTriangle {
+                            positions: [a, b, c].map(|i| mesh.positions[i] - eye),
+                            normals: [a, b, c].map(|i| mesh.normals[i]),
+                            material,
+                            object: object_index,
+                        });
+                    }
+                }
+            }
+        }
+        rt.bvh = build_bvh(&rt.triangles);
+        rt
+    }
+
+    /// Whether any material transmits light (refraction rays can exist).
+    pub fn has_transmission(&self) -> bool {
+        self.materials.iter().any(|m| m.kt > 0.0)
+    }
+
+    /// Whether any material reflects (reflection rays can exist).
+    pub fn has_reflection(&self) -> bool {
+        self.materials.iter().any(|m| m.kr > 0.0 || m.kt > 0.0)
+    }
+}
+
+fn build_bvh(triangles: &[RtTriangle]) -> Bvh2 {
+    if triangles.is_empty() {
+        return Bvh2::default();
+    }
+    let tris: Vec<obvhs::triangle::Triangle> = triangles
+        .iter()
+        .map(|t| {
+            let [v0, v1, v2] = t.positions.map(|p| Vec3A::from(p.as_vec3()));
+            obvhs::triangle::Triangle { v0, v1, v2 }
+        })
+        .collect();
+    let mut build_time = std::time::Duration::default();
+    obvhs::bvh2::builder::build_bvh2_from_tris(
+        &tris,
+        obvhs::BvhBuildParams::medium_build(),
+        &mut build_time,
+    )
+}
+
+/// Rays traced by kind (`docs/raytracing.md`, "Counting").
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct RayStats {
+    pub primary: u64,
+    pub shadow: u64,
+    pub reflected: u64,
+    pub refracted: u64,
+    /// Children not traced because their weight fell below the cut-off.
+    pub pruned: u64,
+    /// The largest depth of any traced ray (0: primary rays only).
+    pub max_depth_reached: u32,
+}
+
+impl RayStats {
+    pub fn total(&self) -> u64 {
+        self.primary + self.shadow + self.reflected + self.refracted
+    }
+}
