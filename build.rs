@@ -82,6 +82,12 @@ const VARIANTS: &[Variant] = &[
         stage: glslang::ShaderStage::Fragment,
         defines: NOPERSPECTIVE,
     },
+    Variant {
+        name: "RAYTRACE_COMP",
+        source: "raytrace.comp.glsl",
+        stage: glslang::ShaderStage::Compute,
+        defines: &[],
+    },
 ];
 
 /// Resolves `#include "x.glsl"` against `shaders/include/`.

@@ -5,6 +5,7 @@
 // computes the same value, so a triangle has exactly one colour.
 #include "raster_interface.glsl"
 #include "lighting.glsl"
+#include "raster_surface.glsl"
 
 layout(location = 0) out vec4 out_color;
 
@@ -14,5 +15,5 @@ void main() {
     uint face = draw.face_offset + uint(gl_PrimitiveID);
     vec3 P = faces[face].center.xyz;
     vec3 N = faces[face].normal.xyz;
-    out_color = vec4(shade(P, N, normalize(-P), draw_surface()), 1.0);
+    out_color = vec4(shade(P, N, normalize(-P), draw_surface(), frame.ambient_k.rgb, frame.ambient_k.w), 1.0);
 }

@@ -4,6 +4,7 @@
 // the intensity (INTERP is `smooth` or `noperspective`, set by build.rs).
 #include "raster_interface.glsl"
 #include "lighting.glsl"
+#include "raster_surface.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
@@ -11,6 +12,6 @@ layout(location = 0) INTERP out vec3 out_intensity;
 
 void main() {
     vec3 P = in_position;
-    out_intensity = shade(P, unit_or_zero(in_normal), normalize(-P), draw_surface());
+    out_intensity = shade(P, unit_or_zero(in_normal), normalize(-P), draw_surface(), frame.ambient_k.rgb, frame.ambient_k.w);
     gl_Position = draw.clip_from_relative * vec4(P, 1.0);
 }

@@ -4,6 +4,7 @@
 // renormalised, at the interpolated position.
 #include "raster_interface.glsl"
 #include "lighting.glsl"
+#include "raster_surface.glsl"
 
 layout(location = 0) INTERP in vec3 in_position;
 layout(location = 1) INTERP in vec3 in_normal;
@@ -11,5 +12,5 @@ layout(location = 0) out vec4 out_color;
 
 void main() {
     vec3 P = in_position;
-    out_color = vec4(shade(P, unit_or_zero(in_normal), normalize(-P), draw_surface()), 1.0);
+    out_color = vec4(shade(P, unit_or_zero(in_normal), normalize(-P), draw_surface(), frame.ambient_k.rgb, frame.ambient_k.w), 1.0);
 }

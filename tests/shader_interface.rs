@@ -1,11 +1,38 @@
-//! The host's descriptor layout, push-constant block and specialization
-//! constants against naga's reflection of every compiled raster shader, so a
-//! shader edit that the host does not follow (or the reverse) fails here
-//! instead of as undefined behaviour on a device.
+//! Each pipeline's host-side interface (descriptor bindings, record sizes,
+//! push constants, specialization constants) against naga's reflection of
+//! its compiled shaders, so a shader edit that the host does not follow (or
+//! the reverse) fails here instead of as undefined behaviour on a device.
+//! The raster stages answer to `raster_layout`, the ray-tracing compute
+//! shader to `rt_layout`.
 
 use ash::vk;
-use shadelab::gpu::raster_layout::{self, DrawConstants, Specialization, BINDINGS, SPEC_CONSTANTS};
-use shadelab::gpu::shader_catalog::{BindingKind, ShaderStage, ALL_SHADERS};
+use shadelab::gpu::shader_catalog::{BindingKind, ShaderBlob, ShaderStage, ALL_SHADERS};
+use shadelab::gpu::{raster_layout, rt_layout};
+
+/// What the host declares for one pipeline family.
+struct HostInterface {
+    bindings: &'static [(u32, vk::DescriptorType)],
+    record_size: fn(u32) -> usize,
+    spec_constants: &'static [(u16, &'static str)],
+    push_constant_size: u32,
+}
+
+fn host_for(shader: &ShaderBlob) -> HostInterface {
+    match shader.stage {
+        ShaderStage::Compute => HostInterface {
+            bindings: rt_layout::BINDINGS,
+            record_size: rt_layout::record_size,
+            spec_constants: rt_layout::SPEC_CONSTANTS,
+            push_constant_size: 0,
+        },
+        ShaderStage::Vertex | ShaderStage::Fragment => HostInterface {
+            bindings: raster_layout::BINDINGS,
+            record_size: raster_layout::record_size,
+            spec_constants: raster_layout::SPEC_CONSTANTS,
+            push_constant_size: std::mem::size_of::<raster_layout::DrawConstants>() as u32,
+        },
+    }
+}
 
 fn host_kind(ty: vk::DescriptorType) -> BindingKind {
     match ty {
@@ -16,13 +43,17 @@ fn host_kind(ty: vk::DescriptorType) -> BindingKind {
 }
 
 #[test]
-fn every_shader_binding_is_declared_by_the_host_with_the_same_type() {
-    let mut used = std::collections::HashSet::new();
+fn every_shader_binding_is_declared_by_the_host_with_the_same_type_and_record() {
+    let mut used: Vec<(*const (u32, vk::DescriptorType), u32)> = Vec::new();
     for shader in ALL_SHADERS {
+        let host = host_for(shader);
         for b in shader.bindings {
             assert_eq!(b.set, 0, "{}: only set 0 exists on the host", shader.name);
-            let host = BINDINGS.iter().find(|(binding, _)| *binding == b.binding);
-            let Some(&(_, ty)) = host else {
+            let Some(&(_, ty)) = host
+                .bindings
+                .iter()
+                .find(|(binding, _)| *binding == b.binding)
+            else {
                 panic!(
                     "{}: binding {} is not in the host layout",
                     shader.name, b.binding
@@ -36,67 +67,84 @@ fn every_shader_binding_is_declared_by_the_host_with_the_same_type() {
                 b.binding
             );
             assert_eq!(
-                raster_layout::record_size(b.binding),
+                (host.record_size)(b.binding),
                 b.record_size as usize,
                 "{}: binding {} record size (host struct vs shader std430 layout)",
                 shader.name,
                 b.binding
             );
-            used.insert(b.binding);
+            used.push((host.bindings.as_ptr(), b.binding));
         }
     }
-    for (binding, _) in BINDINGS {
-        assert!(
-            used.contains(binding),
-            "host binding {binding} is used by no shader"
-        );
+    for family in [raster_layout::BINDINGS, rt_layout::BINDINGS] {
+        for (binding, _) in family {
+            assert!(
+                used.contains(&(family.as_ptr(), *binding)),
+                "host binding {binding} is used by no shader of its pipeline"
+            );
+        }
     }
 }
 
 #[test]
-fn push_constant_block_has_the_hosts_size() {
-    let host = std::mem::size_of::<DrawConstants>() as u32;
-    let mut seen = 0;
-    for shader in ALL_SHADERS.iter().filter(|s| s.push_constant_size > 0) {
-        assert_eq!(shader.push_constant_size, host, "{}", shader.name);
-        seen += 1;
+fn push_constant_blocks_have_the_hosts_size() {
+    for shader in ALL_SHADERS {
+        let host = host_for(shader);
+        if shader.push_constant_size > 0 || host.push_constant_size == 0 {
+            assert_eq!(
+                shader.push_constant_size, host.push_constant_size,
+                "{}",
+                shader.name
+            );
+        }
     }
-    assert!(seen >= 6, "the raster shaders declare push constants");
 }
 
 #[test]
 fn specialization_constants_match_by_id_and_name() {
     for shader in ALL_SHADERS {
+        let host = host_for(shader);
         for spec in shader.spec_constants {
             assert!(
-                SPEC_CONSTANTS.contains(spec),
+                host.spec_constants.contains(spec),
                 "{}: specialization constant {spec:?} unknown to the host",
                 shader.name
             );
         }
     }
-    // One 4-byte value per constant, as the map entries say.
+    // One 4-byte value per constant, in order, as the map entries say.
     assert_eq!(
-        std::mem::size_of::<Specialization>(),
-        4 * SPEC_CONSTANTS.len()
+        std::mem::size_of::<raster_layout::Specialization>(),
+        4 * raster_layout::SPEC_CONSTANTS.len()
     );
-    let entries = Specialization::map_entries();
-    for (entry, (id, _)) in entries.iter().zip(SPEC_CONSTANTS) {
+    assert_eq!(
+        std::mem::size_of::<rt_layout::TraceSpecialization>(),
+        4 * rt_layout::SPEC_CONSTANTS.len()
+    );
+    let raster = raster_layout::Specialization::map_entries();
+    for (entry, (id, _)) in raster.iter().zip(raster_layout::SPEC_CONSTANTS) {
         assert_eq!(entry.constant_id, u32::from(*id));
     }
+    let traced = rt_layout::TraceSpecialization::map_entries();
+    assert_eq!(traced.len(), rt_layout::SPEC_CONSTANTS.len());
+    // The shared constants mean the same in both pipelines.
+    assert_eq!(
+        &rt_layout::SPEC_CONSTANTS[..3],
+        raster_layout::SPEC_CONSTANTS
+    );
 }
 
 #[test]
 fn every_stage_is_present() {
-    let vertex = ALL_SHADERS
-        .iter()
-        .filter(|s| s.stage == ShaderStage::Vertex)
-        .count();
-    let fragment = ALL_SHADERS
-        .iter()
-        .filter(|s| s.stage == ShaderStage::Fragment)
-        .count();
-    assert_eq!((vertex, fragment), (5, 5));
+    let count = |stage| ALL_SHADERS.iter().filter(|s| s.stage == stage).count();
+    assert_eq!(
+        (
+            count(ShaderStage::Vertex),
+            count(ShaderStage::Fragment),
+            count(ShaderStage::Compute)
+        ),
+        (5, 5, 1)
+    );
     for s in ALL_SHADERS {
         assert_eq!(
             &s.spirv[..4],

@@ -1,6 +1,9 @@
 // The lighting model of docs/lighting-model.md, the only copy on the GPU.
 // Its CPU twin is src/cpu/lighting.rs; a change here is a change there.
 //
+// Needs, from the including interface: the specialization constants
+// LIGHT_COUNT, USE_SPECULAR and USE_ATTENUATION, and the `lights` buffer.
+//
 // Defined answers where naive float code is undefined (the same on the CPU):
 // - a zero normal (N = 0) receives the ambient term only;
 // - a light exactly at the shaded point (d = 0) contributes nothing;
@@ -14,39 +17,53 @@ struct Surface {
     float p;
 };
 
-Surface draw_surface() {
-    return Surface(draw.color_ka.rgb, draw.color_ka.a, draw.kd_ks_p.x, draw.kd_ks_p.y, draw.kd_ks_p.z);
+vec3 ambient_term(Surface m, vec3 ambient) {
+    return ambient * m.ka * m.color;
 }
 
+// Where light j is seen from P: its direction L and distance d. False when
+// it adds nothing (at P, or behind the terminator), so no shadow ray is due.
+bool light_faces(int j, vec3 P, vec3 N, out vec3 L, out float d, out float n_dot_l) {
+    vec3 to_light = lights[j].position.xyz - P;
+    d = length(to_light);
+    if (d == 0.0) {
+        return false;
+    }
+    L = to_light / d;
+    n_dot_l = dot(N, L);
+    return n_dot_l > 0.0;
+}
+
+// Light j's diffuse and specular terms, given `light_faces`' results.
+vec3 light_term(int j, vec3 N, vec3 V, vec3 L, float d, float n_dot_l, Surface m, float k) {
+    vec3 light = lights[j].intensity.rgb;
+    if (USE_ATTENUATION) {
+        light /= d + k;
+    }
+    vec3 reflected = m.kd * m.color * n_dot_l;
+    if (USE_SPECULAR) {
+        vec3 R = 2.0 * n_dot_l * N - L;
+        float r_dot_v = max(dot(R, V), 0.0);
+        float s = m.p == 0.0 ? 1.0 : (r_dot_v > 0.0 ? pow(r_dot_v, m.p) : 0.0);
+        reflected += vec3(m.ks * s);
+    }
+    return light * reflected;
+}
+
+// The whole formula with every light visible.
 // P: camera-relative point, N: unit normal or zero, V: unit vector to the eye.
-vec3 shade(vec3 P, vec3 N, vec3 V, Surface m) {
-    vec3 intensity = frame.ambient_k.rgb * m.ka * m.color;
+vec3 shade(vec3 P, vec3 N, vec3 V, Surface m, vec3 ambient, float k) {
+    vec3 intensity = ambient_term(m, ambient);
     if (N == vec3(0.0)) {
         return intensity;
     }
     for (int j = 0; j < LIGHT_COUNT; ++j) {
-        vec3 to_light = lights[j].position.xyz - P;
-        float d = length(to_light);
-        if (d == 0.0) {
-            continue;
+        vec3 L;
+        float d;
+        float n_dot_l;
+        if (light_faces(j, P, N, L, d, n_dot_l)) {
+            intensity += light_term(j, N, V, L, d, n_dot_l, m, k);
         }
-        vec3 L = to_light / d;
-        float n_dot_l = dot(N, L);
-        if (n_dot_l <= 0.0) {
-            continue;  // both terms vanish behind the terminator
-        }
-        vec3 light = lights[j].intensity.rgb;
-        if (USE_ATTENUATION) {
-            light /= d + frame.ambient_k.w;
-        }
-        vec3 reflected = m.kd * m.color * n_dot_l;
-        if (USE_SPECULAR) {
-            vec3 R = 2.0 * n_dot_l * N - L;
-            float r_dot_v = max(dot(R, V), 0.0);
-            float s = m.p == 0.0 ? 1.0 : (r_dot_v > 0.0 ? pow(r_dot_v, m.p) : 0.0);
-            reflected += vec3(m.ks * s);
-        }
-        intensity += light * reflected;
     }
     return intensity;
 }

@@ -5,12 +5,16 @@
 mod buffer;
 mod commands;
 mod context;
+mod descriptors;
 mod error;
 mod image;
 pub mod raster;
 pub mod raster_layout;
 mod raster_scene;
+pub mod raytrace;
+pub mod rt_layout;
 pub mod shader_catalog;
+mod timestamps;
 mod validation;
 
 pub use context::{list_devices, DeviceInfo, GpuContext, GpuOptions};

@@ -12,11 +12,13 @@ use gpu_allocator::MemoryLocation;
 use super::buffer::Buffer;
 use super::commands::OneShot;
 use super::context::GpuContext;
+use super::descriptors::{create_set_layout, Descriptors};
 use super::error::{GpuError, VkContext};
 use super::image::{subresource_range, Image};
 use super::raster_layout::{DrawConstants, FrameUniforms, Specialization, Vertex, BINDINGS};
 use super::raster_scene::{build_geometry, lights, specialization};
 use super::shader_catalog::{self as shaders, ShaderBlob};
+use super::timestamps::Timestamps;
 use crate::camera::View;
 use crate::linear_image::LinearImage;
 use crate::scene::{Interpolation, Scene};
@@ -100,20 +102,7 @@ fn create_pipeline(
         modules: Vec::new(),
     };
     let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-    let bindings: Vec<_> = BINDINGS
-        .iter()
-        .map(|&(binding, ty)| {
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(binding)
-                .descriptor_type(ty)
-                .descriptor_count(1)
-                .stage_flags(stages)
-        })
-        .collect();
-    let set_info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
-    // SAFETY: valid device and create infos throughout this function.
-    p.set_layout = unsafe { device.create_descriptor_set_layout(&set_info, None) }
-        .during("vkCreateDescriptorSetLayout")?;
+    p.set_layout = create_set_layout(context, BINDINGS, stages)?;
     let ranges = [vk::PushConstantRange::default()
         .stage_flags(stages)
         .size(std::mem::size_of::<DrawConstants>() as u32)];
@@ -225,88 +214,6 @@ fn create_pipeline(
     Ok(p)
 }
 
-/// A descriptor pool holding the one set a render binds.
-struct Descriptors {
-    context: Arc<GpuContext>,
-    pool: vk::DescriptorPool,
-    set: vk::DescriptorSet,
-}
-
-impl Drop for Descriptors {
-    fn drop(&mut self) {
-        // SAFETY: the GPU work using the set has completed.
-        unsafe { self.context.device.destroy_descriptor_pool(self.pool, None) };
-    }
-}
-
-fn create_descriptors(
-    context: &Arc<GpuContext>,
-    layout: vk::DescriptorSetLayout,
-    buffers: [&Buffer; 3],
-) -> Result<Descriptors, GpuError> {
-    let device = &context.device;
-    let sizes = [
-        vk::DescriptorPoolSize::default()
-            .ty(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(2),
-        vk::DescriptorPoolSize::default()
-            .ty(vk::DescriptorType::UNIFORM_BUFFER)
-            .descriptor_count(1),
-    ];
-    let pool_info = vk::DescriptorPoolCreateInfo::default()
-        .max_sets(1)
-        .pool_sizes(&sizes);
-    // SAFETY: valid device and create info.
-    let pool = unsafe { device.create_descriptor_pool(&pool_info, None) }
-        .during("vkCreateDescriptorPool")?;
-    let mut d = Descriptors {
-        context: context.clone(),
-        pool,
-        set: vk::DescriptorSet::null(),
-    };
-    let layouts = [layout];
-    let alloc = vk::DescriptorSetAllocateInfo::default()
-        .descriptor_pool(pool)
-        .set_layouts(&layouts);
-    // SAFETY: the pool has room for exactly this set.
-    d.set =
-        unsafe { device.allocate_descriptor_sets(&alloc) }.during("vkAllocateDescriptorSets")?[0];
-    let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
-        .iter()
-        .map(|b| {
-            [vk::DescriptorBufferInfo::default()
-                .buffer(b.raw)
-                .range(vk::WHOLE_SIZE)]
-        })
-        .collect();
-    let writes: Vec<_> = BINDINGS
-        .iter()
-        .zip(&infos)
-        .map(|(&(binding, ty), info)| {
-            vk::WriteDescriptorSet::default()
-                .dst_set(d.set)
-                .dst_binding(binding)
-                .descriptor_type(ty)
-                .buffer_info(info)
-        })
-        .collect();
-    // SAFETY: the writes match the set layout built from the same BINDINGS.
-    unsafe { device.update_descriptor_sets(&writes, &[]) };
-    Ok(d)
-}
-
-struct QueryPool {
-    context: Arc<GpuContext>,
-    raw: vk::QueryPool,
-}
-
-impl Drop for QueryPool {
-    fn drop(&mut self) {
-        // SAFETY: the queries are no longer in use.
-        unsafe { self.context.device.destroy_query_pool(self.raw, None) };
-    }
-}
-
 fn image_barrier(
     image: vk::Image,
     aspect: vk::ImageAspectFlags,
@@ -325,14 +232,12 @@ fn image_barrier(
         .dst_access_mask(dst_access)
 }
 
-/// Renders `scene` at its `image` size in `mode`.
-pub fn render(
-    context: &Arc<GpuContext>,
-    scene: &Scene,
-    mode: RasterMode,
-) -> Result<RasterOutput, GpuError> {
-    let started = Instant::now();
-    let (width, height) = (scene.image.width, scene.image.height);
+/// Refuses an image the device cannot hold or that exceeds `MAX_PIXELS`.
+pub(crate) fn check_image_size(
+    context: &GpuContext,
+    width: u32,
+    height: u32,
+) -> Result<(), GpuError> {
     let limit = context.max_image_dimension();
     if width == 0
         || height == 0
@@ -346,6 +251,18 @@ pub fn render(
             limit: limit.min(8192),
         });
     }
+    Ok(())
+}
+
+/// Renders `scene` at its `image` size in `mode`.
+pub fn render(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    mode: RasterMode,
+) -> Result<RasterOutput, GpuError> {
+    let started = Instant::now();
+    let (width, height) = (scene.image.width, scene.image.height);
+    check_image_size(context, width, height)?;
     let device = &context.device;
     let view = View::new(scene, width, height);
     let geometry = build_geometry(scene, view.eye);
@@ -390,10 +307,11 @@ pub fn render(
         bytemuck::cast_slice(&geometry.faces),
         vk::BufferUsageFlags::STORAGE_BUFFER,
     )?;
-    let descriptors = create_descriptors(
+    let descriptors = Descriptors::new(
         context,
         pipeline.set_layout,
-        [&light_buffer, &frame_buffer, &face_buffer],
+        BINDINGS,
+        &[&light_buffer, &frame_buffer, &face_buffer],
     )?;
 
     let extent = vk::Extent2D { width, height };
@@ -421,14 +339,7 @@ pub fn render(
         vk::BufferUsageFlags::TRANSFER_DST,
         MemoryLocation::GpuToCpu,
     )?;
-    let query_info = vk::QueryPoolCreateInfo::default()
-        .query_type(vk::QueryType::TIMESTAMP)
-        .query_count(2);
-    let queries = QueryPool {
-        context: context.clone(),
-        // SAFETY: valid device and create info.
-        raw: unsafe { device.create_query_pool(&query_info, None) }.during("vkCreateQueryPool")?,
-    };
+    let timestamps = Timestamps::new(context)?;
 
     let commands = OneShot::begin(context)?;
     let cmd = commands.cmd;
@@ -437,7 +348,6 @@ pub fn render(
     // completes (they are dropped at the end of this function), and the
     // barriers order every access.
     unsafe {
-        device.cmd_reset_query_pool(cmd, queries.raw, 0, 2);
         let to_attachment = [
             image_barrier(
                 color.raw,
@@ -472,7 +382,7 @@ pub fn render(
             cmd,
             &vk::DependencyInfo::default().image_memory_barriers(&to_attachment),
         );
-        device.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::TOP_OF_PIPE, queries.raw, 0);
+        timestamps.start(cmd);
 
         let color_attachments = [vk::RenderingAttachmentInfo::default()
             .image_view(color.view)
@@ -557,12 +467,7 @@ pub fn render(
             );
         }
         device.cmd_end_rendering(cmd);
-        device.cmd_write_timestamp2(
-            cmd,
-            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-            queries.raw,
-            1,
-        );
+        timestamps.stop(cmd, vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT);
 
         let to_transfer = [image_barrier(
             color.raw,
@@ -617,18 +522,7 @@ pub fn render(
     commands.submit_and_wait()?;
     context.check_validation()?;
 
-    let mut stamps = [0u64; 2];
-    // SAFETY: both queries were written by the completed submission.
-    unsafe {
-        device.get_query_pool_results(
-            queries.raw,
-            0,
-            &mut stamps,
-            vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
-        )
-    }
-    .during("vkGetQueryPoolResults")?;
-    let gpu_ms = stamps[1].saturating_sub(stamps[0]) as f64 * context.timestamp_period_ns() * 1e-6;
+    let gpu_ms = timestamps.elapsed_ms()?;
 
     let texels = &readback.mapped()[..width as usize * height as usize * 16];
     let channel = |b: &[u8]| f32::from_ne_bytes([b[0], b[1], b[2], b[3]]);

@@ -1,0 +1,372 @@
+//! The ray tracer: `shaders/raytrace.comp.glsl` dispatched once per pixel
+//! over the scene's `RtScene` (exact primitives, triangles and BVH uploaded
+//! as storage buffers), writing linear float pixels to a buffer the host
+//! reads back. The algorithm is docs/raytracing.md.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use ash::vk;
+use glam::DVec3;
+use gpu_allocator::MemoryLocation;
+
+use super::buffer::Buffer;
+use super::commands::OneShot;
+use super::context::GpuContext;
+use super::descriptors::{create_set_layout, Descriptors};
+use super::error::{GpuError, VkContext};
+use super::raster::{check_image_size, RasterTimings};
+use super::raster_layout::GpuLight;
+use super::rt_layout::*;
+use super::shader_catalog::RAYTRACE_COMP;
+use super::timestamps::Timestamps;
+use crate::camera::View;
+use crate::linear_image::LinearImage;
+use crate::rt_scene::{RayStats, RtScene};
+use crate::scene::Scene;
+
+/// Workgroup edge: `local_size_x` and `local_size_y` in the shader.
+const GROUP: u32 = 8;
+
+pub struct TraceOutput {
+    pub image: LinearImage,
+    pub timings: RasterTimings,
+    /// Present when rays were counted.
+    pub stats: Option<RayStats>,
+}
+
+fn v4(v: DVec3, w: f32) -> [f32; 4] {
+    let v = v.as_vec3();
+    [v.x, v.y, v.z, w]
+}
+
+fn ids(material: u32, object: u32) -> [u32; 4] {
+    [material, object, 0, 0]
+}
+
+/// The compute pipeline and its layouts, destroyed together.
+struct Pipeline {
+    context: Arc<GpuContext>,
+    set_layout: vk::DescriptorSetLayout,
+    layout: vk::PipelineLayout,
+    pipeline: vk::Pipeline,
+    module: vk::ShaderModule,
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        let device = &self.context.device;
+        // SAFETY: the GPU work using these objects has completed; null
+        // handles (from a failed creation) are ignored by Vulkan.
+        unsafe {
+            device.destroy_pipeline(self.pipeline, None);
+            device.destroy_pipeline_layout(self.layout, None);
+            device.destroy_descriptor_set_layout(self.set_layout, None);
+            device.destroy_shader_module(self.module, None);
+        }
+    }
+}
+
+fn create_pipeline(
+    context: &Arc<GpuContext>,
+    spec: &TraceSpecialization,
+) -> Result<Pipeline, GpuError> {
+    let device = &context.device;
+    let mut p = Pipeline {
+        context: context.clone(),
+        set_layout: vk::DescriptorSetLayout::null(),
+        layout: vk::PipelineLayout::null(),
+        pipeline: vk::Pipeline::null(),
+        module: vk::ShaderModule::null(),
+    };
+    p.set_layout = create_set_layout(context, BINDINGS, vk::ShaderStageFlags::COMPUTE)?;
+    let set_layouts = [p.set_layout];
+    let layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
+    // SAFETY: valid device and create infos throughout this function.
+    p.layout = unsafe { device.create_pipeline_layout(&layout_info, None) }
+        .during("vkCreatePipelineLayout")?;
+    let words = RAYTRACE_COMP.words();
+    let module_info = vk::ShaderModuleCreateInfo::default().code(&words);
+    // SAFETY: the words are SPIR-V validated by naga at build time.
+    p.module = unsafe { device.create_shader_module(&module_info, None) }
+        .during("vkCreateShaderModule")?;
+    let entries = TraceSpecialization::map_entries();
+    let spec_info = vk::SpecializationInfo::default()
+        .map_entries(&entries)
+        .data(bytemuck::bytes_of(spec));
+    let stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::COMPUTE)
+        .module(p.module)
+        .name(c"main")
+        .specialization_info(&spec_info);
+    let info = vk::ComputePipelineCreateInfo::default()
+        .stage(stage)
+        .layout(p.layout);
+    // SAFETY: every pointer in `info` refers to locals alive for the call.
+    let pipelines =
+        unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) }
+            .map_err(|(_, result)| GpuError::Vulkan {
+                call: "vkCreateComputePipelines",
+                result,
+            })?;
+    p.pipeline = pipelines[0];
+    Ok(p)
+}
+
+/// Only what the scene uses: its lights, shadows if on, reflection and
+/// refraction if some material has them, and the primitive kinds present.
+fn specialization(rt: &RtScene, count_rays: bool) -> TraceSpecialization {
+    TraceSpecialization {
+        light_count: rt.lights.len() as i32,
+        use_specular: u32::from(rt.materials.iter().any(|m| m.ks > 0.0)),
+        use_attenuation: u32::from(rt.lighting.attenuation),
+        shadows: u32::from(rt.render.shadows && !rt.lights.is_empty()),
+        has_reflection: u32::from(rt.has_reflection() && rt.render.depth > 0),
+        has_transmission: u32::from(rt.has_transmission() && rt.render.depth > 0),
+        has_spheres: u32::from(!rt.spheres.is_empty()),
+        has_planes: u32::from(!rt.planes.is_empty()),
+        has_boxes: u32::from(!rt.boxes.is_empty()),
+        has_meshes: u32::from(!rt.triangles.is_empty()),
+        count_rays: u32::from(count_rays),
+    }
+}
+
+/// `kx`, `ky` of the sample grid (docs/raytracing.md).
+pub fn sample_grid(samples: u32) -> (u32, u32) {
+    let kx = (f64::from(samples).sqrt().ceil() as u32).max(1);
+    (kx, samples.div_ceil(kx))
+}
+
+/// The storage buffers' contents, in `BINDINGS` order from `SPHERES`.
+struct SceneRecords {
+    spheres: Vec<GpuSphere>,
+    planes: Vec<GpuPlane>,
+    boxes: Vec<GpuBox>,
+    triangles: Vec<GpuTriangle>,
+    nodes: Vec<GpuBvhNode>,
+    primitive_indices: Vec<u32>,
+    materials: Vec<GpuMaterial>,
+    lights: Vec<GpuLight>,
+}
+
+fn records(rt: &RtScene) -> SceneRecords {
+    SceneRecords {
+        spheres: rt
+            .spheres
+            .iter()
+            .map(|s| GpuSphere {
+                center_radius: v4(s.center, s.radius as f32),
+                material_object: ids(s.material, s.object),
+            })
+            .collect(),
+        planes: rt
+            .planes
+            .iter()
+            .map(|p| GpuPlane {
+                center_half: v4(p.center, p.half_size as f32),
+                normal: v4(p.normal, 0.0),
+                u: v4(p.u, 0.0),
+                v: v4(p.v, 0.0),
+                material_object: ids(p.material, p.object),
+            })
+            .collect(),
+        boxes: rt
+            .boxes
+            .iter()
+            .map(|b| GpuBox {
+                center: v4(b.center, 0.0),
+                half_extents: v4(b.half_extents, 0.0),
+                axis_x: v4(b.rotation.x_axis, 0.0),
+                axis_y: v4(b.rotation.y_axis, 0.0),
+                axis_z: v4(b.rotation.z_axis, 0.0),
+                material_object: ids(b.material, b.object),
+            })
+            .collect(),
+        triangles: rt
+            .triangles
+            .iter()
+            .map(|t| GpuTriangle {
+                p: t.positions.map(|p| v4(p, 0.0)),
+                n: t.normals.map(|n| v4(n, 0.0)),
+                material_object: ids(t.material, t.object),
+            })
+            .collect(),
+        nodes: rt
+            .bvh
+            .nodes
+            .iter()
+            .map(|n| GpuBvhNode {
+                lo: n.aabb.min.to_array(),
+                prim_count: n.prim_count,
+                hi: n.aabb.max.to_array(),
+                first: n.first_index,
+            })
+            .collect(),
+        primitive_indices: rt.bvh.primitive_indices.clone(),
+        materials: rt
+            .materials
+            .iter()
+            .map(|m| GpuMaterial {
+                color_ka: v4(m.color, m.ka as f32),
+                kd_ks_p_kr: [m.kd as f32, m.ks as f32, m.p as f32, m.kr as f32],
+                kt_ior: [m.kt as f32, m.ior as f32, 0.0, 0.0],
+            })
+            .collect(),
+        lights: rt
+            .lights
+            .iter()
+            .map(|l| GpuLight {
+                position: v4(l.position, 0.0),
+                intensity: v4(l.intensity, 0.0),
+            })
+            .collect(),
+    }
+}
+
+/// Ray traces `scene` at its `image` size; counts rays if `count_rays`.
+pub fn render(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    count_rays: bool,
+) -> Result<TraceOutput, GpuError> {
+    let started = Instant::now();
+    let (width, height) = (scene.image.width, scene.image.height);
+    check_image_size(context, width, height)?;
+    let view = View::new(scene, width, height);
+    let rt = RtScene::new(scene);
+    let spec = specialization(&rt, count_rays);
+    let pipeline_started = Instant::now();
+    let pipeline = create_pipeline(context, &spec)?;
+    let pipeline_ms = pipeline_started.elapsed().as_secs_f64() * 1e3;
+
+    let (kx, ky) = sample_grid(rt.render.samples);
+    let uniforms = TraceUniforms {
+        ambient_k: v4(rt.lighting.ambient, rt.lighting.k as f32),
+        background: v4(rt.background, 0.0),
+        right_focal: v4(view.right, view.focal as f32),
+        up_aspect: v4(view.up, view.aspect as f32),
+        forward_cutoff: v4(view.forward, rt.render.cutoff as f32),
+        image: [width, height, rt.render.samples, rt.render.depth],
+        grid: [kx, ky, 0, 0],
+        counts: [
+            rt.spheres.len() as u32,
+            rt.planes.len() as u32,
+            rt.boxes.len() as u32,
+            rt.triangles.len() as u32,
+        ],
+    };
+    let r = records(&rt);
+    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+    let upload = |name: &str, bytes: &[u8]| Buffer::with_data(context, name, bytes, storage);
+    let lights = upload("lights", bytemuck::cast_slice(&r.lights))?;
+    let uniform_buffer = Buffer::with_data(
+        context,
+        "trace uniforms",
+        bytemuck::bytes_of(&uniforms),
+        vk::BufferUsageFlags::UNIFORM_BUFFER,
+    )?;
+    let spheres = upload("spheres", bytemuck::cast_slice(&r.spheres))?;
+    let planes = upload("planes", bytemuck::cast_slice(&r.planes))?;
+    let boxes = upload("boxes", bytemuck::cast_slice(&r.boxes))?;
+    let triangles = upload("triangles", bytemuck::cast_slice(&r.triangles))?;
+    let nodes = upload("bvh nodes", bytemuck::cast_slice(&r.nodes))?;
+    let indices = upload(
+        "primitive indices",
+        bytemuck::cast_slice(&r.primitive_indices),
+    )?;
+    let materials = upload("materials", bytemuck::cast_slice(&r.materials))?;
+    let pixel_bytes = u64::from(width) * u64::from(height) * 16;
+    let output = Buffer::new(
+        context,
+        "pixels",
+        pixel_bytes,
+        storage,
+        MemoryLocation::GpuToCpu,
+    )?;
+    let mut stats = Buffer::new(context, "ray stats", 32, storage, MemoryLocation::GpuToCpu)?;
+    stats.mapped_mut()[..32].fill(0);
+    let descriptors = Descriptors::new(
+        context,
+        pipeline.set_layout,
+        BINDINGS,
+        &[
+            &lights,
+            &uniform_buffer,
+            &spheres,
+            &planes,
+            &boxes,
+            &triangles,
+            &nodes,
+            &indices,
+            &materials,
+            &output,
+            &stats,
+        ],
+    )?;
+
+    let timestamps = Timestamps::new(context)?;
+    let commands = OneShot::begin(context)?;
+    let cmd = commands.cmd;
+    let device = &context.device;
+    // SAFETY: every handle recorded here lives until after the submission
+    // completes (dropped at the end of this function); the barrier orders
+    // the shader's writes before the host reads.
+    unsafe {
+        timestamps.start(cmd);
+        device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.pipeline);
+        device.cmd_bind_descriptor_sets(
+            cmd,
+            vk::PipelineBindPoint::COMPUTE,
+            pipeline.layout,
+            0,
+            &[descriptors.set],
+            &[],
+        );
+        device.cmd_dispatch(cmd, width.div_ceil(GROUP), height.div_ceil(GROUP), 1);
+        timestamps.stop(cmd, vk::PipelineStageFlags2::COMPUTE_SHADER);
+        let to_host = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+        device.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().memory_barriers(&to_host),
+        );
+    }
+    commands.submit_and_wait()?;
+    context.check_validation()?;
+    let gpu_ms = timestamps.elapsed_ms()?;
+
+    let texels = &output.mapped()[..pixel_bytes as usize];
+    let channel = |b: &[u8]| f32::from_ne_bytes([b[0], b[1], b[2], b[3]]);
+    let pixels = texels
+        .chunks_exact(16)
+        .map(|t| [channel(&t[0..4]), channel(&t[4..8]), channel(&t[8..12])])
+        .collect();
+    let counter = |i: usize| {
+        let b = &stats.mapped()[i * 4..i * 4 + 4];
+        u32::from_ne_bytes([b[0], b[1], b[2], b[3]])
+    };
+    let stats = count_rays.then(|| RayStats {
+        primary: u64::from(counter(0)),
+        shadow: u64::from(counter(1)),
+        reflected: u64::from(counter(2)),
+        refracted: u64::from(counter(3)),
+        pruned: u64::from(counter(4)),
+        max_depth_reached: counter(5),
+    });
+    Ok(TraceOutput {
+        image: LinearImage {
+            width,
+            height,
+            pixels,
+        },
+        timings: RasterTimings {
+            pipeline_ms,
+            gpu_ms,
+            total_ms: started.elapsed().as_secs_f64() * 1e3,
+        },
+        stats,
+    })
+}

@@ -1,0 +1,174 @@
+//! The host's side of the ray-tracing shader interface
+//! (`shaders/include/rt_interface.glsl`): bindings, record layouts, the
+//! uniform block and the specialization constants. tests/shader_interface.rs
+//! checks each against naga's reflection of `raytrace.comp.glsl`.
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+
+use super::raster_layout::GpuLight;
+
+pub const LIGHTS: u32 = 0;
+pub const UNIFORMS: u32 = 1;
+pub const SPHERES: u32 = 2;
+pub const PLANES: u32 = 3;
+pub const BOXES: u32 = 4;
+pub const TRIANGLES: u32 = 5;
+pub const BVH_NODES: u32 = 6;
+pub const PRIMITIVE_INDICES: u32 = 7;
+pub const MATERIALS: u32 = 8;
+pub const OUTPUT: u32 = 9;
+pub const STATS: u32 = 10;
+
+const STORAGE: vk::DescriptorType = vk::DescriptorType::STORAGE_BUFFER;
+
+/// Set 0 of the ray-tracing pipeline: (binding, type), in binding order.
+pub const BINDINGS: &[(u32, vk::DescriptorType)] = &[
+    (LIGHTS, STORAGE),
+    (UNIFORMS, vk::DescriptorType::UNIFORM_BUFFER),
+    (SPHERES, STORAGE),
+    (PLANES, STORAGE),
+    (BOXES, STORAGE),
+    (TRIANGLES, STORAGE),
+    (BVH_NODES, STORAGE),
+    (PRIMITIVE_INDICES, STORAGE),
+    (MATERIALS, STORAGE),
+    (OUTPUT, STORAGE),
+    (STATS, STORAGE),
+];
+
+/// Specialization constants: (constant_id, name in GLSL). Ids 0 to 2 mean
+/// the same as in the raster pipelines.
+pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
+    (0, "LIGHT_COUNT"),
+    (1, "USE_SPECULAR"),
+    (2, "USE_ATTENUATION"),
+    (3, "SHADOWS"),
+    (4, "HAS_REFLECTION"),
+    (5, "HAS_TRANSMISSION"),
+    (6, "HAS_SPHERES"),
+    (7, "HAS_PLANES"),
+    (8, "HAS_BOXES"),
+    (9, "HAS_MESHES"),
+    (10, "COUNT_RAYS"),
+];
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct TraceUniforms {
+    pub ambient_k: [f32; 4],
+    pub background: [f32; 4],
+    pub right_focal: [f32; 4],
+    pub up_aspect: [f32; 4],
+    pub forward_cutoff: [f32; 4],
+    /// width, height, samples, maximum depth.
+    pub image: [u32; 4],
+    /// The sample grid kx, ky.
+    pub grid: [u32; 4],
+    /// spheres, planes, boxes, triangles.
+    pub counts: [u32; 4],
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuSphere {
+    pub center_radius: [f32; 4],
+    pub material_object: [u32; 4],
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuPlane {
+    pub center_half: [f32; 4],
+    pub normal: [f32; 4],
+    pub u: [f32; 4],
+    pub v: [f32; 4],
+    pub material_object: [u32; 4],
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuBox {
+    pub center: [f32; 4],
+    pub half_extents: [f32; 4],
+    pub axis_x: [f32; 4],
+    pub axis_y: [f32; 4],
+    pub axis_z: [f32; 4],
+    pub material_object: [u32; 4],
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuTriangle {
+    pub p: [[f32; 4]; 3],
+    pub n: [[f32; 4]; 3],
+    pub material_object: [u32; 4],
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuBvhNode {
+    pub lo: [f32; 3],
+    pub prim_count: u32,
+    pub hi: [f32; 3],
+    pub first: u32,
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuMaterial {
+    pub color_ka: [f32; 4],
+    pub kd_ks_p_kr: [f32; 4],
+    pub kt_ior: [f32; 4],
+}
+
+/// Values for `SPEC_CONSTANTS`, in order, 4 bytes each (bools as VkBool32).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
+pub struct TraceSpecialization {
+    pub light_count: i32,
+    pub use_specular: u32,
+    pub use_attenuation: u32,
+    pub shadows: u32,
+    pub has_reflection: u32,
+    pub has_transmission: u32,
+    pub has_spheres: u32,
+    pub has_planes: u32,
+    pub has_boxes: u32,
+    pub has_meshes: u32,
+    pub count_rays: u32,
+}
+
+impl TraceSpecialization {
+    pub fn map_entries() -> Vec<vk::SpecializationMapEntry> {
+        SPEC_CONSTANTS
+            .iter()
+            .enumerate()
+            .map(|(index, &(id, _))| vk::SpecializationMapEntry {
+                constant_id: u32::from(id),
+                offset: index as u32 * 4,
+                size: 4,
+            })
+            .collect()
+    }
+}
+
+/// The size of the record the host writes to each binding: one element of
+/// a runtime array, or the whole uniform block.
+pub fn record_size(binding: u32) -> usize {
+    match binding {
+        LIGHTS => std::mem::size_of::<GpuLight>(),
+        UNIFORMS => std::mem::size_of::<TraceUniforms>(),
+        SPHERES => std::mem::size_of::<GpuSphere>(),
+        PLANES => std::mem::size_of::<GpuPlane>(),
+        BOXES => std::mem::size_of::<GpuBox>(),
+        TRIANGLES => std::mem::size_of::<GpuTriangle>(),
+        BVH_NODES => std::mem::size_of::<GpuBvhNode>(),
+        PRIMITIVE_INDICES => 4,
+        MATERIALS => std::mem::size_of::<GpuMaterial>(),
+        OUTPUT => 16,
+        // A fixed array of 8 counters, not a runtime array: its block size.
+        STATS => 32,
+        _ => 0,
+    }
+}

@@ -1,0 +1,77 @@
+//! Two GPU timestamps around a piece of recorded work.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::context::GpuContext;
+use super::error::{GpuError, VkContext};
+
+pub struct Timestamps {
+    context: Arc<GpuContext>,
+    pool: vk::QueryPool,
+}
+
+impl Timestamps {
+    pub fn new(context: &Arc<GpuContext>) -> Result<Self, GpuError> {
+        let info = vk::QueryPoolCreateInfo::default()
+            .query_type(vk::QueryType::TIMESTAMP)
+            .query_count(2);
+        // SAFETY: valid device and create info.
+        let pool =
+            unsafe { context.device.create_query_pool(&info, None) }.during("vkCreateQueryPool")?;
+        Ok(Self {
+            context: context.clone(),
+            pool,
+        })
+    }
+
+    /// Records the reset and the first timestamp.
+    pub fn start(&self, cmd: vk::CommandBuffer) {
+        // SAFETY: `cmd` is recording and the pool outlives the submission.
+        unsafe {
+            self.context
+                .device
+                .cmd_reset_query_pool(cmd, self.pool, 0, 2);
+            self.context.device.cmd_write_timestamp2(
+                cmd,
+                vk::PipelineStageFlags2::TOP_OF_PIPE,
+                self.pool,
+                0,
+            );
+        }
+    }
+
+    /// Records the second timestamp once `stage` has finished.
+    pub fn stop(&self, cmd: vk::CommandBuffer, stage: vk::PipelineStageFlags2) {
+        // SAFETY: as in `start`.
+        unsafe {
+            self.context
+                .device
+                .cmd_write_timestamp2(cmd, stage, self.pool, 1)
+        };
+    }
+
+    /// Milliseconds between the two, after the submission has completed.
+    pub fn elapsed_ms(&self) -> Result<f64, GpuError> {
+        let mut stamps = [0u64; 2];
+        // SAFETY: both queries were written by the completed submission.
+        unsafe {
+            self.context.device.get_query_pool_results(
+                self.pool,
+                0,
+                &mut stamps,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        }
+        .during("vkGetQueryPoolResults")?;
+        Ok(stamps[1].saturating_sub(stamps[0]) as f64 * self.context.timestamp_period_ns() * 1e-6)
+    }
+}
+
+impl Drop for Timestamps {
+    fn drop(&mut self) {
+        // SAFETY: the queries are no longer in use.
+        unsafe { self.context.device.destroy_query_pool(self.pool, None) };
+    }
+}

@@ -1,0 +1,240 @@
+//! The GPU ray tracer against exact answers that need no second tracer:
+//! depth 0 equals raster Phong, shadowed points get exactly the ambient
+//! term, total internal reflection refracts nothing and makes no NaN, and
+//! the cut-off prunes.
+
+mod common;
+
+use common::*;
+use glam::{DMat3, DVec3};
+use shadelab::cpu::lighting::shade;
+use shadelab::gpu::raytrace;
+use shadelab::rt_scene::RayStats;
+use shadelab::scene::{tessellate, Material, Object, PointLight, Scene, Shape};
+use shadelab::shading::Shading;
+use shadelab::LinearImage;
+
+fn trace(scene: &Scene) -> (LinearImage, RayStats) {
+    let out = raytrace::render(&gpu(), scene, true).unwrap_or_else(|e| panic!("{e}"));
+    (out.image, out.stats.expect("counted"))
+}
+
+fn mesh_sphere_scene() -> Scene {
+    let mut s = scene(128, 128, 30.0);
+    let sphere = Shape::Sphere {
+        center: DVec3::ZERO,
+        radius: 2.0,
+        segments: 48,
+    };
+    s.objects.push(Object {
+        shape: Shape::Mesh(tessellate(&sphere)),
+        material: 0,
+    });
+    s
+}
+
+#[test]
+fn depth_zero_without_shadows_equals_raster_phong_on_a_mesh() {
+    let mut s = mesh_sphere_scene();
+    s.render.depth = 0;
+    s.render.shadows = false;
+    let (traced, stats) = trace(&s);
+    let phong = render(&gpu(), &s, Shading::Phong);
+    let (_, coverage) = shadelab::render::render_cpu(&s, Shading::Phong).unwrap();
+    let mut compared = 0;
+    let mut worst = 0.0f64;
+    for (i, near_edge) in coverage.near_edge.iter().enumerate() {
+        if *near_edge || coverage.object_ids[i].is_none() {
+            continue;
+        }
+        // Both evaluate the formula in f32 at the same point and normal,
+        // reached by different f32 arithmetic (ray barycentrics against
+        // interpolated varyings): a few ulps of values below ~2, amplified
+        // by pow(., p = 10). 2e-4 is 20x what was measured.
+        let err = max_abs_diff(to_dvec(traced.pixels[i]), to_dvec(phong.pixels[i]));
+        assert!(
+            err < 2e-4,
+            "pixel {i}: traced {:?} phong {:?}",
+            traced.pixels[i],
+            phong.pixels[i]
+        );
+        worst = worst.max(err);
+        compared += 1;
+    }
+    eprintln!("depth 0 against Phong: max error {worst:.2e} over {compared} pixels");
+    assert!(compared > 4000, "{compared} interior pixels");
+    assert_eq!((stats.shadow, stats.reflected, stats.refracted), (0, 0, 0));
+    assert_eq!(stats.primary, 128 * 128);
+}
+
+/// A floor lit from above, with an occluder between the light and the
+/// floor's centre.
+fn shadow_scene(occluder_x: f64) -> Scene {
+    let mut s = scene(96, 96, 40.0);
+    s.camera.position = DVec3::new(0.0, 6.0, 6.0);
+    s.camera.look_at = DVec3::ZERO;
+    s.lights = vec![PointLight {
+        position: DVec3::new(0.0, 8.0, 0.0),
+        intensity: DVec3::splat(20.0),
+    }];
+    s.objects.push(Object {
+        shape: Shape::Plane {
+            center: DVec3::ZERO,
+            normal: DVec3::Y,
+            size: 10.0,
+            segments: 1,
+        },
+        material: 0,
+    });
+    s.objects.push(Object {
+        shape: Shape::Sphere {
+            center: DVec3::new(occluder_x, 4.0, 0.0),
+            radius: 1.0,
+            segments: 32,
+        },
+        material: 0,
+    });
+    s
+}
+
+#[test]
+fn a_point_in_shadow_receives_exactly_the_ambient_term() {
+    let shadowed = shadow_scene(0.0);
+    let (image, stats) = trace(&shadowed);
+    assert!(stats.shadow > 0);
+    let v = view(&shadowed);
+    let at = v.project(DVec3::ZERO).unwrap();
+    let (x, y) = (at.x as u32, at.y as u32);
+    let m = &shadowed.materials[0];
+    let ambient = shadowed.lighting.ambient * m.ka * m.color;
+    // The floor's centre is under the occluder: ambient only, to f32
+    // rounding of one product.
+    assert!(
+        max_abs_diff(to_dvec(image.get(x, y)), ambient) < 1e-6,
+        "{:?} vs {ambient}",
+        image.get(x, y)
+    );
+
+    // Moved well aside, the occluder no longer shadows the centre: the full
+    // formula returns (f32 against f64, values below ~2).
+    let lit = shadow_scene(4.0);
+    let (image, _) = trace(&lit);
+    let dir = pixel_ray(&v, x, y);
+    let hit = v.eye + dir * (-v.eye.y / dir.y);
+    let want = shade(&lit.lighting, &lit.lights, m, hit, DVec3::Y, v.eye);
+    assert!(
+        max_abs_diff(to_dvec(image.get(x, y)), want) < 1e-4,
+        "{:?} vs {want}",
+        image.get(x, y)
+    );
+    assert!(want.x > ambient.x + 0.1, "the light must matter here");
+}
+
+#[test]
+fn total_internal_reflection_refracts_nothing_beyond_the_critical_angle() {
+    // The eye at the centre of a large glass box, looking at its far face:
+    // each primary ray meets that face from inside at the angle it makes
+    // with the view axis, and refracts out only below the critical angle
+    // asin(1 / 1.5) = 41.8 degrees.
+    let mut s = scene(64, 64, 90.0);
+    s.camera.position = DVec3::ZERO;
+    s.camera.look_at = -DVec3::Z;
+    s.materials = vec![Material {
+        name: "glass".into(),
+        color: DVec3::ONE,
+        ka: 0.1,
+        kd: 0.1,
+        ks: 0.5,
+        p: 50.0,
+        kr: 0.1,
+        kt: 0.9,
+        ior: 1.5,
+    }];
+    s.objects.push(Object {
+        shape: Shape::Box {
+            center: DVec3::ZERO,
+            half_extents: DVec3::splat(10.0),
+            rotation: DMat3::IDENTITY,
+        },
+        material: 0,
+    });
+    s.render.depth = 1;
+    s.render.shadows = false;
+    let (image, stats) = trace(&s);
+    assert!(
+        image.pixels.iter().flatten().all(|c| c.is_finite()),
+        "no NaN or infinity"
+    );
+    let v = view(&s);
+    let mut below_critical = 0u64;
+    let mut near_critical = 0u64;
+    for y in 0..64 {
+        for x in 0..64 {
+            let sin = pixel_ray(&v, x, y).truncate().length();
+            if (sin - 1.0 / 1.5).abs() < 1e-5 {
+                near_critical += 1;
+            } else if sin < 1.0 / 1.5 {
+                below_critical += 1;
+            }
+        }
+    }
+    let refracted = stats.refracted;
+    assert!(
+        refracted >= below_critical && refracted <= below_critical + near_critical,
+        "{refracted} refracted rays, {below_critical} primary rays below the critical angle"
+    );
+    assert!(
+        below_critical > 100 && (64 * 64 - below_critical) > 100,
+        "both cases occur"
+    );
+    // Every primary ray has a reflected child: kr > 0, or kt handed over
+    // under total internal reflection.
+    assert_eq!(stats.reflected, 64 * 64);
+}
+
+fn mirror_scene(kr: f64) -> Scene {
+    let mut s = shadow_scene(0.0);
+    s.materials.push(Material {
+        kr,
+        ..s.materials[0].clone()
+    });
+    s.objects[1].material = 1;
+    s
+}
+
+#[test]
+fn the_cutoff_prunes_children_below_it() {
+    let mut pruned = mirror_scene(0.3);
+    pruned.render.cutoff = 0.5;
+    pruned.render.depth = 5;
+    let (image, stats) = trace(&pruned);
+    assert_eq!((stats.reflected, stats.refracted), (0, 0), "{stats:?}");
+    assert!(stats.pruned > 0);
+    let mut shallow = pruned.clone();
+    shallow.render.depth = 0;
+    let (depth0, _) = trace(&shallow);
+    assert_eq!(
+        image, depth0,
+        "pruning every child must give the depth-0 image"
+    );
+
+    // With the cut-off at 0 the same scene does reflect.
+    pruned.render.cutoff = 0.0;
+    let (_, stats) = trace(&pruned);
+    assert!(stats.reflected > 0 && stats.pruned == 0, "{stats:?}");
+}
+
+#[test]
+fn depth_bounds_the_deepest_ray() {
+    for depth in [0, 1, 3, 8] {
+        let mut s = mirror_scene(0.9);
+        s.render.depth = depth;
+        s.render.cutoff = 0.0;
+        let (image, stats) = trace(&s);
+        assert!(
+            stats.max_depth_reached <= depth,
+            "{stats:?} at depth {depth}"
+        );
+        assert!(image.pixels.iter().flatten().all(|c| c.is_finite()));
+    }
+}
