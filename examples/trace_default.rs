@@ -7,7 +7,16 @@ fn main() {
         None => shadelab::scene::default_scene(),
     };
     let context = shadelab::gpu::GpuContext::new(&shadelab::gpu::GpuOptions::from_env()).unwrap();
-    let out = shadelab::gpu::raytrace::render(&context, &scene, true).unwrap();
+    let count = std::env::var("COUNT").is_ok();
+    let out = shadelab::gpu::raytrace::render(&context, &scene, count).unwrap();
     shadelab::output::write_image(&out.image, std::path::Path::new("trace.png")).unwrap();
     println!("{:?}\n{:?}", out.stats, out.timings);
+    for _ in 0..2 {
+        let r =
+            shadelab::gpu::raster::render(&context, &scene, shadelab::shading::RasterMode::Flat)
+                .unwrap();
+        println!("raster: {:?}", r.timings);
+        let again = shadelab::gpu::raytrace::render(&context, &scene, count).unwrap();
+        println!("again: {:?}", again.timings);
+    }
 }

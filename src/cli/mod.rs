@@ -1,5 +1,6 @@
 //! Argument parsing and dispatch to one module per subcommand.
 
+mod bench;
 mod check;
 mod diff;
 mod info;
@@ -31,6 +32,8 @@ struct Cli {
 enum Command {
     /// Render a scene to a PNG (8-bit sRGB) or EXR (linear float) image.
     Render(render::RenderArgs),
+    /// Time each mode (medians, ratios to a baseline, rays per second).
+    Bench(bench::BenchArgs),
     /// Render on the GPU and with the CPU reference, and compare.
     Check(check::CheckArgs),
     /// Compare two images (PNG or EXR): error figures, FLIP, an optional heat
@@ -89,6 +92,7 @@ pub fn run() -> ExitCode {
     }
     let result = match cli.command {
         Command::Render(args) => render::run(args, &gpu_options),
+        Command::Bench(args) => bench::run(args, &gpu_options),
         Command::Check(args) => check::run(args, &gpu_options),
         Command::Diff(args) => diff::run(args),
         Command::Info(args) => info::run(args, &gpu_options),

@@ -323,18 +323,20 @@ pub fn render(
             &[],
         );
         device.cmd_dispatch(cmd, width.div_ceil(GROUP), height.div_ceil(GROUP), 1);
-        timestamps.stop(cmd, vk::PipelineStageFlags2::COMPUTE_SHADER);
         let to_host = [vk::MemoryBarrier2::default()
             .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
             .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST | vk::PipelineStageFlags2::ALL_COMMANDS)
             .dst_access_mask(vk::AccessFlags2::HOST_READ)];
         device.cmd_pipeline_barrier2(
             cmd,
             &vk::DependencyInfo::default().memory_barriers(&to_host),
         );
+        timestamps.stop(cmd);
     }
+    let submitted = Instant::now();
     commands.submit_and_wait()?;
+    let submit_ms = submitted.elapsed().as_secs_f64() * 1e3;
     context.check_validation()?;
     let gpu_ms = timestamps.elapsed_ms()?;
 
@@ -365,6 +367,7 @@ pub fn render(
         timings: RasterTimings {
             pipeline_ms,
             gpu_ms,
+            submit_ms,
             total_ms: started.elapsed().as_secs_f64() * 1e3,
         },
         stats,

@@ -42,13 +42,18 @@ impl Timestamps {
         }
     }
 
-    /// Records the second timestamp once `stage` has finished.
-    pub fn stop(&self, cmd: vk::CommandBuffer, stage: vk::PipelineStageFlags2) {
+    /// Records the second timestamp once all earlier work has finished.
+    /// (lavapipe 22.3 still stamps a compute dispatch that follows graphics
+    /// work at ~0.1 ms; see `RasterTimings::submit_ms`.)
+    pub fn stop(&self, cmd: vk::CommandBuffer) {
         // SAFETY: as in `start`.
         unsafe {
-            self.context
-                .device
-                .cmd_write_timestamp2(cmd, stage, self.pool, 1)
+            self.context.device.cmd_write_timestamp2(
+                cmd,
+                vk::PipelineStageFlags2::ALL_COMMANDS,
+                self.pool,
+                1,
+            )
         };
     }
 
