@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use shadelab::gpu::{GpuContext, GpuOptions};
+use shadelab::rt_scene::RayStats;
 use shadelab::scene::{self, Scene};
 use shadelab::shading::Shading;
 
@@ -44,6 +45,10 @@ pub struct RenderArgs {
     /// Print one JSON object describing the render on stdout.
     #[arg(long)]
     json: bool,
+    /// Ray tracing: print the rays traced, by kind (a table, or "stats" in
+    /// the --json object).
+    #[arg(long)]
+    stats: bool,
 }
 
 fn parse_shading(s: &str) -> Result<Shading, String> {
@@ -161,6 +166,11 @@ pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
             "device": device,
             "timings_ms": rendered.timings,
         });
+        let mut value = value;
+        if args.stats {
+            value["stats"] =
+                serde_json::to_value(rendered.ray_stats).expect("ray statistics serialise to JSON");
+        }
         println!("{value}");
     } else {
         println!(
@@ -172,6 +182,34 @@ pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
             rendered.timings.total_ms,
             device
         );
+        if args.stats {
+            print_stats(rendered.ray_stats.as_ref(), args.shading);
+        }
     }
     Ok(())
+}
+
+/// The ray statistics as a two-column table (`docs/raytracing.md`,
+/// "Counting"). A raster render has none; the GPU ray tracer has none yet.
+fn print_stats(stats: Option<&RayStats>, shading: Shading) {
+    let Some(s) = stats else {
+        if shading == Shading::Raytrace {
+            println!("stats: not available yet");
+        } else {
+            println!("stats: none ({shading} casts no rays)");
+        }
+        return;
+    };
+    let rows = [
+        ("primary", s.primary),
+        ("shadow", s.shadow),
+        ("reflected", s.reflected),
+        ("refracted", s.refracted),
+        ("total", s.total()),
+        ("pruned", s.pruned),
+        ("max_depth_reached", u64::from(s.max_depth_reached)),
+    ];
+    for (name, value) in rows {
+        println!("{name:<18} {value:>12}");
+    }
 }
