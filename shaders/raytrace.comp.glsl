@@ -22,6 +22,7 @@ struct Hit {
     vec3 geometric;  // unit geometric normal, for offsets
     uint material;
     uint object;
+    uint primitive;  // the triangle's index for meshes, else 0
 };
 
 struct Ray {
@@ -40,9 +41,13 @@ void count(int kind) {
     }
 }
 
-// Whether a hit at t on `object` beats the nearest so far.
-bool nearer(float t, uint object, Hit best) {
-    return t < best.t || (t == best.t && object < best.object);
+// Whether a hit at t on `object` (triangle `primitive` of a mesh) beats the
+// nearest so far: exact ties go to the lower object, then the lower triangle.
+bool nearer(float t, uint object, uint primitive, Hit best) {
+    if (t != best.t) {
+        return t < best.t;
+    }
+    return object < best.object || (object == best.object && primitive < best.primitive);
 }
 
 void hit_sphere(vec3 o, vec3 d, uint index, inout Hit best) {
@@ -63,9 +68,9 @@ void hit_sphere(vec3 o, vec3 d, uint index, inout Hit best) {
     float t1 = q;
     float t = min(t0, t1) > 0.0 ? min(t0, t1) : max(t0, t1);
     uint object = spheres[index].material_object.y;
-    if (t > 0.0 && nearer(t, object, best)) {
+    if (t > 0.0 && nearer(t, object, 0u, best)) {
         vec3 n = (o + t * d - c) / r;
-        best = Hit(t, n, n, spheres[index].material_object.x, object);
+        best = Hit(t, n, n, spheres[index].material_object.x, object, 0u);
     }
 }
 
@@ -78,13 +83,13 @@ void hit_plane(vec3 o, vec3 d, uint index, inout Hit best) {
     }
     float t = dot(c - o, n) / denom;
     uint object = planes[index].material_object.y;
-    if (!(t > 0.0) || !nearer(t, object, best)) {
+    if (!(t > 0.0) || !nearer(t, object, 0u, best)) {
         return;
     }
     vec3 rel = o + t * d - c;
     float h = planes[index].center_half.w;
     if (abs(dot(rel, planes[index].u.xyz)) <= h && abs(dot(rel, planes[index].v.xyz)) <= h) {
-        best = Hit(t, n, n, planes[index].material_object.x, object);
+        best = Hit(t, n, n, planes[index].material_object.x, object, 0u);
     }
 }
 
@@ -123,13 +128,13 @@ void hit_box(vec3 o, vec3 d, uint index, inout Hit best) {
     float t = t_near > 0.0 ? t_near : t_far;
     int axis = t_near > 0.0 ? near_axis : far_axis;
     uint object = boxes[index].material_object.y;
-    if (!(t > 0.0) || !nearer(t, object, best)) {
+    if (!(t > 0.0) || !nearer(t, object, 0u, best)) {
         return;
     }
     vec3 local_normal = vec3(0.0);
     local_normal[axis] = (lo[axis] + t * ld[axis]) >= 0.0 ? 1.0 : -1.0;
     vec3 n = rot * local_normal;
-    best = Hit(t, n, n, boxes[index].material_object.x, object);
+    best = Hit(t, n, n, boxes[index].material_object.x, object, 0u);
 }
 
 void hit_triangle(vec3 o, vec3 d, uint index, inout Hit best) {
@@ -154,12 +159,12 @@ void hit_triangle(vec3 o, vec3 d, uint index, inout Hit best) {
     }
     float t = dot(e2, qv) * inv;
     uint object = triangles[index].material_object.y;
-    if (!(t > 0.0) || !nearer(t, object, best)) {
+    if (!(t > 0.0) || !nearer(t, object, index, best)) {
         return;
     }
     vec3 n = unit_or_zero((1.0 - u - v) * triangles[index].n0.xyz + u * triangles[index].n1.xyz
                           + v * triangles[index].n2.xyz);
-    best = Hit(t, n, normalize(cross(e1, e2)), triangles[index].material_object.x, object);
+    best = Hit(t, n, normalize(cross(e1, e2)), triangles[index].material_object.x, object, index);
 }
 
 // Slab test of a BVH node against [0, t_max].
@@ -200,7 +205,7 @@ void hit_meshes(vec3 o, vec3 d, inout Hit best) {
 }
 
 Hit nearest(vec3 o, vec3 d) {
-    Hit best = Hit(NO_HIT, vec3(0.0), vec3(0.0), 0u, 0xffffffffu);
+    Hit best = Hit(NO_HIT, vec3(0.0), vec3(0.0), 0u, 0xffffffffu, 0xffffffffu);
     if (HAS_SPHERES) {
         for (uint i = 0u; i < frame.counts.x; ++i) {
             hit_sphere(o, d, i, best);

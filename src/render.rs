@@ -6,8 +6,9 @@ use std::time::Instant;
 
 use crate::cpu;
 use crate::error::Error;
-use crate::gpu::{raster, GpuContext};
+use crate::gpu::{raster, raytrace, GpuContext};
 use crate::linear_image::LinearImage;
+use crate::rt_scene::RayStats;
 use crate::scene::Scene;
 use crate::shading::{RasterMode, Shading};
 
@@ -26,29 +27,46 @@ pub struct Timings {
 pub struct Rendered {
     pub image: LinearImage,
     pub timings: Timings,
+    /// Rays traced, by kind: ray tracing only.
+    pub ray_stats: Option<RayStats>,
 }
 
-fn raster_mode(shading: Shading) -> Result<RasterMode, Error> {
-    shading.raster_mode().ok_or_else(|| {
-        Error::Usage(
-            "--shading raytrace is not available yet (the ray tracer is tracked as issue 4); use flat, gouraud or phong".into(),
-        )
-    })
-}
-
+/// Renders on the GPU: the raster pipelines, or the ray-tracing compute
+/// shader for `Shading::Raytrace`.
 pub fn render_gpu(
     context: &Arc<GpuContext>,
     scene: &Scene,
     shading: Shading,
 ) -> Result<Rendered, Error> {
-    let out = raster::render(context, scene, raster_mode(shading)?)?;
+    render_gpu_counting(context, scene, shading, false)
+}
+
+/// As `render_gpu`; for ray tracing, also counts the rays by kind when
+/// `count_rays` (the shader variant with atomics: slower, so opt-in).
+pub fn render_gpu_counting(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    shading: Shading,
+    count_rays: bool,
+) -> Result<Rendered, Error> {
+    let (image, timings, ray_stats) = match shading.raster_mode() {
+        Some(mode) => {
+            let out = raster::render(context, scene, mode)?;
+            (out.image, out.timings, None)
+        }
+        None => {
+            let out = raytrace::render(context, scene, count_rays)?;
+            (out.image, out.timings, out.stats)
+        }
+    };
     Ok(Rendered {
-        image: out.image,
+        image,
         timings: Timings {
-            total_ms: out.timings.total_ms,
-            gpu_ms: Some(out.timings.gpu_ms),
-            pipeline_ms: Some(out.timings.pipeline_ms),
+            total_ms: timings.total_ms,
+            gpu_ms: Some(timings.gpu_ms),
+            pipeline_ms: Some(timings.pipeline_ms),
         },
+        ray_stats,
     })
 }
 
@@ -66,7 +84,9 @@ pub struct Coverage {
 
 /// The CPU reference (`f64`) and what it knows about each pixel.
 pub fn render_cpu(scene: &Scene, shading: Shading) -> Result<(Rendered, Coverage), Error> {
-    let mode = raster_mode(shading)?;
+    let Some(mode) = shading.raster_mode() else {
+        return Ok(raytrace_cpu(scene));
+    };
     let started = Instant::now();
     let out = cpu::raster::render(scene, mode);
     let rendered = Rendered {
@@ -76,6 +96,7 @@ pub fn render_cpu(scene: &Scene, shading: Shading) -> Result<(Rendered, Coverage
             gpu_ms: None,
             pipeline_ms: None,
         },
+        ray_stats: None,
     };
     let surface_ids = if mode == RasterMode::Flat {
         out.triangle_ids
@@ -88,4 +109,67 @@ pub fn render_cpu(scene: &Scene, shading: Shading) -> Result<(Rendered, Coverage
         near_edge: out.near_edge,
     };
     Ok((rendered, coverage))
+}
+
+/// The CPU ray tracer. A pixel is near an edge when its 3x3 neighbourhood
+/// (within the image) holds more than one path signature: there a
+/// reflected, refracted or shadow edge, or a silhouette, passes close by,
+/// and another tracer's rounding may put it on the other side.
+fn raytrace_cpu(scene: &Scene) -> (Rendered, Coverage) {
+    let started = Instant::now();
+    let out = cpu::raytrace::render(scene);
+    let rendered = Rendered {
+        image: out.image,
+        timings: Timings {
+            total_ms: started.elapsed().as_secs_f64() * 1e3,
+            gpu_ms: None,
+            pipeline_ms: None,
+        },
+        ray_stats: Some(out.stats),
+    };
+    let near_edge = signature_edges(
+        scene.image.width as usize,
+        scene.image.height as usize,
+        &out.path_signatures,
+    );
+    let coverage = Coverage {
+        object_ids: out.primary_object_ids.clone(),
+        surface_ids: out.primary_object_ids,
+        near_edge,
+    };
+    (rendered, coverage)
+}
+
+/// Whether each pixel's 3x3 neighbourhood, clipped to the image, holds more
+/// than one signature.
+fn signature_edges(width: usize, height: usize, signatures: &[u64]) -> Vec<bool> {
+    let mut edges = vec![false; width * height];
+    for y in 0..height {
+        for x in 0..width {
+            let own = signatures[y * width + x];
+            let ys = y.saturating_sub(1)..(y + 2).min(height);
+            edges[y * width + x] = ys.into_iter().any(|ny| {
+                (x.saturating_sub(1)..(x + 2).min(width))
+                    .any(|nx| signatures[ny * width + nx] != own)
+            });
+        }
+    }
+    edges
+}
+
+#[cfg(test)]
+mod tests {
+    use super::signature_edges;
+
+    #[test]
+    fn signature_edges_mark_the_3x3_neighbourhood_of_a_change() {
+        // 4 x 3, one odd pixel at (3, 0): its neighbours (2, 0), (2, 1),
+        // (3, 1) and itself are marked, nothing else.
+        let mut sigs = vec![7u64; 12];
+        sigs[3] = 9;
+        let edges = signature_edges(4, 3, &sigs);
+        let marked: Vec<usize> = (0..12).filter(|&i| edges[i]).collect();
+        assert_eq!(marked, vec![2, 3, 6, 7]);
+        assert!(signature_edges(4, 3, &[1; 12]).iter().all(|e| !e));
+    }
 }

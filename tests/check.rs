@@ -13,6 +13,12 @@ use shadelab::scene::{self, tessellate, Interpolation, Scene, Shape};
 use shadelab::shading::Shading;
 
 const MODES: [Shading; 3] = [Shading::Flat, Shading::Gouraud, Shading::Phong];
+const ALL_MODES: [Shading; 4] = [
+    Shading::Flat,
+    Shading::Gouraud,
+    Shading::Phong,
+    Shading::Raytrace,
+];
 
 fn small(mut scene: Scene) -> Scene {
     scene.image.width = 320;
@@ -41,8 +47,9 @@ fn assets() -> Vec<(String, Scene)> {
 fn every_mode_of_every_scene_passes() {
     let context = gpu();
     for (name, scene) in assets() {
-        for mode in MODES {
-            let o = check(&context, &scene, &scene, mode, &CheckThresholds::default()).unwrap();
+        for mode in ALL_MODES {
+            let limits = CheckThresholds::for_shading(mode);
+            let o = check(&context, &scene, &scene, mode, &limits).unwrap();
             assert!(o.passed(), "{name} {mode}: {:?}", o.failures);
         }
     }
@@ -58,7 +65,7 @@ fn assert_caught(scene: &Scene, reference: &Scene, modes: &[Shading], what: &str
             scene,
             reference,
             mode,
-            &CheckThresholds::default(),
+            &CheckThresholds::for_shading(mode),
         )
         .unwrap();
         assert!(
@@ -75,7 +82,7 @@ fn a_light_moved_by_one_percent_is_caught() {
     let scene = small(scene::default_scene());
     let mut reference = scene.clone();
     reference.lights[0].position *= 1.01;
-    assert_caught(&scene, &reference, &MODES, "light moved by 1%");
+    assert_caught(&scene, &reference, &ALL_MODES, "light moved by 1%");
 }
 
 #[test]

@@ -404,11 +404,11 @@ fn check_passes_and_writes_images_and_junit() {
             .lines()
             .filter(|l| l.starts_with("PASS default/"))
             .count(),
-        3,
+        4,
         "{}",
         run.stdout
     );
-    for mode in ["flat", "gouraud", "phong"] {
+    for mode in ["flat", "gouraud", "phong", "raytrace"] {
         for kind in ["expected", "actual", "diff"] {
             let path = dir
                 .path()
@@ -418,7 +418,7 @@ fn check_passes_and_writes_images_and_junit() {
         }
     }
     let xml = std::fs::read_to_string(dir.path().join("report.xml")).unwrap();
-    assert!(xml.contains("tests=\"3\" failures=\"0\""), "{xml}");
+    assert!(xml.contains("tests=\"4\" failures=\"0\""), "{xml}");
 }
 
 #[test]

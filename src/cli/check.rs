@@ -20,7 +20,7 @@ pub struct CheckArgs {
     /// Scene files; the built-in default scene if none.
     scenes: Vec<PathBuf>,
     /// Modes to check, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "flat,gouraud,phong", value_parser = parse_shading)]
+    #[arg(long, value_delimiter = ',', default_value = "flat,gouraud,phong,raytrace", value_parser = parse_shading)]
     shading: Vec<Shading>,
     /// Folder for <scene>/<mode>-{expected,actual,diff}.png.
     #[arg(long, default_value = "check-out")]
@@ -37,9 +37,10 @@ pub struct CheckArgs {
     /// Override the scenes' image height.
     #[arg(long)]
     height: Option<u32>,
-    /// Largest error allowed at an interior pixel.
-    #[arg(long, default_value_t = CheckThresholds::default().interior_max_abs)]
-    interior_max_abs: f64,
+    /// Largest error allowed at an interior pixel [default: 1e-3, and 5e-3
+    /// for raytrace].
+    #[arg(long)]
+    interior_max_abs: Option<f64>,
     /// Largest share (0-1) of the image allowed to be edge pixels that differ
     /// by more than 0.01.
     #[arg(long, default_value_t = CheckThresholds::default().edge_fraction)]
@@ -62,27 +63,24 @@ fn io_failure(path: &Path, e: impl std::fmt::Display) -> Failure {
 }
 
 pub fn run(args: CheckArgs, options: &GpuOptions) -> Result<(), Failure> {
-    let limits = CheckThresholds {
-        interior_max_abs: args.interior_max_abs,
+    let limits_for = |shading: Shading| CheckThresholds {
+        interior_max_abs: args
+            .interior_max_abs
+            .unwrap_or(CheckThresholds::for_shading(shading).interior_max_abs),
         edge_fraction: args.edge_fraction,
         flip_mean: args.flip_mean,
-        ..CheckThresholds::default()
+        ..CheckThresholds::for_shading(shading)
     };
     for (name, v) in [
-        ("--interior-max-abs", limits.interior_max_abs),
-        ("--edge-fraction", limits.edge_fraction),
-        ("--flip-mean", limits.flip_mean),
+        ("--interior-max-abs", args.interior_max_abs.unwrap_or(0.0)),
+        ("--edge-fraction", args.edge_fraction),
+        ("--flip-mean", args.flip_mean),
     ] {
         if !v.is_finite() || v < 0.0 {
             return Err(usage(format!(
                 "{name} {v} is invalid; expected a number >= 0"
             )));
         }
-    }
-    if let Some(mode) = args.shading.iter().find(|s| s.raster_mode().is_none()) {
-        return Err(usage(format!(
-            "--shading {mode} cannot be checked yet (the ray tracer is tracked as issue 4)"
-        )));
     }
     // Load every scene first: a bad one stops the run before any rendering.
     let mut scenes = Vec::new();
@@ -116,7 +114,7 @@ pub fn run(args: CheckArgs, options: &GpuOptions) -> Result<(), Failure> {
         let folder = args.out.join(name);
         std::fs::create_dir_all(&folder).map_err(|e| io_failure(&folder, e))?;
         for &shading in &args.shading {
-            let outcome = check(&context, scene, scene, shading, &limits)?;
+            let outcome = check(&context, scene, scene, shading, &limits_for(shading))?;
             write_images(&folder, &outcome)?;
             let verdict = if outcome.passed() { "PASS" } else { "FAIL" };
             if !outcome.passed() {
@@ -157,7 +155,14 @@ pub fn run(args: CheckArgs, options: &GpuOptions) -> Result<(), Failure> {
         write_atomically(path, xml.as_bytes())?;
     }
     if args.json {
-        let value = serde_json::json!({ "thresholds": limits, "cases": reports, "failed": failed });
+        let value = serde_json::json!({
+            "thresholds": {
+                "raster": limits_for(Shading::Phong),
+                "raytrace": limits_for(Shading::Raytrace),
+            },
+            "cases": reports,
+            "failed": failed,
+        });
         println!("{value}");
     } else {
         println!(

@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use shadelab::gpu::{GpuContext, GpuOptions};
+use shadelab::rt_scene::RayStats;
 use shadelab::scene::{self, Scene};
 use shadelab::shading::Shading;
 
@@ -44,6 +45,10 @@ pub struct RenderArgs {
     /// Print one JSON object describing the render on stdout.
     #[arg(long)]
     json: bool,
+    /// Ray tracing: print the rays traced, by kind (a table, or "stats" in
+    /// the --json object).
+    #[arg(long)]
+    stats: bool,
 }
 
 fn parse_shading(s: &str) -> Result<Shading, String> {
@@ -147,7 +152,8 @@ pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
         (rendered, "CPU reference (f64)".to_string())
     } else {
         let context = GpuContext::new(options)?;
-        let rendered = shadelab::render::render_gpu(&context, &scene, args.shading)?;
+        let rendered =
+            shadelab::render::render_gpu_counting(&context, &scene, args.shading, args.stats)?;
         (rendered, context.info.name.clone())
     };
     shadelab::output::write_image(&rendered.image, &out)?;
@@ -161,6 +167,11 @@ pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
             "device": device,
             "timings_ms": rendered.timings,
         });
+        let mut value = value;
+        if args.stats {
+            value["stats"] =
+                serde_json::to_value(rendered.ray_stats).expect("ray statistics serialise to JSON");
+        }
         println!("{value}");
     } else {
         println!(
@@ -172,6 +183,30 @@ pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
             rendered.timings.total_ms,
             device
         );
+        if args.stats {
+            print_stats(rendered.ray_stats.as_ref(), args.shading);
+        }
     }
     Ok(())
+}
+
+/// The ray statistics as a two-column table (`docs/raytracing.md`,
+/// "Counting"). A raster render has none.
+fn print_stats(stats: Option<&RayStats>, shading: Shading) {
+    let Some(s) = stats else {
+        println!("stats: none ({shading} casts no rays)");
+        return;
+    };
+    let rows = [
+        ("primary", s.primary),
+        ("shadow", s.shadow),
+        ("reflected", s.reflected),
+        ("refracted", s.refracted),
+        ("total", s.total()),
+        ("pruned", s.pruned),
+        ("max_depth_reached", u64::from(s.max_depth_reached)),
+    ];
+    for (name, value) in rows {
+        println!("{name:<18} {value:>12}");
+    }
 }

@@ -21,13 +21,33 @@ pub fn shade(
     n: DVec3,
     eye: DVec3,
 ) -> DVec3 {
+    if n == DVec3::ZERO {
+        return lighting.ambient * material.ka * material.color;
+    }
+    let v = (eye - p).normalize();
+    shade_visible(lighting, lights, material, p, n, v, |_, _| true)
+}
+
+/// `shade` with the unit vector toward the viewer `v` given (the ray tracer
+/// passes `-d`), and light `j` counted only if `visible(j, light)` says so.
+/// `visible` is asked, in light order, only for the lights that would add
+/// something (`N·L > 0` and not at the point): the ray tracer casts shadow
+/// rays for exactly those.
+pub fn shade_visible(
+    lighting: &Lighting,
+    lights: &[PointLight],
+    material: &Material,
+    p: DVec3,
+    n: DVec3,
+    v: DVec3,
+    mut visible: impl FnMut(usize, &PointLight) -> bool,
+) -> DVec3 {
     let c = material.color;
     let mut intensity = lighting.ambient * material.ka * c;
     if n == DVec3::ZERO {
         return intensity;
     }
-    let v = (eye - p).normalize();
-    for light in lights {
+    for (j, light) in lights.iter().enumerate() {
         let to_light = light.position - p;
         let d = to_light.length();
         if d == 0.0 {
@@ -35,7 +55,7 @@ pub fn shade(
         }
         let l = to_light / d;
         let n_dot_l = n.dot(l);
-        if n_dot_l <= 0.0 {
+        if n_dot_l <= 0.0 || !visible(j, light) {
             continue;
         }
         let il = if lighting.attenuation {

@@ -1,8 +1,12 @@
 //! The CPU reference renderer: double precision, parallel with rayon, and
-//! independent of the shaders (it shares only scene loading, tessellation
-//! and the camera with the GPU path). Every accuracy figure in the project is
+//! independent of the shaders (it shares only scene loading, tessellation,
+//! the ray tracer's scene (`rt_scene`) and the camera with the GPU path).
+//! `raster.rs` draws flat, Gouraud and Phong; `raytrace.rs` (with
+//! `intersect.rs`) is the ray tracer's twin. Every accuracy figure in the project is
 //! measured against it.
 
 mod clip;
+pub mod intersect;
 pub mod lighting;
 pub mod raster;
+pub mod raytrace;
