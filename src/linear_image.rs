@@ -18,6 +18,21 @@ impl LinearImage {
         }
     }
 
+    /// An image from tightly packed RGBA 32-bit float texels in native byte
+    /// order (what the GPU renderers read back); alpha is dropped.
+    pub fn from_rgba32f_bytes(width: u32, height: u32, bytes: &[u8]) -> Self {
+        let channel = |b: &[u8]| f32::from_ne_bytes([b[0], b[1], b[2], b[3]]);
+        let pixels = bytes[..width as usize * height as usize * 16]
+            .chunks_exact(16)
+            .map(|t| [channel(&t[0..4]), channel(&t[4..8]), channel(&t[8..12])])
+            .collect();
+        Self {
+            width,
+            height,
+            pixels,
+        }
+    }
+
     pub fn get(&self, x: u32, y: u32) -> [f32; 3] {
         self.pixels[y as usize * self.width as usize + x as usize]
     }

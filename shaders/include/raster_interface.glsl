@@ -7,19 +7,9 @@
 // double precision on the host), so the eye sits at the origin and far-away
 // scenes keep their float precision.
 
-// Features a scene does not use are compiled out (chosen per scene on the host).
-layout(constant_id = 0) const int LIGHT_COUNT = 1;
-layout(constant_id = 1) const bool USE_SPECULAR = true;
-layout(constant_id = 2) const bool USE_ATTENUATION = true;
-
-struct PointLight {
-    vec4 position;   // xyz: camera-relative position
-    vec4 intensity;  // rgb: Il
-};
-
-layout(std430, set = 0, binding = 0) readonly buffer LightBuffer {
-    PointLight lights[];
-};
+// Features a scene does not use are compiled out (chosen per scene on the
+// host): constants 0 to 2 and the lights, shared with the ray tracer.
+#include "lights.glsl"
 
 layout(std140, set = 0, binding = 1) uniform FrameUniforms {
     vec4 ambient_k;  // rgb: Ia, w: the constant k of Il / (d + k)

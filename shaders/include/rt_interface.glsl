@@ -5,9 +5,8 @@
 // double precision on the host (src/rt_scene.rs).
 
 // Shared with the raster pipelines (same ids, same meaning).
-layout(constant_id = 0) const int LIGHT_COUNT = 1;
-layout(constant_id = 1) const bool USE_SPECULAR = true;
-layout(constant_id = 2) const bool USE_ATTENUATION = true;
+#include "lights.glsl"
+
 // What the scene uses; what it does not is compiled out.
 layout(constant_id = 3) const bool SHADOWS = true;
 layout(constant_id = 4) const bool HAS_REFLECTION = true;    // kr > 0 or kt > 0 somewhere
@@ -18,15 +17,6 @@ layout(constant_id = 8) const bool HAS_BOXES = true;
 layout(constant_id = 9) const bool HAS_MESHES = true;
 // Ray statistics with atomics, only when asked for (--stats).
 layout(constant_id = 10) const bool COUNT_RAYS = false;
-
-struct PointLight {
-    vec4 position;   // xyz: camera-relative position
-    vec4 intensity;  // rgb: Il
-};
-
-layout(std430, set = 0, binding = 0) readonly buffer LightBuffer {
-    PointLight lights[];
-};
 
 layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     vec4 ambient_k;       // rgb: Ia, w: k

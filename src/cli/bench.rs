@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use clap::Args;
-use shadelab::gpu::{raster, raytrace, GpuContext, GpuOptions, RasterTimings};
+use shadelab::gpu::{raster, raytrace, GpuContext, GpuOptions, GpuTimings};
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
@@ -42,11 +42,7 @@ fn parse_shading(s: &str) -> Result<Shading, String> {
     s.parse()
 }
 
-fn once(
-    context: &Arc<GpuContext>,
-    scene: &Scene,
-    shading: Shading,
-) -> Result<RasterTimings, Failure> {
+fn once(context: &Arc<GpuContext>, scene: &Scene, shading: Shading) -> Result<GpuTimings, Failure> {
     Ok(match shading.raster_mode() {
         Some(mode) => raster::render(context, scene, mode)?.timings,
         None => raytrace::render(context, scene, false)?.timings,
@@ -99,7 +95,7 @@ pub fn run(args: BenchArgs, options: &GpuOptions) -> Result<(), Failure> {
             let t = once(&context, &scene, shading)?;
             totals.push(t.total_ms);
             // Submission to completion: robust where timestamps are not
-            // (see RasterTimings::submit_ms).
+            // (see GpuTimings::submit_ms).
             gpus.push(t.submit_ms);
         }
         let spread = totals.iter().copied().fold(f64::MIN, f64::max)

@@ -19,4 +19,5 @@ mod validation;
 
 pub use context::{list_devices, DeviceInfo, GpuContext, GpuOptions};
 pub use error::GpuError;
-pub use raster::{RasterOutput, RasterTimings};
+pub use raster::RasterOutput;
+pub use timestamps::GpuTimings;

@@ -18,7 +18,7 @@ use super::image::{subresource_range, Image};
 use super::raster_layout::{DrawConstants, FrameUniforms, Specialization, Vertex, BINDINGS};
 use super::raster_scene::{build_geometry, lights, specialization};
 use super::shader_catalog::{self as shaders, ShaderBlob};
-use super::timestamps::Timestamps;
+use super::timestamps::{GpuTimings, Timestamps};
 use crate::camera::View;
 use crate::linear_image::LinearImage;
 use crate::scene::{Interpolation, Scene};
@@ -30,25 +30,9 @@ pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 /// read-back copy take 16 bytes per pixel each.
 pub const MAX_PIXELS: u64 = 8192 * 8192;
 
-/// Where a render spent its time.
-#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
-pub struct RasterTimings {
-    /// Shader modules and pipeline creation.
-    pub pipeline_ms: f64,
-    /// GPU time between timestamp queries around the work.
-    pub gpu_ms: f64,
-    /// Wall time from queue submission to the fence: the GPU's work plus a
-    /// small submission overhead. Unlike `gpu_ms` it cannot be fooled by a
-    /// driver's timestamp placement (lavapipe 22.3 stamps a compute dispatch
-    /// that follows graphics work at ~0.1 ms, whatever it costs).
-    pub submit_ms: f64,
-    /// Wall time of the whole render, host work and read-back included.
-    pub total_ms: f64,
-}
-
 pub struct RasterOutput {
     pub image: LinearImage,
-    pub timings: RasterTimings,
+    pub timings: GpuTimings,
 }
 
 fn shader_pair(
@@ -531,19 +515,10 @@ pub fn render(
 
     let gpu_ms = timestamps.elapsed_ms()?;
 
-    let texels = &readback.mapped()[..width as usize * height as usize * 16];
-    let channel = |b: &[u8]| f32::from_ne_bytes([b[0], b[1], b[2], b[3]]);
-    let pixels = texels
-        .chunks_exact(16)
-        .map(|t| [channel(&t[0..4]), channel(&t[4..8]), channel(&t[8..12])])
-        .collect();
+    let image = LinearImage::from_rgba32f_bytes(width, height, readback.mapped());
     Ok(RasterOutput {
-        image: LinearImage {
-            width,
-            height,
-            pixels,
-        },
-        timings: RasterTimings {
+        image,
+        timings: GpuTimings {
             pipeline_ms,
             gpu_ms,
             submit_ms,

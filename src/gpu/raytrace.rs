@@ -15,11 +15,11 @@ use super::commands::OneShot;
 use super::context::GpuContext;
 use super::descriptors::{create_set_layout, Descriptors};
 use super::error::{GpuError, VkContext};
-use super::raster::{check_image_size, RasterTimings};
+use super::raster::check_image_size;
 use super::raster_layout::GpuLight;
 use super::rt_layout::*;
 use super::shader_catalog::RAYTRACE_COMP;
-use super::timestamps::Timestamps;
+use super::timestamps::{GpuTimings, Timestamps};
 use crate::camera::View;
 use crate::linear_image::LinearImage;
 use crate::rt_scene::{RayStats, RtScene};
@@ -30,7 +30,7 @@ const GROUP: u32 = 8;
 
 pub struct TraceOutput {
     pub image: LinearImage,
-    pub timings: RasterTimings,
+    pub timings: GpuTimings,
     /// Present when rays were counted.
     pub stats: Option<RayStats>,
 }
@@ -340,12 +340,7 @@ pub fn render(
     context.check_validation()?;
     let gpu_ms = timestamps.elapsed_ms()?;
 
-    let texels = &output.mapped()[..pixel_bytes as usize];
-    let channel = |b: &[u8]| f32::from_ne_bytes([b[0], b[1], b[2], b[3]]);
-    let pixels = texels
-        .chunks_exact(16)
-        .map(|t| [channel(&t[0..4]), channel(&t[4..8]), channel(&t[8..12])])
-        .collect();
+    let image = LinearImage::from_rgba32f_bytes(width, height, output.mapped());
     let counter = |i: usize| {
         let b = &stats.mapped()[i * 4..i * 4 + 4];
         u32::from_ne_bytes([b[0], b[1], b[2], b[3]])
@@ -359,12 +354,8 @@ pub fn render(
         max_depth_reached: counter(5),
     });
     Ok(TraceOutput {
-        image: LinearImage {
-            width,
-            height,
-            pixels,
-        },
-        timings: RasterTimings {
+        image,
+        timings: GpuTimings {
             pipeline_ms,
             gpu_ms,
             submit_ms,

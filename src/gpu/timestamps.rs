@@ -7,6 +7,22 @@ use ash::vk;
 use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
 
+/// Where a render spent its time.
+#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+pub struct GpuTimings {
+    /// Shader modules and pipeline creation.
+    pub pipeline_ms: f64,
+    /// GPU time between timestamp queries around the work.
+    pub gpu_ms: f64,
+    /// Wall time from queue submission to the fence: the GPU's work plus a
+    /// small submission overhead. Unlike `gpu_ms` it cannot be fooled by a
+    /// driver's timestamp placement (lavapipe 22.3 stamps a compute dispatch
+    /// that follows graphics work at ~0.1 ms, whatever it costs).
+    pub submit_ms: f64,
+    /// Wall time of the whole render, host work and read-back included.
+    pub total_ms: f64,
+}
+
 pub struct Timestamps {
     context: Arc<GpuContext>,
     pool: vk::QueryPool,
@@ -44,7 +60,7 @@ impl Timestamps {
 
     /// Records the second timestamp once all earlier work has finished.
     /// (lavapipe 22.3 still stamps a compute dispatch that follows graphics
-    /// work at ~0.1 ms; see `RasterTimings::submit_ms`.)
+    /// work at ~0.1 ms; see `GpuTimings::submit_ms`.)
     pub fn stop(&self, cmd: vk::CommandBuffer) {
         // SAFETY: as in `start`.
         unsafe {

@@ -1,0 +1,17 @@
+// What every pipeline shares about lights and the formula's switches:
+// specialization constants 0 to 2 and the light buffer at binding 0. The
+// host's side is `raster_layout::SPEC_CONSTANTS` (which `rt_layout` starts
+// with) and `raster_layout::GpuLight`.
+
+layout(constant_id = 0) const int LIGHT_COUNT = 1;
+layout(constant_id = 1) const bool USE_SPECULAR = true;
+layout(constant_id = 2) const bool USE_ATTENUATION = true;
+
+struct PointLight {
+    vec4 position;   // xyz: camera-relative position
+    vec4 intensity;  // rgb: Il
+};
+
+layout(std430, set = 0, binding = 0) readonly buffer LightBuffer {
+    PointLight lights[];
+};
