@@ -17,10 +17,20 @@ use crate::shading::{RasterMode, Shading};
 pub struct Timings {
     /// The whole render, host work and read-back included.
     pub total_ms: f64,
-    /// GPU only: the draw, between timestamp queries.
+    /// GPU only: the work, between timestamp queries.
     pub gpu_ms: Option<f64>,
+    /// GPU only: queue submission to completion (`GpuTimings::submit_ms`).
+    pub submit_ms: Option<f64>,
     /// GPU only: shader modules and pipeline creation.
     pub pipeline_ms: Option<f64>,
+}
+
+impl Timings {
+    /// The time the rendering work itself took: submission to completion
+    /// on the GPU, the whole render on the CPU.
+    pub fn work_ms(&self) -> f64 {
+        self.submit_ms.unwrap_or(self.total_ms)
+    }
 }
 
 /// A rendered image and where the time went.
@@ -64,6 +74,7 @@ pub fn render_gpu_counting(
         timings: Timings {
             total_ms: timings.total_ms,
             gpu_ms: Some(timings.gpu_ms),
+            submit_ms: Some(timings.submit_ms),
             pipeline_ms: Some(timings.pipeline_ms),
         },
         ray_stats,
@@ -94,6 +105,7 @@ pub fn render_cpu(scene: &Scene, shading: Shading) -> Result<(Rendered, Coverage
         timings: Timings {
             total_ms: started.elapsed().as_secs_f64() * 1e3,
             gpu_ms: None,
+            submit_ms: None,
             pipeline_ms: None,
         },
         ray_stats: None,
@@ -123,6 +135,7 @@ fn raytrace_cpu(scene: &Scene) -> (Rendered, Coverage) {
         timings: Timings {
             total_ms: started.elapsed().as_secs_f64() * 1e3,
             gpu_ms: None,
+            submit_ms: None,
             pipeline_ms: None,
         },
         ray_stats: Some(out.stats),

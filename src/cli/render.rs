@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use shadelab::gpu::{GpuContext, GpuOptions};
+use shadelab::render::Timings;
 use shadelab::rt_scene::RayStats;
 use shadelab::scene::{self, Scene};
 use shadelab::shading::Shading;
@@ -184,7 +185,7 @@ pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
             device
         );
         if args.stats {
-            print_stats(rendered.ray_stats.as_ref(), args.shading);
+            print_stats(rendered.ray_stats.as_ref(), &rendered.timings, args.shading);
         }
     }
     Ok(())
@@ -192,11 +193,21 @@ pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
 
 /// The ray statistics as a two-column table (`docs/raytracing.md`,
 /// "Counting"). A raster render has none.
-fn print_stats(stats: Option<&RayStats>, shading: Shading) {
+fn print_stats(stats: Option<&RayStats>, timings: &Timings, shading: Shading) {
     let Some(s) = stats else {
         println!("stats: none ({shading} casts no rays)");
         return;
     };
+    if let Some(gpu) = timings.gpu_ms {
+        println!("{:<18} {:>12.1}", "gpu_ms (timestamps)", gpu);
+    }
+    let work = timings.work_ms();
+    println!("{:<18} {:>12.1}", "work_ms", work);
+    println!(
+        "{:<18} {:>12.0}",
+        "rays_per_second",
+        s.total() as f64 / (work / 1e3)
+    );
     let rows = [
         ("primary", s.primary),
         ("shadow", s.shadow),
