@@ -8,6 +8,7 @@
 
 pub mod camera;
 pub mod check;
+pub mod compare;
 pub mod cpu;
 pub mod error;
 pub mod gpu;

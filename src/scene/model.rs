@@ -39,7 +39,8 @@ pub struct ImageSettings {
     pub background: DVec3,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Interpolation {
     /// Perspective-correct interpolation (GLSL `smooth`).
     #[default]

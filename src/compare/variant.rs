@@ -1,0 +1,265 @@
+//! A variant: a shading mode plus its settings, written
+//! `mode[:key=value,...]`, e.g. `flat`, `gouraud:segments=16`,
+//! `phong:interpolation=screen`, `raytrace:depth=3,cutoff=0.01,samples=4`.
+
+use std::fmt;
+use std::str::FromStr;
+
+use crate::scene::{Interpolation, Scene, Shape};
+use crate::shading::Shading;
+
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Variant {
+    pub shading: Shading,
+    /// Sphere tessellation (raster modes; the ray tracer's spheres are exact).
+    pub segments: Option<u32>,
+    pub interpolation: Option<Interpolation>,
+    pub depth: Option<u32>,
+    pub cutoff: Option<f64>,
+    pub samples: Option<u32>,
+    pub shadows: Option<bool>,
+}
+
+impl Variant {
+    pub fn plain(shading: Shading) -> Self {
+        Self {
+            shading,
+            segments: None,
+            interpolation: None,
+            depth: None,
+            cutoff: None,
+            samples: None,
+            shadows: None,
+        }
+    }
+
+    /// The scene with this variant's settings applied.
+    pub fn apply(&self, scene: &Scene) -> Scene {
+        let mut s = scene.clone();
+        if let Some(n) = self.segments {
+            for object in &mut s.objects {
+                if let Shape::Sphere { segments, .. } = &mut object.shape {
+                    *segments = n;
+                }
+            }
+        }
+        if let Some(i) = self.interpolation {
+            s.lighting.interpolation = i;
+        }
+        if let Some(d) = self.depth {
+            s.render.depth = d;
+        }
+        if let Some(c) = self.cutoff {
+            s.render.cutoff = c;
+        }
+        if let Some(n) = self.samples {
+            s.render.samples = n;
+        }
+        if let Some(on) = self.shadows {
+            s.render.shadows = on;
+        }
+        s
+    }
+}
+
+impl fmt::Display for Variant {
+    /// The canonical spelling, which parses back to the same variant.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let mut keys = Vec::new();
+        if let Some(n) = self.segments {
+            keys.push(format!("segments={n}"));
+        }
+        if let Some(i) = self.interpolation {
+            let name = match i {
+                Interpolation::Perspective => "perspective",
+                Interpolation::Screen => "screen",
+            };
+            keys.push(format!("interpolation={name}"));
+        }
+        if let Some(d) = self.depth {
+            keys.push(format!("depth={d}"));
+        }
+        if let Some(c) = self.cutoff {
+            keys.push(format!("cutoff={c}"));
+        }
+        if let Some(n) = self.samples {
+            keys.push(format!("samples={n}"));
+        }
+        if let Some(on) = self.shadows {
+            keys.push(format!("shadows={on}"));
+        }
+        if keys.is_empty() {
+            write!(f, "{}", self.shading)
+        } else {
+            write!(f, "{}:{}", self.shading, keys.join(","))
+        }
+    }
+}
+
+impl FromStr for Variant {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, String> {
+        let (mode, settings) = text.split_once(':').unwrap_or((text, ""));
+        let mut v = Variant::plain(mode.trim().parse()?);
+        let raster = v.shading.raster_mode().is_some();
+        for pair in settings.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+            let (key, value) = pair
+                .split_once('=')
+                .ok_or_else(|| format!("variant `{text}`: `{pair}` is not key=value"))?;
+            let bad = |expected: &str| {
+                format!("variant `{text}`: {key}={value} is invalid; expected {expected}")
+            };
+            let only = |ok: bool, modes: &str| {
+                if ok {
+                    Ok(())
+                } else {
+                    Err(format!("variant `{text}`: `{key}` applies to {modes} only"))
+                }
+            };
+            match key {
+                "segments" => {
+                    only(raster, "flat, gouraud and phong")?;
+                    let n: u32 = value.parse().map_err(|_| bad("an integer from 3 to 4096"))?;
+                    if !(3..=4096).contains(&n) {
+                        return Err(bad("an integer from 3 to 4096"));
+                    }
+                    v.segments = Some(n);
+                }
+                "interpolation" => {
+                    only(raster, "flat, gouraud and phong")?;
+                    v.interpolation = Some(match value {
+                        "perspective" => Interpolation::Perspective,
+                        "screen" => Interpolation::Screen,
+                        _ => return Err(bad("perspective or screen")),
+                    });
+                }
+                "depth" => {
+                    only(!raster, "raytrace")?;
+                    let d: u32 = value.parse().map_err(|_| bad("an integer from 0 to 64"))?;
+                    if d > 64 {
+                        return Err(bad("an integer from 0 to 64"));
+                    }
+                    v.depth = Some(d);
+                }
+                "cutoff" => {
+                    only(!raster, "raytrace")?;
+                    let c: f64 = value.parse().map_err(|_| bad("a number >= 0"))?;
+                    if !c.is_finite() || c < 0.0 {
+                        return Err(bad("a number >= 0"));
+                    }
+                    v.cutoff = Some(c);
+                }
+                "samples" => {
+                    only(!raster, "raytrace")?;
+                    let n: u32 = value.parse().map_err(|_| bad("an integer from 1 to 1024"))?;
+                    if !(1..=1024).contains(&n) {
+                        return Err(bad("an integer from 1 to 1024"));
+                    }
+                    v.samples = Some(n);
+                }
+                "shadows" => {
+                    only(!raster, "raytrace")?;
+                    v.shadows = Some(value.parse().map_err(|_| bad("true or false"))?);
+                }
+                _ => {
+                    return Err(format!(
+                        "variant `{text}`: unknown setting `{key}`; expected segments, interpolation, depth, cutoff, samples or shadows"
+                    ))
+                }
+            }
+        }
+        Ok(v)
+    }
+}
+
+/// The variants that show a scene's interesting axes: every mode; a
+/// tessellation sweep of the raster modes if the scene has spheres; screen
+/// against perspective interpolation; a depth sweep and a cut-off sweep of
+/// the ray tracer if anything reflects or refracts.
+pub fn default_variants(scene: &Scene) -> Vec<Variant> {
+    let parse = |s: &str| s.parse::<Variant>().expect("built-in variants parse");
+    let mut list = Vec::new();
+    let has_spheres = scene
+        .objects
+        .iter()
+        .any(|o| matches!(o.shape, Shape::Sphere { .. }));
+    for mode in ["flat", "gouraud", "phong"] {
+        if has_spheres {
+            for n in [8, 16, 32, 64, 128, 256] {
+                list.push(parse(&format!("{mode}:segments={n}")));
+            }
+        } else {
+            list.push(parse(mode));
+        }
+    }
+    list.push(parse("gouraud:interpolation=screen"));
+    list.push(parse("phong:interpolation=screen"));
+    let secondary = scene.materials.iter().any(|m| m.kr > 0.0 || m.kt > 0.0);
+    if secondary {
+        for d in [0, 1, 2, 3, 5] {
+            list.push(parse(&format!("raytrace:depth={d},cutoff=0")));
+        }
+        for c in ["0.1", "0.01"] {
+            list.push(parse(&format!("raytrace:depth=5,cutoff={c}")));
+        }
+    } else {
+        list.push(parse("raytrace"));
+    }
+    list.push(parse("raytrace:samples=4"));
+    list
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn variants_round_trip_through_their_names() {
+        for text in [
+            "flat",
+            "gouraud:segments=16",
+            "phong:interpolation=screen",
+            "raytrace:depth=3,cutoff=0.01,samples=4",
+            "raytrace:shadows=false",
+        ] {
+            let v: Variant = text.parse().unwrap();
+            assert_eq!(v.to_string(), text);
+            assert_eq!(v.to_string().parse::<Variant>().unwrap(), v);
+        }
+    }
+
+    #[test]
+    fn bad_variants_say_what_is_wrong() {
+        for (text, word) in [
+            ("toon", "toon"),
+            ("flat:depth=3", "raytrace only"),
+            ("raytrace:segments=8", "flat, gouraud and phong only"),
+            ("gouraud:segments=2", "3 to 4096"),
+            ("raytrace:cutoff=-1", ">= 0"),
+            ("phong:shiny=1", "unknown setting"),
+            ("phong:segments", "key=value"),
+        ] {
+            let e = text.parse::<Variant>().unwrap_err();
+            assert!(e.contains(word), "{text}: {e}");
+        }
+    }
+
+    #[test]
+    fn the_default_list_sweeps_the_interesting_axes() {
+        let list = default_variants(&crate::scene::default_scene());
+        let names: Vec<String> = list.iter().map(|v| v.to_string()).collect();
+        for want in [
+            "flat:segments=8",
+            "phong:segments=256",
+            "gouraud:interpolation=screen",
+            "raytrace:depth=0,cutoff=0",
+            "raytrace:depth=5,cutoff=0.01",
+        ] {
+            assert!(
+                names.iter().any(|n| n == want),
+                "{want} missing from {names:?}"
+            );
+        }
+    }
+}
