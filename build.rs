@@ -18,8 +18,8 @@ struct Variant {
     defines: &'static [(&'static str, Option<&'static str>)],
 }
 
-const SMOOTH: &[(&str, Option<&str>)] = &[("INTERP", Some("smooth"))];
-const NOPERSPECTIVE: &[(&str, Option<&str>)] = &[("INTERP", Some("noperspective"))];
+const SMOOTH: &[(&str, Option<&str>)] = &[];
+const SCREEN_LINEAR: &[(&str, Option<&str>)] = &[("SCREEN_LINEAR", None)];
 
 const VARIANTS: &[Variant] = &[
     Variant {
@@ -50,13 +50,13 @@ const VARIANTS: &[Variant] = &[
         name: "GOURAUD_VERT_SCREEN",
         source: "gouraud.vert.glsl",
         stage: glslang::ShaderStage::Vertex,
-        defines: NOPERSPECTIVE,
+        defines: SCREEN_LINEAR,
     },
     Variant {
         name: "GOURAUD_FRAG_SCREEN",
         source: "gouraud.frag.glsl",
         stage: glslang::ShaderStage::Fragment,
-        defines: NOPERSPECTIVE,
+        defines: SCREEN_LINEAR,
     },
     Variant {
         name: "PHONG_VERT",
@@ -74,13 +74,13 @@ const VARIANTS: &[Variant] = &[
         name: "PHONG_VERT_SCREEN",
         source: "phong.vert.glsl",
         stage: glslang::ShaderStage::Vertex,
-        defines: NOPERSPECTIVE,
+        defines: SCREEN_LINEAR,
     },
     Variant {
         name: "PHONG_FRAG_SCREEN",
         source: "phong.frag.glsl",
         stage: glslang::ShaderStage::Fragment,
-        defines: NOPERSPECTIVE,
+        defines: SCREEN_LINEAR,
     },
     Variant {
         name: "RAYTRACE_COMP",

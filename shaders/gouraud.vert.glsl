@@ -1,17 +1,28 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Gouraud shading: the formula once per vertex; the rasterizer interpolates
-// the intensity (INTERP is `smooth` or `noperspective`, set by build.rs).
+// the intensity. With SCREEN_LINEAR (set by build.rs for
+// `interpolation = "screen"`) the interpolation is screen-linear, made from
+// perspective-correct varyings as include/screen_linear.glsl explains.
 #include "raster_interface.glsl"
 #include "lighting.glsl"
 #include "raster_surface.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
-layout(location = 0) INTERP out vec3 out_intensity;
+layout(location = 0) out vec3 out_intensity;
+#ifdef SCREEN_LINEAR
+layout(location = 1) out float out_w;
+#endif
 
 void main() {
     vec3 P = in_position;
-    out_intensity = shade(P, unit_or_zero(in_normal), normalize(-P), draw_surface(), frame.ambient_k.rgb, frame.ambient_k.w);
+    vec3 intensity = shade(P, unit_or_zero(in_normal), normalize(-P), draw_surface(), frame.ambient_k.rgb, frame.ambient_k.w);
     gl_Position = draw.clip_from_relative * vec4(P, 1.0);
+#ifdef SCREEN_LINEAR
+    out_intensity = intensity * gl_Position.w;
+    out_w = gl_Position.w;
+#else
+    out_intensity = intensity;
+#endif
 }

@@ -5,12 +5,22 @@
 #include "raster_interface.glsl"
 #include "lighting.glsl"
 #include "raster_surface.glsl"
+#include "screen_linear.glsl"
 
-layout(location = 0) INTERP in vec3 in_position;
-layout(location = 1) INTERP in vec3 in_normal;
+layout(location = 0) in vec3 in_position;
+layout(location = 1) in vec3 in_normal;
+#ifdef SCREEN_LINEAR
+layout(location = 2) in float in_w;
+#endif
 layout(location = 0) out vec4 out_color;
 
 void main() {
+#ifdef SCREEN_LINEAR
+    vec3 P = in_position / in_w;
+    vec3 N = in_normal / in_w;
+#else
     vec3 P = in_position;
-    out_color = vec4(shade(P, unit_or_zero(in_normal), normalize(-P), draw_surface(), frame.ambient_k.rgb, frame.ambient_k.w), 1.0);
+    vec3 N = in_normal;
+#endif
+    out_color = vec4(shade(P, unit_or_zero(N), normalize(-P), draw_surface(), frame.ambient_k.rgb, frame.ambient_k.w), 1.0);
 }

@@ -1,16 +1,25 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Phong shading: passes the position and the vertex normal on for
-// interpolation (INTERP is `smooth` or `noperspective`, set by build.rs).
+// interpolation; screen-linear with SCREEN_LINEAR (see screen_linear.glsl).
 #include "raster_interface.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
-layout(location = 0) INTERP out vec3 out_position;
-layout(location = 1) INTERP out vec3 out_normal;
+layout(location = 0) out vec3 out_position;
+layout(location = 1) out vec3 out_normal;
+#ifdef SCREEN_LINEAR
+layout(location = 2) out float out_w;
+#endif
 
 void main() {
+    gl_Position = draw.clip_from_relative * vec4(in_position, 1.0);
+#ifdef SCREEN_LINEAR
+    out_position = in_position * gl_Position.w;
+    out_normal = in_normal * gl_Position.w;
+    out_w = gl_Position.w;
+#else
     out_position = in_position;
     out_normal = in_normal;
-    gl_Position = draw.clip_from_relative * vec4(in_position, 1.0);
+#endif
 }

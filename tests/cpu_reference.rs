@@ -109,3 +109,29 @@ fn a_floor_running_under_the_eye_is_clipped_alike() {
         }
     }
 }
+
+#[test]
+fn screen_interpolation_stays_finite_and_agrees_on_the_default_scene() {
+    // The default scene's floor reaches far outside the image; lavapipe's
+    // `noperspective` path once returned infinities there, which is why
+    // screen-linear interpolation is built from perspective-correct
+    // varyings (shaders/include/screen_linear.glsl).
+    use shadelab::check::{check, CheckThresholds};
+    let mut s = shadelab::scene::default_scene();
+    s.image.width = 320;
+    s.image.height = 240;
+    s.lighting.interpolation = Interpolation::Screen;
+    let context = gpu();
+    for shading in [Shading::Gouraud, Shading::Phong] {
+        let o = check(&context, &s, &s, shading, &CheckThresholds::default()).unwrap();
+        assert!(
+            o.actual.pixels.iter().flatten().all(|v| v.is_finite()),
+            "{shading}: GPU"
+        );
+        assert!(
+            o.expected.pixels.iter().flatten().all(|v| v.is_finite()),
+            "{shading}: CPU"
+        );
+        assert!(o.passed(), "{shading}: {:?}", o.failures);
+    }
+}

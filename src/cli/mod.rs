@@ -2,6 +2,7 @@
 
 mod bench;
 mod check;
+mod compare;
 mod diff;
 mod info;
 mod render;
@@ -36,6 +37,8 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Render on the GPU and with the CPU reference, and compare.
     Check(check::CheckArgs),
+    /// One scene in many shader variants: speed against error.
+    Compare(compare::CompareArgs),
     /// Compare two images (PNG or EXR): error figures, FLIP, an optional heat
     /// map; exit status 1 when a figure is over its threshold.
     Diff(diff::DiffArgs),
@@ -94,6 +97,7 @@ pub fn run() -> ExitCode {
         Command::Render(args) => render::run(args, &gpu_options),
         Command::Bench(args) => bench::run(args, &gpu_options),
         Command::Check(args) => check::run(args, &gpu_options),
+        Command::Compare(args) => compare::run_command(args, &gpu_options),
         Command::Diff(args) => diff::run(args),
         Command::Info(args) => info::run(args, &gpu_options),
     };

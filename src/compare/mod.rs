@@ -3,6 +3,7 @@
 //! against the scene's reference image, laid out as data for reports.
 
 pub mod report;
+pub mod run;
 pub mod variant;
 
 pub use report::{pareto_front, Errors, Report, Timing, VariantResult};

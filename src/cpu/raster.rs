@@ -115,11 +115,21 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
                 } else {
                     DVec3::ZERO
                 };
+                let clip = clip_from_rel * rel.extend(1.0);
+                // Screen-linear interpolation as the shaders make it
+                // (shaders/include/screen_linear.glsl): attributes times w,
+                // interpolated perspective-correctly, divided by the same
+                // interpolation of w.
+                let weight = match scene.lighting.interpolation {
+                    Interpolation::Screen => clip.w,
+                    Interpolation::Perspective => 1.0,
+                };
                 ClipVertex {
-                    clip: clip_from_rel * rel.extend(1.0),
-                    position: rel,
-                    normal: *n,
-                    intensity,
+                    clip,
+                    position: rel * weight,
+                    normal: *n * weight,
+                    intensity: intensity * weight,
+                    weight,
                 }
             })
             .collect();
@@ -239,22 +249,24 @@ fn shade_sample(
     t: &Triangle,
     bary: [f64; 3],
 ) -> DVec3 {
-    let weights = match scene.lighting.interpolation {
-        Interpolation::Screen => bary,
-        Interpolation::Perspective => {
-            let w = [
-                bary[0] * t.inv_w[0],
-                bary[1] * t.inv_w[1],
-                bary[2] * t.inv_w[2],
-            ];
-            let sum = w[0] + w[1] + w[2];
-            [w[0] / sum, w[1] / sum, w[2] / sum]
-        }
-    };
+    // Perspective-correct weights; with screen-linear interpolation the
+    // attributes carry a factor w that `weight` divides back out.
+    let w = [
+        bary[0] * t.inv_w[0],
+        bary[1] * t.inv_w[1],
+        bary[2] * t.inv_w[2],
+    ];
+    let sum = w[0] + w[1] + w[2];
+    let weights = [w[0] / sum, w[1] / sum, w[2] / sum];
+    let scale = 1.0
+        / (t.vertices[0].weight * weights[0]
+            + t.vertices[1].weight * weights[1]
+            + t.vertices[2].weight * weights[2]);
     let mix = |f: fn(&ClipVertex) -> DVec3| {
-        f(&t.vertices[0]) * weights[0]
+        (f(&t.vertices[0]) * weights[0]
             + f(&t.vertices[1]) * weights[1]
-            + f(&t.vertices[2]) * weights[2]
+            + f(&t.vertices[2]) * weights[2])
+            * scale
     };
     match mode {
         RasterMode::Flat => t.flat_color,
@@ -382,6 +394,7 @@ mod tests {
             position: DVec3::ZERO,
             normal: DVec3::Z,
             intensity: DVec3::ZERO,
+            weight: 1.0,
         };
         Triangle {
             object: 0,

@@ -1,0 +1,193 @@
+//! `shadelab compare`: one scene in many shader variants, each timed and
+//! measured against the CPU reference of the same variant and against the
+//! scene's reference image; or `--merge` of shard folders into one report.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use shadelab::compare::run::{merge, run, CompareOptions};
+use shadelab::compare::{default_variants, Report, Variant};
+use shadelab::gpu::{GpuContext, GpuOptions};
+use shadelab::output::write_atomically;
+
+use super::render::load_scene;
+use super::Failure;
+
+#[derive(Args)]
+pub struct CompareArgs {
+    /// Scene file; the built-in default scene if left out.
+    scene: Option<PathBuf>,
+    /// Folder for the images and reports (created if missing).
+    #[arg(long)]
+    out: PathBuf,
+    /// Variants, separated by `;` (or given several times), e.g.
+    /// "flat;gouraud:segments=16;raytrace:depth=3,cutoff=0.01".
+    /// Default: a list chosen for the scene (every mode, sweeps).
+    #[arg(long, value_delimiter = ';')]
+    variants: Vec<String>,
+    /// Timed GPU runs per variant, after one warm-up.
+    #[arg(long, default_value_t = 3)]
+    runs: usize,
+    /// Render only part I of N of the variant list, e.g. 2/4.
+    #[arg(long, value_name = "I/N", value_parser = parse_shard)]
+    shard: Option<(usize, usize)>,
+    /// Join the reports in these shard folders into one report in --out.
+    #[arg(long, num_args = 1.., value_name = "DIR", conflicts_with_all = ["scene", "variants", "shard"])]
+    merge: Vec<PathBuf>,
+    /// Override the scene's image width.
+    #[arg(long)]
+    width: Option<u32>,
+    /// Override the scene's image height.
+    #[arg(long)]
+    height: Option<u32>,
+    /// Print the report as one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
+}
+
+fn parse_shard(text: &str) -> Result<(usize, usize), String> {
+    let bad = || format!("--shard {text} is invalid; expected I/N with 1 <= I <= N, e.g. 2/4");
+    let (i, n) = text.split_once('/').ok_or_else(bad)?;
+    let (i, n): (usize, usize) = (i.parse().map_err(|_| bad())?, n.parse().map_err(|_| bad())?);
+    if i == 0 || n == 0 || i > n {
+        return Err(bad());
+    }
+    Ok((i, n))
+}
+
+fn usage(message: String) -> Failure {
+    Failure { code: 2, message }
+}
+
+fn write_report(report: &Report, dir: &Path) -> Result<(), Failure> {
+    let json = serde_json::to_string_pretty(report).expect("reports serialise");
+    write_atomically(&dir.join("report.json"), json.as_bytes())?;
+    Ok(())
+}
+
+pub fn run_command(args: CompareArgs, options: &GpuOptions) -> Result<(), Failure> {
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| usage(format!("cannot create {}: {e}", args.out.display())))?;
+    let report = if args.merge.is_empty() {
+        render_variants(&args, options)?
+    } else {
+        merge_folders(&args)?
+    };
+    write_report(&report, &args.out)?;
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string(&report).expect("reports serialise")
+        );
+    } else {
+        print_table(&report, &args.out);
+    }
+    Ok(())
+}
+
+fn render_variants(args: &CompareArgs, options: &GpuOptions) -> Result<Report, Failure> {
+    if args.runs == 0 || args.runs > 1000 {
+        return Err(usage(format!(
+            "--runs {} is out of range; expected 1 to 1000",
+            args.runs
+        )));
+    }
+    let (mut scene, name) = load_scene(args.scene.as_deref())?;
+    for (flag, value) in [("--width", args.width), ("--height", args.height)] {
+        if value.is_some_and(|v| v == 0 || v > 16384) {
+            return Err(usage(format!(
+                "{flag} is out of range; expected 1 to 16384 pixels"
+            )));
+        }
+    }
+    scene.image.width = args.width.unwrap_or(scene.image.width);
+    scene.image.height = args.height.unwrap_or(scene.image.height);
+    let variants: Vec<Variant> = if args.variants.is_empty() {
+        default_variants(&scene)
+    } else {
+        args.variants
+            .iter()
+            .map(|v| v.trim())
+            .filter(|v| !v.is_empty())
+            .map(|v| v.parse::<Variant>().map_err(usage))
+            .collect::<Result<_, _>>()?
+    };
+    if variants.is_empty() {
+        return Err(usage("--variants names no variant".into()));
+    }
+    let context = GpuContext::new(options)?;
+    let bar = indicatif::ProgressBar::new(0);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}")
+            .expect("a valid template"),
+    );
+    let compare_options = CompareOptions {
+        runs: args.runs,
+        shard: args.shard,
+    };
+    let report = run(
+        &context,
+        &scene,
+        &name,
+        &variants,
+        &compare_options,
+        &args.out,
+        |done, total, what| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+            bar.set_message(what.to_string());
+        },
+    )?;
+    bar.finish_and_clear();
+    Ok(report)
+}
+
+fn merge_folders(args: &CompareArgs) -> Result<Report, Failure> {
+    let mut shards = Vec::new();
+    for dir in &args.merge {
+        let path = dir.join("report.json");
+        let text = std::fs::read_to_string(&path)
+            .map_err(|e| usage(format!("cannot read {}: {e}", path.display())))?;
+        let report: Report = serde_json::from_str(&text)
+            .map_err(|e| usage(format!("{} is not a shadelab report: {e}", path.display())))?;
+        // Bring the shard's images along.
+        let mut files = vec![report.reference_image.clone()];
+        for v in &report.variants {
+            files.push(v.image.clone());
+            files.push(v.heatmap.clone());
+        }
+        for file in files {
+            let (from, to) = (dir.join(&file), args.out.join(&file));
+            if from != to {
+                std::fs::copy(&from, &to)
+                    .map_err(|e| usage(format!("cannot copy {}: {e}", from.display())))?;
+            }
+        }
+        shards.push(report);
+    }
+    merge(shards).map_err(|e| usage(format!("cannot merge: {e}")))
+}
+
+fn print_table(report: &Report, dir: &Path) {
+    println!(
+        "{} at {}x{} on {}, median of {} runs; model error against: {}",
+        report.scene, report.width, report.height, report.device, report.runs, report.reference
+    );
+    println!(
+        "{:<40} {:>9} {:>9} {:>11} {:>11} {:>10} {:>7}",
+        "variant", "gpu_ms", "frame_ms", "impl_rmse", "model_rmse", "model_flip", "pareto"
+    );
+    for v in &report.variants {
+        println!(
+            "{:<40} {:>9.1} {:>9.1} {:>11.2e} {:>11.2e} {:>10.4} {:>7}",
+            v.name,
+            v.timing.gpu_ms,
+            v.timing.frame_ms,
+            v.implementation_error.rmse,
+            v.model_error.rmse,
+            v.model_error.flip_mean,
+            if v.pareto { "*" } else { "" }
+        );
+    }
+    println!("report: {}", dir.join("report.json").display());
+}

@@ -1,0 +1,216 @@
+//! Running a comparison: the reference image, then every variant of the
+//! shard, timed on the GPU and measured against both the CPU reference of
+//! the same variant (implementation error) and the reference image (model
+//! error). Images go into the output folder; the figures into a `Report`.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use super::report::{file_stem, pareto_front, Errors, Report, Timing, VariantResult};
+use super::variant::Variant;
+use crate::error::Error;
+use crate::gpu::GpuContext;
+use crate::linear_image::LinearImage;
+use crate::metrics::flip::{flip, FlipStats};
+use crate::metrics::heatmap::flip_heatmap;
+use crate::metrics::stats::ErrorStats;
+use crate::output::write_image;
+use crate::render::{render_cpu, render_gpu};
+use crate::scene::Scene;
+use crate::shading::Shading;
+
+/// FLIP's default viewing condition (as in `check`).
+const PIXELS_PER_DEGREE: f32 = 67.0;
+
+pub struct CompareOptions {
+    /// Timed GPU runs per variant, after one warm-up.
+    pub runs: usize,
+    /// The i-th (1-based) of n equal, contiguous parts of the variant list.
+    pub shard: Option<(usize, usize)>,
+}
+
+/// The variants of shard `(i, n)`: the i-th of n contiguous chunks of
+/// `ceil(len / n)`, so shards concatenated in order give the whole list.
+pub fn shard_of(variants: &[Variant], shard: Option<(usize, usize)>) -> &[Variant] {
+    match shard {
+        None => variants,
+        Some((i, n)) => {
+            let size = variants.len().div_ceil(n);
+            let start = ((i - 1) * size).min(variants.len());
+            let end = (i * size).min(variants.len());
+            &variants[start..end]
+        }
+    }
+}
+
+/// The best the model can do: ray traced on the CPU with exact geometry,
+/// at least depth 8, 16 samples per pixel, no cut-off.
+pub fn reference_scene(scene: &Scene) -> Scene {
+    let mut s = scene.clone();
+    s.render.depth = s.render.depth.max(8);
+    s.render.samples = 16;
+    s.render.cutoff = 0.0;
+    s
+}
+
+pub const REFERENCE_DESCRIPTION: &str =
+    "CPU ray tracer (f64), exact geometry, depth max(scene, 8), 16 samples per pixel, no cut-off";
+
+fn errors(expected: &LinearImage, actual: &LinearImage) -> (Errors, FlipStats) {
+    let stats = ErrorStats::compute(expected, actual, None, 0.01);
+    let flip = flip(expected, actual, PIXELS_PER_DEGREE);
+    let e = Errors {
+        rmse: stats.rmse,
+        max_abs: stats.max_abs,
+        psnr: stats.psnr.is_finite().then_some(stats.psnr),
+        flip_mean: flip.mean,
+    };
+    (e, flip)
+}
+
+fn median_and_spread(mut values: Vec<f64>) -> (f64, f64) {
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    let median = if n % 2 == 1 {
+        values[n / 2]
+    } else {
+        (values[n / 2 - 1] + values[n / 2]) / 2.0
+    };
+    (median, values[n - 1] - values[0])
+}
+
+/// Runs the comparison and writes `reference.png` and, per variant,
+/// `<stem>.png` and `<stem>-heat.png` into `dir`. `progress(done, total,
+/// name)` is called before each step.
+pub fn run(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    scene_name: &str,
+    variants: &[Variant],
+    options: &CompareOptions,
+    dir: &Path,
+    mut progress: impl FnMut(usize, usize, &str),
+) -> Result<Report, Error> {
+    let chosen = shard_of(variants, options.shard);
+    let total = chosen.len() + 1;
+    progress(0, total, "reference");
+    let (reference, _) = render_cpu(&reference_scene(scene), Shading::Raytrace)?;
+    write_image(&reference.image, &dir.join("reference.png"))?;
+    let mut results = Vec::with_capacity(chosen.len());
+    for (k, variant) in chosen.iter().enumerate() {
+        let name = variant.to_string();
+        progress(k + 1, total, &name);
+        let scene_v = variant.apply(scene);
+        render_gpu(context, &scene_v, variant.shading)?; // warm-up
+        let (mut gpu, mut frame, mut pipeline) = (Vec::new(), Vec::new(), Vec::new());
+        let mut image = None;
+        for _ in 0..options.runs.max(1) {
+            let r = render_gpu(context, &scene_v, variant.shading)?;
+            gpu.push(r.timings.work_ms());
+            frame.push(r.timings.total_ms);
+            pipeline.push(r.timings.pipeline_ms.unwrap_or(0.0));
+            image = Some(r.image);
+        }
+        let image = image.expect("at least one run");
+        let (cpu, _) = render_cpu(&scene_v, variant.shading)?;
+        let (implementation_error, _) = errors(&cpu.image, &image);
+        let (model_error, model_flip) = errors(&reference.image, &image);
+        let stem = file_stem(&name);
+        let (image_file, heat_file) = (format!("{stem}.png"), format!("{stem}-heat.png"));
+        write_image(&image, &dir.join(&image_file))?;
+        write_image(&flip_heatmap(&model_flip), &dir.join(&heat_file))?;
+        let (gpu_ms, gpu_spread_ms) = median_and_spread(gpu);
+        let (frame_ms, frame_spread_ms) = median_and_spread(frame);
+        results.push(VariantResult {
+            name,
+            variant: variant.clone(),
+            image: image_file,
+            heatmap: heat_file,
+            implementation_error,
+            model_error,
+            timing: Timing {
+                gpu_ms,
+                gpu_spread_ms,
+                frame_ms,
+                frame_spread_ms,
+                pipeline_ms: median_and_spread(pipeline).0,
+            },
+            pareto: false,
+        });
+    }
+    let mut report = Report {
+        scene: scene_name.to_string(),
+        width: scene.image.width,
+        height: scene.image.height,
+        device: context.info.name.clone(),
+        runs: options.runs.max(1),
+        reference: REFERENCE_DESCRIPTION.to_string(),
+        reference_image: "reference.png".to_string(),
+        shard: options.shard,
+        variants: results,
+    };
+    mark_pareto(&mut report);
+    Ok(report)
+}
+
+/// Marks each variant on the Pareto front of (GPU time, model RMSE).
+pub fn mark_pareto(report: &mut Report) {
+    let points: Vec<(f64, f64)> = report
+        .variants
+        .iter()
+        .map(|v| (v.timing.gpu_ms, v.model_error.rmse))
+        .collect();
+    for (v, on) in report.variants.iter_mut().zip(pareto_front(&points)) {
+        v.pareto = on;
+    }
+}
+
+/// Joins shard reports (in shard order) into one; fails if they are not
+/// shards of the same run.
+pub fn merge(mut shards: Vec<Report>) -> Result<Report, String> {
+    if shards.is_empty() {
+        return Err("no reports to merge".into());
+    }
+    shards.sort_by_key(|r| r.shard.map(|(i, _)| i).unwrap_or(0));
+    let first = shards[0].clone();
+    let n = first.shard.map(|(_, n)| n);
+    for (k, s) in shards.iter().enumerate() {
+        if (s.scene.as_str(), s.width, s.height, s.reference.as_str())
+            != (
+                first.scene.as_str(),
+                first.width,
+                first.height,
+                first.reference.as_str(),
+            )
+        {
+            return Err(format!(
+                "shard {} is of another run ({} {}x{}) than shard 1 ({} {}x{})",
+                k + 1,
+                s.scene,
+                s.width,
+                s.height,
+                first.scene,
+                first.width,
+                first.height
+            ));
+        }
+        if s.shard.map(|(_, n2)| n2) != n || s.shard.map(|(i, _)| i) != Some(k + 1) {
+            return Err(format!(
+                "expected shards 1 to {} of one run, one each; got {:?} as the {}th",
+                n.unwrap_or(0),
+                s.shard,
+                k + 1
+            ));
+        }
+    }
+    if Some(shards.len()) != n {
+        return Err(format!("got {} of {} shards", shards.len(), n.unwrap_or(0)));
+    }
+    let mut merged = Report {
+        shard: None,
+        variants: shards.into_iter().flat_map(|s| s.variants).collect(),
+        ..first
+    };
+    mark_pareto(&mut merged);
+    Ok(merged)
+}
