@@ -8,7 +8,7 @@ use image::{Rgb, RgbImage};
 use plotters::prelude::*;
 use plotters::style::TextStyle;
 
-use super::font::FAMILY;
+use super::font::{Typeset, FAMILY};
 use super::{encode_png, figure, PresentError, VariantImages, PARETO_COLOUR};
 use crate::compare::report::{Report, VariantResult};
 
@@ -44,7 +44,7 @@ pub(crate) fn draw(report: &Report, images: &[VariantImages]) -> Result<Vec<u8>,
     let style = TextStyle::from((FAMILY, FONT_SIZE).into_font()).color(&BLACK);
     let labels: Vec<Vec<String>> = {
         let mut scratch = vec![0u8; 3];
-        let area = BitMapBackend::with_buffer(&mut scratch, (1, 1)).into_drawing_area();
+        let area = Typeset(BitMapBackend::with_buffer(&mut scratch, (1, 1))).into_drawing_area();
         let width = |s: &str| area.estimate_text_size(s, &style).map(|(w, _)| w);
         report
             .variants
@@ -86,7 +86,7 @@ pub(crate) fn draw(report: &Report, images: &[VariantImages]) -> Result<Vec<u8>,
 
     let mut rgb = sheet.into_raw();
     {
-        let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+        let root = Typeset(BitMapBackend::with_buffer(&mut rgb, (w, h))).into_drawing_area();
         let e = |e: DrawingAreaErrorKind<_>| err(e.to_string());
         let title = format!(
             "{}, {} x {}, {}: figures are the model error against the reference",

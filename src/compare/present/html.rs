@@ -70,7 +70,7 @@ span.swatch { display: inline-block; width: 0.8em; height: 0.8em; border-radius:
 dl.legend dt { font-weight: bold; margin-top: 0.6em; }
 dl.legend dd { margin-left: 1.5em; max-width: 60em; }
 figure.variant { display: inline-block; vertical-align: top; margin: 0 18px 22px 0; }
-figure.variant img { max-width: 512px; height: auto; border: 1px solid #ccc; margin-right: 6px; }
+figure.variant img { max-width: 512px; height: auto; border: 1px solid #ccc; margin-right: 6px; vertical-align: top; }
 figure.pareto img.image { outline: 4px solid #ff7f0e; }
 figcaption { font-size: 0.85em; margin-top: 4px; }
 figcaption code { font-size: 1.1em; }

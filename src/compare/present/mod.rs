@@ -177,7 +177,10 @@ pub(crate) fn figure(x: f64) -> String {
     }
     let a = x.abs();
     if !(1e-3..1e5).contains(&a) {
-        return format!("{x:.3e}");
+        let s = format!("{x:.3e}");
+        let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        return format!("{mantissa}e{exponent}");
     }
     let digits = 3 - a.log10().floor() as i32;
     let s = format!("{x:.*}", digits.max(0) as usize);
@@ -200,6 +203,8 @@ mod tests {
         assert_eq!(figure(1234.6), "1235");
         assert_eq!(figure(2.0), "2");
         assert_eq!(figure(0.00001234), "1.234e-5");
+        assert_eq!(figure(0.0005), "5e-4");
+        assert_eq!(figure(2.5e6), "2.5e6");
         assert_eq!(figure(-0.5), "-0.5");
         assert_eq!(figure(f64::NAN), "NaN");
     }

@@ -11,7 +11,7 @@ use plotters::coord::ranged1d::{AsRangedCoord, Ranged, ValueFormatter};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::font::FAMILY;
+use super::font::{Typeset, FAMILY};
 use super::{encode_png, figure, mode_colour, PresentError, PARETO_COLOUR};
 use crate::compare::report::Report;
 use crate::shading::Shading;
@@ -31,7 +31,8 @@ pub(crate) fn draw(report: &Report) -> Result<Plot, PresentError> {
     };
     let mut rgb = vec![255u8; (WIDTH * HEIGHT * 3) as usize];
     {
-        let root = BitMapBackend::with_buffer(&mut rgb, (WIDTH, HEIGHT)).into_drawing_area();
+        let root =
+            Typeset(BitMapBackend::with_buffer(&mut rgb, (WIDTH, HEIGHT))).into_drawing_area();
         chart(&root, report).map_err(err)?;
         root.present().map_err(|e| err(e.to_string()))?;
     }
@@ -214,15 +215,27 @@ where
             .legend(move |(lx, ly)| Circle::new((lx + 9, ly), 5, colour.filled()));
     }
 
-    // Name each front point; alternate above and below so neighbours'
-    // names overlap less.
+    // Name each front point, alternately above and below it so that
+    // neighbours' names overlap less, and to its left where the name would
+    // run past the plot's right edge.
+    let label_style = TextStyle::from((FAMILY, 13).into_font());
+    let (area_x, _) = chart.plotting_area().get_base_pixel();
+    let (area_w, _) = chart.plotting_area().dim_in_pixel();
     for (i, v) in front.iter().enumerate() {
-        let dy = if i % 2 == 0 { -18 } else { 8 };
+        let p = place(v.timing.gpu_ms, v.model_error.rmse);
+        let (px, _) = chart.backend_coord(&p);
+        let (tw, _) = root.estimate_text_size(&v.name, &label_style).map_err(e)?;
+        let dx = if px + 10 + tw as i32 > area_x + area_w as i32 {
+            -(tw as i32) - 10
+        } else {
+            10
+        };
+        let dy = if i % 2 == 0 { -20 } else { 8 };
         chart
             .draw_series(std::iter::once(
-                EmptyElement::at(place(v.timing.gpu_ms, v.model_error.rmse))
+                EmptyElement::at(p)
                     + Circle::new((0, 0), 8, pareto.stroke_width(2))
-                    + Text::new(v.name.clone(), (10, dy), (FAMILY, 13).into_font()),
+                    + Text::new(v.name.clone(), (dx, dy), label_style.clone()),
             ))
             .map_err(e)?;
     }
