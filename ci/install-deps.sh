@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what shadelab needs on Debian/Ubuntu, only where it is missing:
 # the Vulkan loader, Mesa lavapipe (software Vulkan), the Khronos validation
-# layer, and the C/C++ toolchain and cmake that the glslang crate builds with.
+# layer, the C/C++ toolchain and cmake that the glslang crate builds with,
+# and Chromium, which tests/compare_present.rs renders report.html in.
 # Safe to run again: it installs nothing that is already there.
 set -euo pipefail
 
@@ -14,6 +15,7 @@ have_file '/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json' |
 command -v cmake >/dev/null || missing+=(cmake)
 command -v c++ >/dev/null || missing+=(g++)
 command -v cc >/dev/null || missing+=(gcc)
+command -v chromium >/dev/null || missing+=(chromium)
 
 if [ ${#missing[@]} -gt 0 ]; then
     echo "ci/install-deps.sh: installing ${missing[*]}"

@@ -2,6 +2,7 @@
 //! timed and measured against the CPU reference of the same variant and
 //! against the scene's reference image, laid out as data for reports.
 
+pub mod present;
 pub mod report;
 pub mod run;
 pub mod variant;

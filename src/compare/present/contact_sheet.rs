@@ -1,0 +1,184 @@
+//! `contact-sheet.png`: every variant's image in a grid, scaled to
+//! `THUMB_WIDTH`, with its name and "GPU x ms, RMSE y, FLIP z" (model
+//! error) under it. Pareto variants get a thick orange border, the others a
+//! thin grey one.
+
+use image::imageops::{self, FilterType};
+use image::{Rgb, RgbImage};
+use plotters::prelude::*;
+use plotters::style::TextStyle;
+
+use super::font::{Typeset, FAMILY};
+use super::{encode_png, figure, PresentError, VariantImages, PARETO_COLOUR};
+use crate::compare::report::{Report, VariantResult};
+
+pub const THUMB_WIDTH: u32 = 240;
+/// The most columns; fewer when there are fewer variants.
+pub const COLUMNS: u32 = 5;
+const PAD: u32 = 14;
+const BORDER: u32 = 4;
+const LINE: u32 = 17;
+const FONT_SIZE: f64 = 14.0;
+const HEADER: u32 = 52;
+
+pub(crate) fn draw(report: &Report, images: &[VariantImages]) -> Result<Vec<u8>, PresentError> {
+    let err = |message: String| PresentError::Draw {
+        what: "contact sheet",
+        message,
+    };
+    let thumbs: Vec<RgbImage> = images
+        .iter()
+        .map(|i| {
+            let (w, h) = i.image.pixels.dimensions();
+            let th = ((THUMB_WIDTH as f64 * h as f64 / w.max(1) as f64).round() as u32).max(1);
+            imageops::resize(&i.image.pixels, THUMB_WIDTH, th, FilterType::Triangle)
+        })
+        .collect();
+    let thumb_h = thumbs.iter().map(|t| t.height()).max().unwrap_or(1);
+    let n = report.variants.len() as u32;
+    let cols = n.clamp(1, COLUMNS);
+    let rows = n.div_ceil(cols);
+
+    // Text is laid out before the size is known: measure on a scratch
+    // backend with the same font.
+    let style = TextStyle::from((FAMILY, FONT_SIZE).into_font()).color(&BLACK);
+    let labels: Vec<Vec<String>> = {
+        let mut scratch = vec![0u8; 3];
+        let area = Typeset(BitMapBackend::with_buffer(&mut scratch, (1, 1))).into_drawing_area();
+        let width = |s: &str| area.estimate_text_size(s, &style).map(|(w, _)| w);
+        report
+            .variants
+            .iter()
+            .map(|v| label(v, &width))
+            .collect::<Result<_, _>>()
+            .map_err(|e| err(e.to_string()))?
+    };
+    let text_h = labels.iter().map(|l| l.len() as u32).max().unwrap_or(1) * LINE;
+    let cell_w = THUMB_WIDTH + 2 * PAD;
+    let cell_h = thumb_h + text_h + 2 * PAD + BORDER;
+    let (w, h) = (cols * cell_w + PAD, HEADER + rows * cell_h);
+
+    let mut sheet = RgbImage::from_pixel(w, h, Rgb([255, 255, 255]));
+    let origin = |i: u32| (PAD + (i % cols) * cell_w, HEADER + (i / cols) * cell_h);
+    for (i, (thumb, v)) in thumbs.iter().zip(&report.variants).enumerate() {
+        let (x, y) = origin(i as u32);
+        let (colour, width) = if v.pareto {
+            (
+                Rgb([PARETO_COLOUR.0, PARETO_COLOUR.1, PARETO_COLOUR.2]),
+                BORDER,
+            )
+        } else {
+            (Rgb([190, 190, 190]), 1)
+        };
+        let frame = RgbImage::from_pixel(
+            thumb.width() + 2 * width,
+            thumb.height() + 2 * width,
+            colour,
+        );
+        imageops::replace(
+            &mut sheet,
+            &frame,
+            (x + BORDER - width) as i64,
+            (y + BORDER - width) as i64,
+        );
+        imageops::replace(&mut sheet, thumb, (x + BORDER) as i64, (y + BORDER) as i64);
+    }
+
+    let mut rgb = sheet.into_raw();
+    {
+        let root = Typeset(BitMapBackend::with_buffer(&mut rgb, (w, h))).into_drawing_area();
+        let e = |e: DrawingAreaErrorKind<_>| err(e.to_string());
+        let title = format!(
+            "{}, {} x {}, {}: figures are the model error against the reference",
+            report.scene, report.width, report.height, report.device
+        );
+        root.draw_text(
+            &title,
+            &TextStyle::from((FAMILY, 16).into_font()),
+            (PAD as i32, 14),
+        )
+        .map_err(e)?;
+        let (pr, pg, pb) = PARETO_COLOUR;
+        root.draw(&Rectangle::new(
+            [(PAD as i32, 36), (PAD as i32 + 22, 46)],
+            RGBColor(pr, pg, pb).filled(),
+        ))
+        .map_err(e)?;
+        root.draw_text(
+            "orange border: on the Pareto front of GPU time and model RMSE",
+            &TextStyle::from((FAMILY, 13).into_font()),
+            (PAD as i32 + 30, 36),
+        )
+        .map_err(e)?;
+        for (i, lines) in labels.iter().enumerate() {
+            let (x, y) = origin(i as u32);
+            let top = y + thumb_h + 2 * BORDER + 6;
+            for (k, line) in lines.iter().enumerate() {
+                root.draw_text(
+                    line,
+                    &style,
+                    ((x + BORDER) as i32, (top + k as u32 * LINE) as i32),
+                )
+                .map_err(e)?;
+            }
+        }
+        root.present().map_err(e)?;
+    }
+    let sheet = RgbImage::from_raw(w, h, rgb).ok_or_else(|| err("wrong buffer size".into()))?;
+    encode_png(&sheet, "contact sheet")
+}
+
+/// The lines under one image: the name (broken after commas when it is too
+/// wide), then the figures, broken after ", " when too wide.
+fn label<E>(v: &VariantResult, width: &impl Fn(&str) -> Result<u32, E>) -> Result<Vec<String>, E> {
+    let figures = format!(
+        "GPU {} ms, RMSE {}, FLIP {}",
+        figure(v.timing.gpu_ms),
+        figure(v.model_error.rmse),
+        figure(v.model_error.flip_mean)
+    );
+    let mut lines = wrap(&v.name, ",", width)?;
+    lines.extend(wrap(&figures, ", ", width)?);
+    Ok(lines)
+}
+
+/// Greedy wrapping at `sep` (kept at the end of a line) to `THUMB_WIDTH`.
+/// A piece wider than that on its own stays whole.
+fn wrap<E>(
+    text: &str,
+    sep: &str,
+    width: &impl Fn(&str) -> Result<u32, E>,
+) -> Result<Vec<String>, E> {
+    let mut lines = Vec::new();
+    let mut line = String::new();
+    for piece in text.split_inclusive(sep) {
+        let candidate = format!("{line}{piece}");
+        if !line.is_empty() && width(candidate.trim_end())? > THUMB_WIDTH {
+            lines.push(line.trim_end().to_string());
+            line = piece.to_string();
+        } else {
+            line = candidate;
+        }
+    }
+    lines.push(line.trim_end().to_string());
+    Ok(lines)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::wrap;
+
+    #[test]
+    fn wrapping_breaks_after_separators_only_when_needed() {
+        // One "pixel" per character.
+        let width = |s: &str| Ok::<u32, ()>(s.len() as u32);
+        assert_eq!(wrap("flat", ",", &width).unwrap(), ["flat"]);
+        let long = format!("{},{}", "a".repeat(200), "b".repeat(100));
+        assert_eq!(
+            wrap(&long, ",", &width).unwrap(),
+            [format!("{},", "a".repeat(200)), "b".repeat(100)]
+        );
+        let unbreakable = "c".repeat(300);
+        assert_eq!(wrap(&unbreakable, ",", &width).unwrap(), [unbreakable]);
+    }
+}
