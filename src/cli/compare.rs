@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
+use shadelab::compare::present::write_presentation;
 use shadelab::compare::run::{merge, run, CompareOptions};
 use shadelab::compare::{default_variants, Report, Variant};
 use shadelab::gpu::{GpuContext, GpuOptions};
@@ -74,6 +75,10 @@ pub fn run_command(args: CompareArgs, options: &GpuOptions) -> Result<(), Failur
         merge_folders(&args)?
     };
     write_report(&report, &args.out)?;
+    let presented = write_presentation(&report, &args.out).map_err(|e| Failure {
+        code: if e.is_bad_input() { 2 } else { 3 },
+        message: e.to_string(),
+    })?;
     if args.json {
         println!(
             "{}",
@@ -81,6 +86,9 @@ pub fn run_command(args: CompareArgs, options: &GpuOptions) -> Result<(), Failur
         );
     } else {
         print_table(&report, &args.out);
+        println!("html:   {}", presented.html.display());
+        println!("plot:   {}", presented.plot_png.display());
+        println!("sheet:  {}", presented.contact_sheet.display());
     }
     Ok(())
 }
