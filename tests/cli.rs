@@ -467,3 +467,104 @@ fn check_rejects_bad_input_before_rendering() {
     let run = shadelab(dir.path(), &["check", "--flip-mean", "-1"]);
     assert_eq!(run.code, 2);
 }
+
+#[test]
+fn compare_writes_every_report_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = shadelab(
+        dir.path(),
+        &[
+            "compare",
+            "--variants",
+            "flat;phong:segments=16;raytrace:depth=1",
+            "--runs",
+            "1",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--out",
+            "cmp",
+        ],
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    for file in [
+        "report.json",
+        "report.csv",
+        "report.html",
+        "speed-vs-error.png",
+        "speed-vs-error.svg",
+        "contact-sheet.png",
+        "reference.png",
+    ] {
+        assert!(
+            dir.path().join("cmp").join(file).is_file(),
+            "{file} missing"
+        );
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("cmp/report.json")).unwrap())
+            .unwrap();
+    let names: Vec<&str> = json["variants"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["flat", "phong:segments=16", "raytrace:depth=1"]);
+}
+
+#[test]
+fn compare_rejects_bad_variants_and_shards() {
+    let dir = tempfile::tempdir().unwrap();
+    for args in [
+        vec!["compare", "--variants", "flat:depth=3", "--out", "x"],
+        vec!["compare", "--variants", "toon", "--out", "x"],
+        vec!["compare", "--shard", "3/2", "--out", "x"],
+        vec!["compare", "--shard", "0/2", "--out", "x"],
+        vec!["compare", "--merge", "nowhere", "--out", "x"],
+    ] {
+        let run = shadelab(dir.path(), &args);
+        assert_eq!(run.code, 2, "{args:?}: {}", run.stderr);
+        assert!(!run.stderr.contains("panicked"), "{}", run.stderr);
+    }
+    assert_eq!(
+        shadelab(dir.path(), &["compare"]).code,
+        2,
+        "--out is required"
+    );
+}
+
+#[test]
+fn compare_shards_merge_from_the_command_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let common = [
+        "--variants",
+        "flat;gouraud;phong",
+        "--runs",
+        "1",
+        "--width",
+        "48",
+        "--height",
+        "36",
+    ];
+    for (shard, out) in [("1/2", "a"), ("2/2", "b")] {
+        let mut args = vec!["compare", "--shard", shard, "--out", out];
+        args.extend_from_slice(&common);
+        let run = shadelab(dir.path(), &args);
+        assert_eq!(run.code, 0, "{}", run.stderr);
+    }
+    let run = shadelab(
+        dir.path(),
+        &["compare", "--merge", "b", "a", "--out", "merged", "--json"],
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let json: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    assert_eq!(json["variants"].as_array().unwrap().len(), 3);
+    assert!(json["shard"].is_null());
+    assert!(dir.path().join("merged/report.html").is_file());
+    assert!(
+        dir.path().join("merged/gouraud.png").is_file(),
+        "images come along"
+    );
+}
