@@ -8,6 +8,7 @@ mod context;
 mod descriptors;
 mod error;
 mod image;
+mod pipeline;
 pub mod raster;
 pub mod raster_layout;
 mod raster_scene;

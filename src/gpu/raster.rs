@@ -15,6 +15,7 @@ use super::context::GpuContext;
 use super::descriptors::{create_set_layout, Descriptors};
 use super::error::{GpuError, VkContext};
 use super::image::{subresource_range, Image};
+use super::pipeline::PipelineObjects;
 use super::raster_layout::{DrawConstants, FrameUniforms, Specialization, Vertex, BINDINGS};
 use super::raster_scene::{build_geometry, lights, specialization};
 use super::shader_catalog::{self as shaders, ShaderBlob};
@@ -51,45 +52,14 @@ fn shader_pair(
     }
 }
 
-/// Vulkan objects of one pipeline, destroyed together.
-struct Pipeline {
-    context: Arc<GpuContext>,
-    set_layout: vk::DescriptorSetLayout,
-    layout: vk::PipelineLayout,
-    pipeline: vk::Pipeline,
-    modules: Vec<vk::ShaderModule>,
-}
-
-impl Drop for Pipeline {
-    fn drop(&mut self) {
-        let device = &self.context.device;
-        // SAFETY: the GPU work using these objects has completed; null
-        // handles (from a failed creation) are ignored by Vulkan.
-        unsafe {
-            device.destroy_pipeline(self.pipeline, None);
-            device.destroy_pipeline_layout(self.layout, None);
-            device.destroy_descriptor_set_layout(self.set_layout, None);
-            for m in &self.modules {
-                device.destroy_shader_module(*m, None);
-            }
-        }
-    }
-}
-
 fn create_pipeline(
     context: &Arc<GpuContext>,
     mode: RasterMode,
     interpolation: Interpolation,
     spec: &Specialization,
-) -> Result<Pipeline, GpuError> {
+) -> Result<PipelineObjects, GpuError> {
     let device = &context.device;
-    let mut p = Pipeline {
-        context: context.clone(),
-        set_layout: vk::DescriptorSetLayout::null(),
-        layout: vk::PipelineLayout::null(),
-        pipeline: vk::Pipeline::null(),
-        modules: Vec::new(),
-    };
+    let mut p = PipelineObjects::new(context);
     let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
     p.set_layout = create_set_layout(context, BINDINGS, stages)?;
     let ranges = [vk::PushConstantRange::default()

@@ -15,6 +15,7 @@ use super::commands::OneShot;
 use super::context::GpuContext;
 use super::descriptors::{create_set_layout, Descriptors};
 use super::error::{GpuError, VkContext};
+use super::pipeline::PipelineObjects;
 use super::raster::check_image_size;
 use super::raster_layout::GpuLight;
 use super::rt_layout::*;
@@ -44,41 +45,12 @@ fn ids(material: u32, object: u32) -> [u32; 4] {
     [material, object, 0, 0]
 }
 
-/// The compute pipeline and its layouts, destroyed together.
-struct Pipeline {
-    context: Arc<GpuContext>,
-    set_layout: vk::DescriptorSetLayout,
-    layout: vk::PipelineLayout,
-    pipeline: vk::Pipeline,
-    module: vk::ShaderModule,
-}
-
-impl Drop for Pipeline {
-    fn drop(&mut self) {
-        let device = &self.context.device;
-        // SAFETY: the GPU work using these objects has completed; null
-        // handles (from a failed creation) are ignored by Vulkan.
-        unsafe {
-            device.destroy_pipeline(self.pipeline, None);
-            device.destroy_pipeline_layout(self.layout, None);
-            device.destroy_descriptor_set_layout(self.set_layout, None);
-            device.destroy_shader_module(self.module, None);
-        }
-    }
-}
-
 fn create_pipeline(
     context: &Arc<GpuContext>,
     spec: &TraceSpecialization,
-) -> Result<Pipeline, GpuError> {
+) -> Result<PipelineObjects, GpuError> {
     let device = &context.device;
-    let mut p = Pipeline {
-        context: context.clone(),
-        set_layout: vk::DescriptorSetLayout::null(),
-        layout: vk::PipelineLayout::null(),
-        pipeline: vk::Pipeline::null(),
-        module: vk::ShaderModule::null(),
-    };
+    let mut p = PipelineObjects::new(context);
     p.set_layout = create_set_layout(context, BINDINGS, vk::ShaderStageFlags::COMPUTE)?;
     let set_layouts = [p.set_layout];
     let layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
@@ -88,15 +60,16 @@ fn create_pipeline(
     let words = RAYTRACE_COMP.words();
     let module_info = vk::ShaderModuleCreateInfo::default().code(&words);
     // SAFETY: the words are SPIR-V validated by naga at build time.
-    p.module = unsafe { device.create_shader_module(&module_info, None) }
+    let module = unsafe { device.create_shader_module(&module_info, None) }
         .during("vkCreateShaderModule")?;
+    p.modules.push(module);
     let entries = TraceSpecialization::map_entries();
     let spec_info = vk::SpecializationInfo::default()
         .map_entries(&entries)
         .data(bytemuck::bytes_of(spec));
     let stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
-        .module(p.module)
+        .module(module)
         .name(c"main")
         .specialization_info(&spec_info);
     let info = vk::ComputePipelineCreateInfo::default()

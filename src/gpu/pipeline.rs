@@ -1,0 +1,46 @@
+//! The Vulkan objects one pipeline owns (its set layout, layout, shader
+//! modules and the pipeline itself), destroyed together.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::context::GpuContext;
+
+pub struct PipelineObjects {
+    context: Arc<GpuContext>,
+    pub set_layout: vk::DescriptorSetLayout,
+    pub layout: vk::PipelineLayout,
+    pub pipeline: vk::Pipeline,
+    pub modules: Vec<vk::ShaderModule>,
+}
+
+impl PipelineObjects {
+    /// Empty (null) handles, filled in as creation proceeds; whatever was
+    /// created is destroyed if a later step fails.
+    pub fn new(context: &Arc<GpuContext>) -> Self {
+        Self {
+            context: context.clone(),
+            set_layout: vk::DescriptorSetLayout::null(),
+            layout: vk::PipelineLayout::null(),
+            pipeline: vk::Pipeline::null(),
+            modules: Vec::new(),
+        }
+    }
+}
+
+impl Drop for PipelineObjects {
+    fn drop(&mut self) {
+        let device = &self.context.device;
+        // SAFETY: the GPU work using these objects has completed; null
+        // handles (from a failed creation) are ignored by Vulkan.
+        unsafe {
+            device.destroy_pipeline(self.pipeline, None);
+            device.destroy_pipeline_layout(self.layout, None);
+            device.destroy_descriptor_set_layout(self.set_layout, None);
+            for m in &self.modules {
+                device.destroy_shader_module(*m, None);
+            }
+        }
+    }
+}
