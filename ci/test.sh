@@ -14,3 +14,4 @@ cargo test --release
 # would run it: images and a JUnit report are kept under target/check/.
 ./target/release/shadelab check --out target/check --junit target/check/default.xml
 ./target/release/shadelab check assets/*.toml --out target/check --junit target/check/assets.xml
+./target/release/shadelab check assets/hard/*.toml --out target/check --junit target/check/hard.xml

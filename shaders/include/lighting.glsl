@@ -7,7 +7,15 @@
 // Defined answers where naive float code is undefined (the same on the CPU):
 // - a zero normal (N = 0) receives the ambient term only;
 // - a light exactly at the shaded point (d = 0) contributes nothing;
-// - glossiness p = 0 gives S = 1 whenever N.L > 0 (x^0 = 1, even for x = 0).
+// - glossiness p = 0 gives S = 1 whenever N.L > 0 (x^0 = 1, even for x = 0);
+// - a light must face the surface by more than rounding: N.L <= FACING_EPS
+//   counts as behind the terminator. A light in the surface's own plane
+//   (N.L = 0 exactly, a rounding error either side in f32) would otherwise
+//   switch the whole specular term on at random (assets/hard/grazing-light).
+
+// 1e-5: ten times f32 rounding of a dot product of unit vectors, and only
+// 0.0006 degrees from the tangent plane.
+const float FACING_EPS = 1.0e-5;
 
 struct Surface {
     vec3 color;
@@ -31,7 +39,7 @@ bool light_faces(int j, vec3 P, vec3 N, out vec3 L, out float d, out float n_dot
     }
     L = to_light / d;
     n_dot_l = dot(N, L);
-    return n_dot_l > 0.0;
+    return n_dot_l > FACING_EPS;
 }
 
 // Light j's diffuse and specular terms, given `light_faces`' results.

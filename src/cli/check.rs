@@ -42,12 +42,13 @@ pub struct CheckArgs {
     #[arg(long)]
     interior_max_abs: Option<f64>,
     /// Largest share (0-1) of the image allowed to be edge pixels that differ
-    /// by more than 0.01.
-    #[arg(long, default_value_t = CheckThresholds::default().edge_fraction)]
-    edge_fraction: f64,
-    /// Largest mean FLIP allowed over the image.
-    #[arg(long, default_value_t = CheckThresholds::default().flip_mean)]
-    flip_mean: f64,
+    /// by more than 0.01 [default: 5e-4, and 5e-3 for raytrace].
+    #[arg(long)]
+    edge_fraction: Option<f64>,
+    /// Largest mean FLIP allowed over the image [default: 1e-3, and 5e-3 for
+    /// raytrace].
+    #[arg(long)]
+    flip_mean: Option<f64>,
 }
 
 fn parse_shading(s: &str) -> Result<Shading, String> {
@@ -63,18 +64,19 @@ fn io_failure(path: &Path, e: impl std::fmt::Display) -> Failure {
 }
 
 pub fn run(args: CheckArgs, options: &GpuOptions) -> Result<(), Failure> {
-    let limits_for = |shading: Shading| CheckThresholds {
-        interior_max_abs: args
-            .interior_max_abs
-            .unwrap_or(CheckThresholds::for_shading(shading).interior_max_abs),
-        edge_fraction: args.edge_fraction,
-        flip_mean: args.flip_mean,
-        ..CheckThresholds::for_shading(shading)
+    let limits_for = |shading: Shading| {
+        let defaults = CheckThresholds::for_shading(shading);
+        CheckThresholds {
+            interior_max_abs: args.interior_max_abs.unwrap_or(defaults.interior_max_abs),
+            edge_fraction: args.edge_fraction.unwrap_or(defaults.edge_fraction),
+            flip_mean: args.flip_mean.unwrap_or(defaults.flip_mean),
+            ..defaults
+        }
     };
     for (name, v) in [
         ("--interior-max-abs", args.interior_max_abs.unwrap_or(0.0)),
-        ("--edge-fraction", args.edge_fraction),
-        ("--flip-mean", args.flip_mean),
+        ("--edge-fraction", args.edge_fraction.unwrap_or(0.0)),
+        ("--flip-mean", args.flip_mean.unwrap_or(0.0)),
     ] {
         if !v.is_finite() || v < 0.0 {
             return Err(usage(format!(

@@ -9,6 +9,13 @@
 
 use glam::DVec3;
 
+/// A light must face the surface by more than rounding: `N·L <= FACING_EPS`
+/// counts as behind the terminator (the twin of `FACING_EPS` in
+/// lighting.glsl). A light in the surface's own plane has `N·L = 0`, which
+/// f32 turns into a rounding error of either sign; without this the GPU
+/// would switch the whole specular term on at random there.
+pub const FACING_EPS: f64 = 1e-5;
+
 use crate::scene::{Lighting, Material, PointLight};
 
 /// Intensity `I` (linear RGB) at point `p` with unit normal `n` (or zero),
@@ -55,7 +62,7 @@ pub fn shade_visible(
         }
         let l = to_light / d;
         let n_dot_l = n.dot(l);
-        if n_dot_l <= 0.0 || !visible(j, light) {
+        if n_dot_l <= FACING_EPS || !visible(j, light) {
             continue;
         }
         let il = if lighting.attenuation {

@@ -253,7 +253,12 @@ impl<'a> Tracer<'a> {
                             origin: o,
                             dir: to_light / distance,
                         };
-                        !self.accel.any(&shadow, distance)
+                        // Stop short of the light by the offset epsilon at
+                        // the light, as the ray starts off the surface: a
+                        // light on a surface would otherwise be hidden by
+                        // that surface at random (assets/hard/grazing-light).
+                        let reach = distance - offset_epsilon(light.position);
+                        !self.accel.any(&shadow, reach)
                     };
                     signature.light(j, visible);
                     visible

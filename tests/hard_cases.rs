@@ -1,0 +1,131 @@
+//! The hard-case suite (assets/hard/): every scene in every mode, GPU and
+//! CPU, finite everywhere and within `check`'s thresholds; and the exact
+//! answers the cases have.
+
+mod common;
+
+use std::path::PathBuf;
+
+use common::*;
+use glam::DVec3;
+use shadelab::check::{check, CheckThresholds};
+use shadelab::scene::{self, Scene, Shape};
+use shadelab::shading::Shading;
+
+const MODES: [Shading; 4] = [
+    Shading::Flat,
+    Shading::Gouraud,
+    Shading::Phong,
+    Shading::Raytrace,
+];
+
+fn hard(name: &str) -> Scene {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/hard")
+        .join(name);
+    scene::load(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn every_hard_case_is_finite_and_within_thresholds_in_every_mode() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/hard");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".toml"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 8, "{names:?}");
+    let context = gpu();
+    for name in names {
+        let s = hard(&name);
+        for mode in MODES {
+            let o = check(&context, &s, &s, mode, &CheckThresholds::for_shading(mode)).unwrap();
+            assert!(
+                o.actual.pixels.iter().flatten().all(|v| v.is_finite()),
+                "{name} {mode}: GPU non-finite"
+            );
+            assert!(
+                o.expected.pixels.iter().flatten().all(|v| v.is_finite()),
+                "{name} {mode}: CPU non-finite"
+            );
+            assert!(o.passed(), "{name} {mode}: {:?}", o.failures);
+        }
+    }
+}
+
+/// A light in the floor's own plane faces it by rounding only: the floor
+/// gets exactly its ambient term, in every mode, GPU and CPU alike.
+#[test]
+fn a_light_in_the_surface_plane_adds_nothing_to_it() {
+    for name in ["grazing-light.toml", "light-on-surface.toml"] {
+        let s = hard(name);
+        let floor = &s.materials[s.objects[0].material];
+        let ambient = s.lighting.ambient * floor.ka * floor.color;
+        let v = view(&s);
+        // A floor point away from the sphere and the light.
+        let at = v.project(DVec3::new(-2.0, 0.0, 2.0)).unwrap();
+        let (x, y) = (at.x as u32, at.y as u32);
+        let context = gpu();
+        for mode in MODES {
+            let gpu_value = to_dvec(render(&context, &s, mode).get(x, y));
+            let (cpu, _) = shadelab::render::render_cpu(&s, mode).unwrap();
+            for (side, value) in [("GPU", gpu_value), ("CPU", to_dvec(cpu.image.get(x, y)))] {
+                assert!(
+                    max_abs_diff(value, ambient) < 1e-6,
+                    "{name} {mode} {side}: {value} vs ambient {ambient}"
+                );
+            }
+        }
+    }
+}
+
+/// Far from the origin, camera-relative coordinates make the images those of
+/// the same scene moved to the origin.
+#[test]
+fn a_far_sphere_renders_as_if_at_the_origin() {
+    let context = gpu();
+    for name in ["far-sphere-1e4.toml", "far-sphere-1e5.toml"] {
+        let far = hard(name);
+        let mut near = far.clone();
+        let shift = DVec3::new(-far.camera.look_at.x, 0.0, 0.0);
+        near.camera.position += shift;
+        near.camera.look_at += shift;
+        for l in &mut near.lights {
+            l.position += shift;
+        }
+        for o in &mut near.objects {
+            if let Shape::Sphere { center, .. } = &mut o.shape {
+                *center += shift;
+            }
+        }
+        for mode in MODES {
+            let (a, b) = (render(&context, &far, mode), render(&context, &near, mode));
+            let worst = a
+                .pixels
+                .iter()
+                .zip(&b.pixels)
+                .map(|(p, q)| max_abs_diff(to_dvec(*p), to_dvec(*q)))
+                .fold(0.0, f64::max);
+            // The host subtracts the eye in f64, so the GPU sees the same f32
+            // inputs up to the f64 rounding of 1e5-sized sums (~1e-11).
+            assert!(
+                worst < 1e-5,
+                "{name} {mode}: GPU far vs near differ by {worst}"
+            );
+            let (fc, _) = shadelab::render::render_cpu(&far, mode).unwrap();
+            let (nc, _) = shadelab::render::render_cpu(&near, mode).unwrap();
+            let worst = fc
+                .image
+                .pixels
+                .iter()
+                .zip(&nc.image.pixels)
+                .map(|(p, q)| max_abs_diff(to_dvec(*p), to_dvec(*q)))
+                .fold(0.0, f64::max);
+            assert!(
+                worst < 1e-5,
+                "{name} {mode}: CPU far vs near differ by {worst}"
+            );
+        }
+    }
+}
