@@ -129,3 +129,26 @@ fn a_far_sphere_renders_as_if_at_the_origin() {
         }
     }
 }
+
+/// Of two coincident planes the first listed wins everywhere, in every mode:
+/// the image equals the scene without the second plane, on GPU and CPU.
+#[test]
+fn coincident_surfaces_have_a_deterministic_winner() {
+    let both = hard("coincident-planes.toml");
+    let mut first_only = both.clone();
+    first_only.objects.truncate(1);
+    let context = gpu();
+    for mode in MODES {
+        let (a, b) = (
+            render(&context, &both, mode),
+            render(&context, &first_only, mode),
+        );
+        assert_eq!(a, b, "{mode}: the second plane shows through on the GPU");
+        let (ca, _) = shadelab::render::render_cpu(&both, mode).unwrap();
+        let (cb, _) = shadelab::render::render_cpu(&first_only, mode).unwrap();
+        assert_eq!(
+            ca.image, cb.image,
+            "{mode}: the second plane shows through on the CPU"
+        );
+    }
+}
