@@ -3,6 +3,8 @@
 
 use std::fmt::Write as _;
 
+use crate::markup::escape;
+
 pub struct TestCase {
     /// Shown as the test's class (here: the scene).
     pub classname: String,
@@ -13,23 +15,6 @@ pub struct TestCase {
     pub failure: Option<String>,
     /// Figures worth keeping with the report (printed as `<system-out>`).
     pub output: String,
-}
-
-fn escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            // XML 1.0 forbids most control characters, even escaped.
-            c if (c as u32) < 0x20 && !matches!(c, '\n' | '\r' | '\t') => {}
-            c => out.push(c),
-        }
-    }
-    out
 }
 
 pub fn render(suite: &str, cases: &[TestCase]) -> String {

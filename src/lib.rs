@@ -14,6 +14,7 @@ pub mod error;
 pub mod gpu;
 pub mod junit;
 pub mod linear_image;
+pub mod markup;
 pub mod metrics;
 pub mod output;
 pub mod render;

@@ -26,6 +26,16 @@ pub struct Timings {
 }
 
 impl Timings {
+    /// The CPU reference's timings: wall time since `started`, nothing else.
+    fn cpu(started: Instant) -> Self {
+        Self {
+            total_ms: started.elapsed().as_secs_f64() * 1e3,
+            gpu_ms: None,
+            submit_ms: None,
+            pipeline_ms: None,
+        }
+    }
+
     /// The time the rendering work itself took: submission to completion
     /// on the GPU, the whole render on the CPU.
     pub fn work_ms(&self) -> f64 {
@@ -102,12 +112,7 @@ pub fn render_cpu(scene: &Scene, shading: Shading) -> Result<(Rendered, Coverage
     let out = cpu::raster::render(scene, mode);
     let rendered = Rendered {
         image: out.image,
-        timings: Timings {
-            total_ms: started.elapsed().as_secs_f64() * 1e3,
-            gpu_ms: None,
-            submit_ms: None,
-            pipeline_ms: None,
-        },
+        timings: Timings::cpu(started),
         ray_stats: None,
     };
     let surface_ids = if mode == RasterMode::Flat {
@@ -132,12 +137,7 @@ fn raytrace_cpu(scene: &Scene) -> (Rendered, Coverage) {
     let out = cpu::raytrace::render(scene);
     let rendered = Rendered {
         image: out.image,
-        timings: Timings {
-            total_ms: started.elapsed().as_secs_f64() * 1e3,
-            gpu_ms: None,
-            submit_ms: None,
-            pipeline_ms: None,
-        },
+        timings: Timings::cpu(started),
         ray_stats: Some(out.stats),
     };
     let near_edge = signature_edges(

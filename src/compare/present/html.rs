@@ -10,21 +10,7 @@ use base64::Engine;
 use super::{figure, mode_colour, Png, VariantImages, PARETO_COLOUR};
 use crate::compare::report::{Errors, Report};
 
-/// Escapes text for HTML element content and quoted attribute values.
-pub fn escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&#39;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
+pub use crate::markup::escape;
 
 /// A `data:` URI for PNG bytes.
 pub fn png_data_uri(bytes: &[u8]) -> String {
