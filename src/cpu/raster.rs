@@ -31,6 +31,13 @@ const BAND_ROWS: u32 = 8;
 /// (under 0.001 px even at 16384 pixels). 1/64 px is three times their sum.
 pub const EDGE_MARGIN: f64 = 1.0 / 64.0;
 
+/// Phong samples whose interpolated normal is shorter than this (vertex
+/// normals are unit) are counted with the edge samples: where opposite vertex
+/// normals meet, the unit normal flips across a line, and f32 interpolation
+/// (relative error ~1e-7) may put a sample within 1e-4 of it on the other
+/// side (`assets/hard/bad-normals.toml`).
+pub const VANISHING_NORMAL: f64 = 1e-4;
+
 /// The reference image and, per pixel, what it shows.
 pub struct CpuRender {
     pub image: LinearImage,
@@ -39,8 +46,9 @@ pub struct CpuRender {
     /// Triangle per pixel, numbered across all objects in scene order.
     pub triangle_ids: Vec<Option<u32>>,
     /// Pixels whose sample lies within `EDGE_MARGIN` of the boundary of a
-    /// triangle that is not hidden there: the only pixels where another
-    /// conforming rasterizer may legitimately show something else.
+    /// triangle that is not hidden there, or (Phong) whose interpolated
+    /// normal is shorter than `VANISHING_NORMAL`: the only pixels where
+    /// another conforming rasterizer may legitimately show something else.
     pub near_edge: Vec<bool>,
 }
 
@@ -248,7 +256,7 @@ fn shade_sample(
     mode: RasterMode,
     t: &Triangle,
     bary: [f64; 3],
-) -> DVec3 {
+) -> (DVec3, bool) {
     // Perspective-correct weights; with screen-linear interpolation the
     // attributes carry a factor w that `weight` divides back out.
     let w = [
@@ -269,20 +277,22 @@ fn shade_sample(
             * scale
     };
     match mode {
-        RasterMode::Flat => t.flat_color,
-        RasterMode::Gouraud => mix(|v| v.intensity),
+        RasterMode::Flat => (t.flat_color, false),
+        RasterMode::Gouraud => (mix(|v| v.intensity), false),
         RasterMode::Phong => {
             let position = mix(|v| v.position) + view.eye;
-            let normal = mix(|v| v.normal).normalize_or_zero();
+            let interpolated = mix(|v| v.normal);
+            let normal = interpolated.normalize_or_zero();
             let material = &scene.materials[scene.objects[t.object as usize].material];
-            shade(
+            let color = shade(
                 &scene.lighting,
                 &scene.lights,
                 material,
                 position,
                 normal,
                 view.eye,
-            )
+            );
+            (color, interpolated.length() < VANISHING_NORMAL)
         }
     }
 }
@@ -310,6 +320,7 @@ pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
             let mut color = vec![background; count];
             let mut ids = vec![None; count];
             let mut tri_ids = vec![None; count];
+            let mut vanishing = vec![false; count];
             // Reversed depth: cleared to 0, nearer is greater.
             let mut depth = vec![0.0f64; count];
             for t in &triangles {
@@ -326,14 +337,14 @@ pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
                             depth[i] = z;
                             ids[i] = Some(t.object);
                             tri_ids[i] = Some(t.primitive);
-                            color[i] = shade_sample(scene, &view, mode, t, bary);
+                            (color[i], vanishing[i]) = shade_sample(scene, &view, mode, t, bary);
                         }
                     }
                 }
             }
             // Second pass, against the final depth: mark samples near the
             // boundary of every triangle that is not behind what they show.
-            let mut near_edge = vec![false; count];
+            let mut near_edge = vanishing;
             for t in &triangles {
                 if t.max.1 + 1 < y0 || t.min.1 > y1 {
                     continue;

@@ -21,6 +21,18 @@ Every file is tiny and hand-built so the tests can check exact numbers:
                         light (KHR_lights_punctual), a BLEND material with
                         KHR_materials_ior
 - mirrored.gltf         a triangle under a node with scale [-1, 1, 1]
+
+and, for the hard-case suite, into ../../assets/hard/models/:
+
+- slivers.gltf          a square in y = 0 tiled by six triangles, two of them
+                        slivers (aspect ratio 1e6 and 2e6), plus three
+                        zero-area ones (a repeated index, three collinear
+                        vertices, three distinct vertices at one point); no
+                        NORMAL, so normals are computed from faces
+- bad-normals.gltf      three squares in y = 0: zero-length normals,
+                        non-unit normals (lengths 1e-3 to 100), and normals
+                        +Y on one side and -Y on the other, so that the
+                        interpolated normal passes through zero mid-square
 """
 
 import base64
@@ -316,6 +328,80 @@ def mirrored():
     write_gltf("mirrored.gltf", b.finish(doc))
 
 
+HARD = os.path.join(HERE, "..", "..", "assets", "hard", "models")
+
+
+def write_hard(name, doc):
+    with open(os.path.join(HARD, name), "w", encoding="utf-8") as f:
+        json.dump(doc, f, indent=1)
+        f.write("\n")
+
+
+def up_facing(pos, tri):
+    """Orders a triangle of points in y = 0 counter-clockwise seen from +Y."""
+    a, b, c = (pos[i] for i in tri)
+    # y component of (b - a) x (c - a)
+    cross_y = (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2])
+    return list(tri) if cross_y > 0 else [tri[0], tri[2], tri[1]]
+
+
+def slivers():
+    b = Builder()
+    ez = 1.0 - 2e-6
+    # M: the midpoint of E-C moved 1e-6 toward D, across the line E-C.
+    mx, mz = 0.5, (-ez + 1.0) / 2
+    nx, nz = -2 / 5 ** 0.5, 1 / 5 ** 0.5
+    pos = [(-1, 0, -1), (1, 0, -1), (1, 0, 1), (-1, 0, 1),   # A B C D
+           (0, 0, -ez),                                      # E, 2e-6 off A-B
+           (mx + 1e-6 * nx, 0, mz + 1e-6 * nz),              # M
+           (0, 0, -1),                                       # on A-B
+           (0.3, 0, 0.3), (0.3, 0, 0.3), (0.3, 0, 0.3)]      # one point, thrice
+    A, B, C, D, E, M, N, P, Q, R = range(10)
+    kept = [(A, E, B), (A, D, E), (E, D, M), (M, D, C), (E, M, C), (E, C, B)]
+    idx = []
+    for t in kept:
+        idx += up_facing(pos, t)
+    idx += [A, A, B,      # a repeated index
+            A, N, B,      # collinear
+            P, Q, R]      # three vertices at one point
+    doc = {
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"name": "slivers", "primitives": [{
+            "attributes": {"POSITION": b.vec3(pos)},
+            "indices": b.indices(idx)}]}],
+    }
+    write_hard("slivers.gltf", b.finish(doc))
+
+
+def bad_normals():
+    b = Builder()
+    meshes, nodes = [], []
+    cases = [
+        ("zero-length", [(0, 0, 0)] * 4),
+        ("non-unit", [(0, 1e-3, 0), (0, 100, 0), (0, 0.5, 0), (0, 3, 0)]),
+        ("opposite", [(0, 1, 0), (0, 1, 0), (0, -1, 0), (0, -1, 0)]),
+    ]
+    for k, (name, normals) in enumerate(cases):
+        x0 = -3.3 + 2.2 * k
+        # Corners in the order near-left, near-right, far-right, far-left:
+        # the +Y normals of "opposite" are on the near edge (z = 1).
+        pos = [(x0, 0, 1), (x0 + 2, 0, 1), (x0 + 2, 0, -1), (x0, 0, -1)]
+        idx = up_facing(pos, (0, 1, 2)) + up_facing(pos, (0, 2, 3))
+        meshes.append({"name": name, "primitives": [{
+            "attributes": {"POSITION": b.vec3(pos), "NORMAL": b.vec3(normals)},
+            "indices": b.indices(idx)}]})
+        nodes.append({"name": name, "mesh": k})
+    doc = {
+        "scene": 0,
+        "scenes": [{"nodes": list(range(len(nodes)))}],
+        "nodes": nodes,
+        "meshes": meshes,
+    }
+    write_hard("bad-normals.gltf", b.finish(doc))
+
+
 def main():
     tri_indexed()
     tri_unindexed()
@@ -327,6 +413,8 @@ def main():
     corrupt()
     scene_with_camera_light()
     mirrored()
+    slivers()
+    bad_normals()
 
 
 if __name__ == "__main__":
