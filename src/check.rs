@@ -8,7 +8,14 @@
 //! positions may cover it differently; every other pixel is interior and
 //! must agree to float rounding, however small its triangle. Only the share
 //! of edge pixels that differ is bounded.
+//!
+//! The limits are in units of display brightness. An image whose brightest
+//! value lies outside `DISPLAY_RANGE` (a light of 1e30 or 1e-30, say) is
+//! compared in units of that value instead, so that the same limits become
+//! relative ones: against an absolute limit, f32 rounding at 1e30 would fail
+//! every pixel and any error at 1e-30 would pass.
 
+use std::borrow::Cow;
 use std::sync::Arc;
 
 use crate::error::Error;
@@ -90,6 +97,43 @@ impl CheckThresholds {
     }
 }
 
+/// Brightest values for which the limits are absolute. Inside it they keep
+/// their measured meaning (the ordinary scenes peak between 0.3 and 40).
+pub const DISPLAY_RANGE: (f64, f64) = (1e-3, 1e3);
+
+/// The unit the images are compared in: 1, or the reference's brightest
+/// finite value when that lies outside `DISPLAY_RANGE`.
+pub fn comparison_scale(expected: &LinearImage) -> f64 {
+    let brightest = expected
+        .pixels
+        .iter()
+        .flatten()
+        .filter(|v| v.is_finite())
+        .fold(0.0f64, |m, &v| m.max(f64::from(v)));
+    let (low, high) = DISPLAY_RANGE;
+    if brightest > 0.0 && !(low..=high).contains(&brightest) {
+        brightest
+    } else {
+        1.0
+    }
+}
+
+/// `image` divided by `scale` (borrowed as it is when `scale` is 1).
+pub fn scaled(image: &LinearImage, scale: f64) -> Cow<'_, LinearImage> {
+    if scale == 1.0 {
+        return Cow::Borrowed(image);
+    }
+    Cow::Owned(LinearImage {
+        pixels: image
+            .pixels
+            .iter()
+            .map(|p| p.map(|v| (f64::from(v) / scale) as f32))
+            .collect(),
+        width: image.width,
+        height: image.height,
+    })
+}
+
 /// One scene in one mode, checked.
 pub struct CheckOutcome {
     pub shading: Shading,
@@ -103,6 +147,9 @@ pub struct CheckOutcome {
     /// the whole image.
     pub edge_share: f64,
     pub flip: FlipStats,
+    /// The unit of the figures above (`comparison_scale`): 1 for images in
+    /// the display range.
+    pub scale: f64,
     /// One line per threshold exceeded, with the figure and the limit.
     pub failures: Vec<String>,
     pub gpu_ms: f64,
@@ -135,9 +182,11 @@ pub fn check(
     let edge_mask = coverage.near_edge;
     let interior_mask: Vec<bool> = edge_mask.iter().map(|e| !e).collect();
     let pixel = limits.edge_pixel_error;
-    let interior = ErrorStats::compute(&expected.image, &actual.image, Some(&interior_mask), pixel);
-    let edges = ErrorStats::compute(&expected.image, &actual.image, Some(&edge_mask), pixel);
-    let flip = flip(&expected.image, &actual.image, PIXELS_PER_DEGREE);
+    let scale = comparison_scale(&expected.image);
+    let (e, a) = (scaled(&expected.image, scale), scaled(&actual.image, scale));
+    let interior = ErrorStats::compute(&e, &a, Some(&interior_mask), pixel);
+    let edges = ErrorStats::compute(&e, &a, Some(&edge_mask), pixel);
+    let flip = flip(&e, &a, PIXELS_PER_DEGREE);
 
     let mut failures = Vec::new();
     if !within(interior.max_abs, limits.interior_max_abs) {
@@ -176,6 +225,7 @@ pub fn check(
         edges,
         edge_share,
         flip,
+        scale,
         failures,
     })
 }

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use shadelab::check::{check, CheckOutcome, CheckThresholds};
+use shadelab::check::{check, scaled, CheckOutcome, CheckThresholds};
 use shadelab::gpu::{GpuContext, GpuOptions};
 use shadelab::junit::{self, TestCase};
 use shadelab::metrics::heatmap::flip_heatmap;
@@ -146,6 +146,7 @@ pub fn run(args: CheckArgs, options: &GpuOptions) -> Result<(), Failure> {
                 "edge_share": outcome.edge_share,
                 "flip_mean": outcome.flip.mean,
                 "flip_p99": outcome.flip.p99,
+                "scale": outcome.scale,
                 "gpu_ms": outcome.gpu_ms,
                 "cpu_ms": outcome.cpu_ms,
                 "images": folder.join(shading.to_string()),
@@ -184,8 +185,16 @@ pub fn run(args: CheckArgs, options: &GpuOptions) -> Result<(), Failure> {
 }
 
 fn summary(o: &CheckOutcome) -> String {
+    let unit = if o.scale == 1.0 {
+        String::new()
+    } else {
+        format!(
+            "  (errors relative to the brightest value, {:.1e})",
+            o.scale
+        )
+    };
     format!(
-        "interior max {:.1e}  differing edge pixels {:.4}%  FLIP mean {:.1e}  (GPU {:.0} ms, CPU {:.0} ms)",
+        "interior max {:.1e}  differing edge pixels {:.4}%  FLIP mean {:.1e}  (GPU {:.0} ms, CPU {:.0} ms){unit}",
         o.interior.max_abs,
         o.edge_share * 100.0,
         o.flip.mean,
@@ -194,10 +203,14 @@ fn summary(o: &CheckOutcome) -> String {
     )
 }
 
+/// The images as compared: in units of `o.scale`, so that a scene lit at
+/// 1e30 is not written all white.
 fn write_images(folder: &Path, o: &CheckOutcome) -> Result<(), Failure> {
     let mode = o.shading.to_string();
-    write_image(&o.expected, &folder.join(format!("{mode}-expected.png")))?;
-    write_image(&o.actual, &folder.join(format!("{mode}-actual.png")))?;
+    let expected = scaled(&o.expected, o.scale);
+    let actual = scaled(&o.actual, o.scale);
+    write_image(&expected, &folder.join(format!("{mode}-expected.png")))?;
+    write_image(&actual, &folder.join(format!("{mode}-actual.png")))?;
     write_image(
         &flip_heatmap(&o.flip),
         &folder.join(format!("{mode}-diff.png")),
