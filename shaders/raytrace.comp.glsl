@@ -137,34 +137,57 @@ void hit_box(vec3 o, vec3 d, uint index, inout Hit best) {
     best = Hit(t, n, n, boxes[index].material_object.x, object, 0u);
 }
 
-void hit_triangle(vec3 o, vec3 d, uint index, inout Hit best) {
-    vec3 a = triangles[index].p0.xyz;
-    vec3 e1 = triangles[index].p1.xyz - a;
-    vec3 e2 = triangles[index].p2.xyz - a;
-    vec3 pv = cross(d, e2);
-    float det = dot(e1, pv);
-    if (det == 0.0) {
+// The watertight test of Woop, Benthin and Wald (JCGT 2013), no culling:
+// the twin of cpu::intersect::triangle, whose comment says why no ray slips
+// between two triangles. `frame` is the ray's shear (ray_frame below).
+struct RayFrame {
+    ivec3 axes;
+    vec3 shear;
+};
+
+RayFrame ray_frame(vec3 d) {
+    vec3 a = abs(d);
+    int kz = (a.x >= a.y && a.x >= a.z) ? 0 : (a.y >= a.z ? 1 : 2);
+    int kx = (kz + 1) % 3;
+    int ky = (kz + 2) % 3;
+    if (d[kz] < 0.0) {
+        int swap = kx;
+        kx = ky;
+        ky = swap;
+    }
+    return RayFrame(ivec3(kx, ky, kz), vec3(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]));
+}
+
+vec3 sheared(RayFrame f, vec3 p) {
+    return vec3(p[f.axes.x] - f.shear.x * p[f.axes.z], p[f.axes.y] - f.shear.y * p[f.axes.z],
+                f.shear.z * p[f.axes.z]);
+}
+
+void hit_triangle(vec3 o, RayFrame frame, uint index, inout Hit best) {
+    vec3 p0 = triangles[index].p0.xyz;
+    vec3 p1 = triangles[index].p1.xyz;
+    vec3 p2 = triangles[index].p2.xyz;
+    vec3 a = sheared(frame, p0 - o);
+    vec3 b = sheared(frame, p1 - o);
+    vec3 c = sheared(frame, p2 - o);
+    float u = c.x * b.y - c.y * b.x;
+    float v = a.x * c.y - a.y * c.x;
+    float w = b.x * a.y - b.y * a.x;
+    bool inside = (u >= 0.0 && v >= 0.0 && w >= 0.0) || (u <= 0.0 && v <= 0.0 && w <= 0.0);
+    float det = u + v + w;
+    if (!inside || det == 0.0) {
         return;
     }
-    float inv = 1.0 / det;
-    vec3 tv = o - a;
-    float u = dot(tv, pv) * inv;
-    if (u < 0.0 || u > 1.0) {
-        return;
-    }
-    vec3 qv = cross(tv, e1);
-    float v = dot(d, qv) * inv;
-    if (v < 0.0 || u + v > 1.0) {
-        return;
-    }
-    float t = dot(e2, qv) * inv;
+    float t = (u * a.z + v * b.z + w * c.z) / det;
     uint object = triangles[index].material_object.y;
     if (!(t > 0.0) || !nearer(t, object, index, best)) {
         return;
     }
-    vec3 n = unit_or_zero((1.0 - u - v) * triangles[index].n0.xyz + u * triangles[index].n1.xyz
-                          + v * triangles[index].n2.xyz);
-    best = Hit(t, n, normalize(cross(e1, e2)), triangles[index].material_object.x, object, index);
+    float bu = v / det;
+    float bv = w / det;
+    vec3 n = unit_or_zero((1.0 - bu - bv) * triangles[index].n0.xyz + bu * triangles[index].n1.xyz
+                          + bv * triangles[index].n2.xyz);
+    best = Hit(t, n, normalize(cross(p1 - p0, p2 - p0)), triangles[index].material_object.x, object, index);
 }
 
 // Slab test of a BVH node against [0, t_max].
@@ -183,6 +206,7 @@ void hit_meshes(vec3 o, vec3 d, inout Hit best) {
     // then sorts that axis out (lo - o and hi - o have the same sign or
     // the ray lies inside the slab).
     vec3 inv_d = vec3(1.0) / d;
+    RayFrame frame = ray_frame(d);
     uint stack[BVH_STACK_SIZE];
     int top = 0;
     stack[top++] = 0u;
@@ -195,7 +219,7 @@ void hit_meshes(vec3 o, vec3 d, inout Hit best) {
         uint first = nodes[node].first;
         if (count > 0u) {
             for (uint k = 0u; k < count; ++k) {
-                hit_triangle(o, d, primitive_indices[first + k], best);
+                hit_triangle(o, frame, primitive_indices[first + k], best);
             }
         } else if (top + 2 <= BVH_STACK_SIZE) {
             stack[top++] = first + 1u;

@@ -60,7 +60,7 @@ pub struct RtScene {
     pub boxes: Vec<RtBox>,
     pub triangles: Vec<RtTriangle>,
     /// Over `triangles`, built from their f32-rounded positions. Its boxes
-    /// bound the f32 triangles; the CPU widens them slightly before use.
+    /// bound the f32 triangles; both tracers widen them (`widened_box`).
     pub bvh: Bvh2,
     pub materials: Vec<Material>,
     /// Positions relative to the eye.
@@ -194,4 +194,18 @@ impl RayStats {
     pub fn total(&self) -> u64 {
         self.primary + self.shadow + self.reflected + self.refracted
     }
+}
+
+/// Relative widening of the BVH's boxes: f32 rounding moves a coordinate by
+/// at most 6e-8 of its magnitude, so 1e-5 leaves a factor of 100.
+pub const BOX_WIDENING: f64 = 1e-5;
+
+/// A BVH box moved outward by `BOX_WIDENING * max(1, |x|)` per coordinate.
+/// The CPU needs it so that no f64 triangle pokes out of a box built from
+/// its f32 rounding; the GPU so that a ray along an edge shared by two
+/// boxes, which lies on both boxes' faces, is not rejected by both slab
+/// tests' rounding (`tests/hard_cases.rs`, rays along shared edges).
+pub fn widened_box(min: DVec3, max: DVec3) -> (DVec3, DVec3) {
+    let margin = |x: DVec3| BOX_WIDENING * x.abs().max(DVec3::ONE);
+    (min - margin(min), max + margin(max))
 }

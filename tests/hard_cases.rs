@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use common::*;
 use glam::DVec3;
 use shadelab::check::{check, CheckThresholds};
-use shadelab::scene::{self, Scene, Shape, TriangleMesh};
+use shadelab::scene::{self, Object, Scene, Shape, TriangleMesh};
 use shadelab::shading::Shading;
 
 const MODES: [Shading; 4] = [
@@ -459,4 +459,74 @@ fn huge_and_tiny_intensities_scale_the_image() {
     .unwrap();
     assert!(!o.passed(), "a 1% brighter light at 1e-30 went unnoticed");
     assert!((o.scale / 1e-30 - 1.0).abs() < 0.5, "scale {}", o.scale);
+}
+
+/// A tilted grid mesh whose every pixel centre in `inner` lies on a shared
+/// edge or vertex: vertices are where the rays through every other pixel
+/// centre meet the plane, so edges and diagonals pass through the rest.
+fn grid_on_pixel_centres() -> (
+    Scene,
+    std::ops::RangeInclusive<u32>,
+    std::ops::RangeInclusive<u32>,
+) {
+    let mut s = common::scene(128, 96, 40.0);
+    s.image.background = DVec3::new(0.0, 0.0, 1.0);
+    s.render.shadows = false;
+    let v = view(&s);
+    let normal = DVec3::new(0.3, -0.2, 1.0).normalize();
+    let (nx, ny) = (50u32, 36u32);
+    let mut positions = Vec::new();
+    for j in 0..=ny {
+        for i in 0..=nx {
+            let d = v.ray_direction(f64::from(14 + 2 * i) + 0.5, f64::from(12 + 2 * j) + 0.5);
+            // The plane through the origin with `normal`, from the eye.
+            let t = -v.eye.dot(normal) / d.dot(normal);
+            positions.push(v.eye + t * d);
+        }
+    }
+    let at = |i: u32, j: u32| j * (nx + 1) + i;
+    let mut triangles = Vec::new();
+    for j in 0..ny {
+        for i in 0..nx {
+            triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    let normals = vec![normal; positions.len()];
+    s.objects.push(Object {
+        shape: Shape::Mesh(TriangleMesh {
+            positions,
+            normals,
+            triangles,
+        }),
+        material: 0,
+    });
+    (s, 15..=(13 + 2 * nx), 13..=(11 + 2 * ny))
+}
+
+/// No ray leaks through a mesh between its triangles: on a grid whose every
+/// pixel centre lies exactly on a shared edge or vertex, no pixel inside
+/// shows the background, GPU or CPU.
+#[test]
+fn rays_along_shared_edges_do_not_leak() {
+    let (s, xs, ys) = grid_on_pixel_centres();
+    let context = gpu();
+    let (cpu, _) = shadelab::render::render_cpu(&s, Shading::Raytrace).unwrap();
+    for (side, image) in [
+        ("GPU", render(&context, &s, Shading::Raytrace)),
+        ("CPU", cpu.image),
+    ] {
+        let leaks: Vec<(u32, u32)> = ys
+            .clone()
+            .flat_map(|y| xs.clone().map(move |x| (x, y)))
+            .filter(|&(x, y)| image.get(x, y) == [0.0, 0.0, 1.0])
+            .collect();
+        assert!(
+            leaks.is_empty(),
+            "{side}: {} of {} rays leak, first at {:?}",
+            leaks.len(),
+            xs.clone().count() * ys.clone().count(),
+            leaks.first()
+        );
+    }
 }

@@ -7,7 +7,7 @@
 
 use glam::DVec3;
 
-use crate::rt_scene::{RtBox, RtPlane, RtScene, RtSphere, RtTriangle};
+use crate::rt_scene::{widened_box, RtBox, RtPlane, RtScene, RtSphere, RtTriangle};
 
 /// A ray `origin + t dir`, `dir` a unit vector.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -136,22 +136,70 @@ pub fn cuboid(ray: &Ray, b: &RtBox) -> Option<(f64, DVec3, u32)> {
     Some((t, b.rotation * local, face))
 }
 
-/// Möller–Trumbore with no culling: `(t, u, v)`, the barycentrics of the
-/// second and third vertices.
+/// The watertight ray/triangle test of Woop, Benthin and Wald (JCGT 2013),
+/// with no culling: `(t, u, v)`, the barycentrics of the second and third
+/// vertices. The twin of `hit_triangle` in raytrace.comp.glsl.
+///
+/// The vertices are moved into a frame where the ray runs along +z from the
+/// origin; the three edge functions are then 2D cross products of vertex
+/// coordinates that each vertex computes on its own. A shared edge gives its
+/// two triangles the same two products in the other order, so their edge
+/// functions are exact negatives and a ray cannot slip between them. An
+/// edge function that rounds to exactly 0 counts as inside for both
+/// triangles (the tie rule of docs/raytracing.md then picks one).
 pub fn triangle(ray: &Ray, tri: &RtTriangle) -> Option<(f64, f64, f64)> {
-    let [a, b, c] = tri.positions;
-    let (e1, e2) = (b - a, c - a);
-    let pv = ray.dir.cross(e2);
-    let det = e1.dot(pv);
-    if det == 0.0 {
+    let frame = RayFrame::new(ray.dir);
+    let [a, b, c] = tri.positions.map(|p| frame.transform(p - ray.origin));
+    let u = c.x * b.y - c.y * b.x;
+    let v = a.x * c.y - a.y * c.x;
+    let w = b.x * a.y - b.y * a.x;
+    let inside = (u >= 0.0 && v >= 0.0 && w >= 0.0) || (u <= 0.0 && v <= 0.0 && w <= 0.0);
+    let det = u + v + w;
+    if !inside || det == 0.0 {
         return None;
     }
-    let tv = ray.origin - a;
-    let u = tv.dot(pv) / det;
-    let qv = tv.cross(e1);
-    let v = ray.dir.dot(qv) / det;
-    let t = e2.dot(qv) / det;
-    (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0).then_some((t, u, v))
+    let t = (u * a.z + v * b.z + w * c.z) / det;
+    (t > 0.0).then_some((t, v / det, w / det))
+}
+
+/// The shear of the watertight test: `z` is the ray's largest component,
+/// `x` and `y` the next two in cyclic order (swapped when `d.z < 0`, which
+/// keeps the winding).
+struct RayFrame {
+    axes: [usize; 3],
+    shear: DVec3,
+}
+
+impl RayFrame {
+    fn new(d: DVec3) -> Self {
+        let a = d.abs();
+        let kz = if a.x >= a.y && a.x >= a.z {
+            0
+        } else if a.y >= a.z {
+            1
+        } else {
+            2
+        };
+        let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        if d[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        Self {
+            axes: [kx, ky, kz],
+            shear: DVec3::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]),
+        }
+    }
+
+    /// A point relative to the ray origin, sheared so that the ray is +z:
+    /// `(x - Sx z, y - Sy z, Sz z)`.
+    fn transform(&self, p: DVec3) -> DVec3 {
+        let [kx, ky, kz] = self.axes;
+        DVec3::new(
+            p[kx] - self.shear.x * p[kz],
+            p[ky] - self.shear.y * p[kz],
+            self.shear.z * p[kz],
+        )
+    }
 }
 
 /// The normal at barycentrics `(u, v)`: `normalize((1-u-v) n0 + u n1 + v n2)`,
@@ -175,18 +223,6 @@ struct Node {
     max: DVec3,
     prim_count: u32,
     first_index: u32,
-}
-
-/// Relative widening of the BVH's f32 boxes: f32 rounding moves a coordinate
-/// by at most 6e-8 of its magnitude, so 1e-5 leaves a factor of 100.
-const BOX_WIDENING: f64 = 1e-5;
-
-fn widen_down(x: f64) -> f64 {
-    x - BOX_WIDENING * x.abs().max(1.0)
-}
-
-fn widen_up(x: f64) -> f64 {
-    x + BOX_WIDENING * x.abs().max(1.0)
 }
 
 /// Entry distance of a ray into an axis-aligned box, if it meets the box at
@@ -291,10 +327,10 @@ impl<'a> Accel<'a> {
                 .iter()
                 .map(|n| {
                     let aabb = n.aabb();
-                    let (lo, hi) = (aabb.min.as_dvec3(), aabb.max.as_dvec3());
+                    let (min, max) = widened_box(aabb.min.as_dvec3(), aabb.max.as_dvec3());
                     Node {
-                        min: DVec3::new(widen_down(lo.x), widen_down(lo.y), widen_down(lo.z)),
-                        max: DVec3::new(widen_up(hi.x), widen_up(hi.y), widen_up(hi.z)),
+                        min,
+                        max,
                         prim_count: n.prim_count,
                         first_index: n.first_index,
                     }

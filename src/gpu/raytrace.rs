@@ -23,7 +23,7 @@ use super::shader_catalog::RAYTRACE_COMP;
 use super::timestamps::{GpuTimings, Timestamps};
 use crate::camera::View;
 use crate::linear_image::LinearImage;
-use crate::rt_scene::{RayStats, RtScene};
+use crate::rt_scene::{widened_box, RayStats, RtScene};
 use crate::scene::Scene;
 
 /// Workgroup edge: `local_size_x` and `local_size_y` in the shader.
@@ -168,11 +168,14 @@ fn records(rt: &RtScene) -> SceneRecords {
             .bvh
             .nodes
             .iter()
-            .map(|n| GpuBvhNode {
-                lo: n.aabb.min.to_array(),
-                prim_count: n.prim_count,
-                hi: n.aabb.max.to_array(),
-                first: n.first_index,
+            .map(|n| {
+                let (lo, hi) = widened_box(n.aabb.min.as_dvec3(), n.aabb.max.as_dvec3());
+                GpuBvhNode {
+                    lo: lo.as_vec3().to_array(),
+                    prim_count: n.prim_count,
+                    hi: hi.as_vec3().to_array(),
+                    first: n.first_index,
+                }
             })
             .collect(),
         primitive_indices: rt.bvh.primitive_indices.clone(),
