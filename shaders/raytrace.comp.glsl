@@ -170,9 +170,12 @@ void hit_triangle(vec3 o, RayFrame frame, uint index, inout Hit best) {
     vec3 a = sheared(frame, p0 - o);
     vec3 b = sheared(frame, p1 - o);
     vec3 c = sheared(frame, p2 - o);
-    float u = c.x * b.y - c.y * b.x;
-    float v = a.x * c.y - a.y * c.x;
-    float w = b.x * a.y - b.y * a.x;
+    // `precise`: a fused multiply-add would round one product and not the
+    // other, and the neighbour's edge function would no longer be the exact
+    // negative of this one.
+    precise float u = c.x * b.y - c.y * b.x;
+    precise float v = a.x * c.y - a.y * c.x;
+    precise float w = b.x * a.y - b.y * a.x;
     bool inside = (u >= 0.0 && v >= 0.0 && w >= 0.0) || (u <= 0.0 && v <= 0.0 && w <= 0.0);
     float det = u + v + w;
     if (!inside || det == 0.0) {
