@@ -103,8 +103,18 @@ pub struct Coverage {
     pub near_edge: Vec<bool>,
 }
 
-/// The CPU reference (`f64`) and what it knows about each pixel.
+/// The CPU reference (`f64`) and what it knows about each pixel. Refuses an
+/// image over the GPU's pixel cap (`raster::MAX_PIXELS`): the reference holds
+/// it in f64 with per-pixel coverage, and every caller (`render --backend
+/// cpu`, `check`, `compare`) should fail fast rather than run out of memory.
 pub fn render_cpu(scene: &Scene, shading: Shading) -> Result<(Rendered, Coverage), Error> {
+    let (width, height) = (scene.image.width, scene.image.height);
+    if u64::from(width) * u64::from(height) > raster::MAX_PIXELS {
+        return Err(Error::Usage(format!(
+            "a {width}x{height} image exceeds the limit of {} pixels (8192 x 8192); choose a smaller --width/--height",
+            raster::MAX_PIXELS
+        )));
+    }
     let Some(mode) = shading.raster_mode() else {
         return Ok(raytrace_cpu(scene));
     };

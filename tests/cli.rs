@@ -568,3 +568,54 @@ fn compare_shards_merge_from_the_command_line() {
         "images come along"
     );
 }
+
+/// The size, depth and run-count checks are shared by every command that
+/// takes them, and the CPU reference refuses an image over the pixel cap
+/// itself: before, `bench` clamped `--depth` silently and `compare` set off
+/// a 268-megapixel CPU render.
+#[test]
+fn every_command_checks_size_depth_and_runs_alike() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases: [(&[&str], &str); 6] = [
+        (&["bench", "--width", "0"], "--width 0"),
+        (&["bench", "--depth", "65"], "--depth 65"),
+        (&["check", "--height", "0", "--out", "c"], "--height 0"),
+        (&["compare", "--out", "o", "--runs", "0"], "--runs 0"),
+        (
+            &[
+                "compare", "--out", "o", "--width", "16384", "--height", "16384",
+            ],
+            "16384x16384",
+        ),
+        (
+            &[
+                "render",
+                "--backend",
+                "cpu",
+                "--width",
+                "16384",
+                "--height",
+                "16384",
+                "--out",
+                "x.png",
+            ],
+            "16384x16384",
+        ),
+    ];
+    for (args, expect) in cases {
+        let run = shadelab(dir.path(), args);
+        assert_eq!(run.code, 2, "{args:?}: {}", run.stderr);
+        let lines: Vec<&str> = run
+            .stderr
+            .lines()
+            .filter(|l| !l.trim().is_empty())
+            .collect();
+        assert_eq!(lines.len(), 1, "{args:?}: {}", run.stderr);
+        assert!(
+            lines[0].starts_with("shadelab: error: ") && lines[0].contains(expect),
+            "{args:?}: {}",
+            lines[0]
+        );
+    }
+    assert!(!dir.path().join("x.png").exists());
+}

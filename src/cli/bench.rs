@@ -11,6 +11,7 @@ use shadelab::gpu::{raster, raytrace, GpuContext, GpuOptions, GpuTimings};
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
+use super::args::{check_depth, check_runs, ImageSize};
 use super::render::load_scene;
 use super::Failure;
 
@@ -19,27 +20,23 @@ pub struct BenchArgs {
     /// Scene file; the built-in default scene if left out.
     scene: Option<PathBuf>,
     /// Modes to time, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "flat,gouraud,phong,raytrace", value_parser = parse_shading)]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "flat,gouraud,phong,raytrace"
+    )]
     shading: Vec<Shading>,
     /// Timed runs per mode (after one warm-up run).
     #[arg(long, default_value_t = 5)]
     runs: usize,
-    /// Override the scene's image width.
-    #[arg(long)]
-    width: Option<u32>,
-    /// Override the scene's image height.
-    #[arg(long)]
-    height: Option<u32>,
+    #[command(flatten)]
+    size: ImageSize,
     /// Ray tracing: maximum depth (overrides the scene).
     #[arg(long)]
     depth: Option<u32>,
     /// Print one JSON object on stdout.
     #[arg(long)]
     json: bool,
-}
-
-fn parse_shading(s: &str) -> Result<Shading, String> {
-    s.parse()
 }
 
 fn once(context: &Arc<GpuContext>, scene: &Scene, shading: Shading) -> Result<GpuTimings, Failure> {
@@ -74,17 +71,11 @@ struct Row {
 }
 
 pub fn run(args: BenchArgs, options: &GpuOptions) -> Result<(), Failure> {
-    if args.runs == 0 || args.runs > 1000 {
-        return Err(Failure {
-            code: 2,
-            message: format!("--runs {} is out of range; expected 1 to 1000", args.runs),
-        });
-    }
+    check_runs(args.runs)?;
     let (mut scene, name) = load_scene(args.scene.as_deref())?;
-    scene.image.width = args.width.unwrap_or(scene.image.width);
-    scene.image.height = args.height.unwrap_or(scene.image.height);
+    args.size.apply(&mut scene)?;
     if let Some(d) = args.depth {
-        scene.render.depth = d.min(64);
+        scene.render.depth = check_depth(d)?;
     }
     let context = GpuContext::new(options)?;
     let time = |shading: Shading| -> Result<(f64, f64, f64), Failure> {

@@ -12,6 +12,7 @@ use shadelab::metrics::heatmap::flip_heatmap;
 use shadelab::output::{write_atomically, write_image};
 use shadelab::shading::Shading;
 
+use super::args::ImageSize;
 use super::render::load_scene;
 use super::Failure;
 
@@ -20,7 +21,11 @@ pub struct CheckArgs {
     /// Scene files; the built-in default scene if none.
     scenes: Vec<PathBuf>,
     /// Modes to check, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "flat,gouraud,phong,raytrace", value_parser = parse_shading)]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "flat,gouraud,phong,raytrace"
+    )]
     shading: Vec<Shading>,
     /// Folder for <scene>/<mode>-{expected,actual,diff}.png.
     #[arg(long, default_value = "check-out")]
@@ -31,12 +36,8 @@ pub struct CheckArgs {
     /// Print one JSON object with every figure on stdout.
     #[arg(long)]
     json: bool,
-    /// Override the scenes' image width.
-    #[arg(long)]
-    width: Option<u32>,
-    /// Override the scenes' image height.
-    #[arg(long)]
-    height: Option<u32>,
+    #[command(flatten)]
+    size: ImageSize,
     /// Largest error allowed at an interior pixel [default: 1e-3, and 5e-3
     /// for raytrace].
     #[arg(long)]
@@ -51,16 +52,8 @@ pub struct CheckArgs {
     flip_mean: Option<f64>,
 }
 
-fn parse_shading(s: &str) -> Result<Shading, String> {
-    s.parse()
-}
-
-fn usage(message: String) -> Failure {
-    Failure { code: 2, message }
-}
-
 fn io_failure(path: &Path, e: impl std::fmt::Display) -> Failure {
-    usage(format!("cannot write {}: {e}", path.display()))
+    Failure::usage(format!("cannot write {}: {e}", path.display()))
 }
 
 pub fn run(args: CheckArgs, options: &GpuOptions) -> Result<(), Failure> {
@@ -79,12 +72,14 @@ pub fn run(args: CheckArgs, options: &GpuOptions) -> Result<(), Failure> {
         ("--flip-mean", args.flip_mean.unwrap_or(0.0)),
     ] {
         if !v.is_finite() || v < 0.0 {
-            return Err(usage(format!(
+            return Err(Failure::usage(format!(
                 "{name} {v} is invalid; expected a number >= 0"
             )));
         }
     }
-    // Load every scene first: a bad one stops the run before any rendering.
+    // Check and load everything first: bad input stops the run before any
+    // rendering.
+    args.size.check()?;
     let mut scenes = Vec::new();
     let paths: Vec<Option<&Path>> = if args.scenes.is_empty() {
         vec![None]
@@ -93,15 +88,7 @@ pub fn run(args: CheckArgs, options: &GpuOptions) -> Result<(), Failure> {
     };
     for path in paths {
         let (mut scene, stem) = load_scene(path)?;
-        for (name, value) in [("--width", args.width), ("--height", args.height)] {
-            if value.is_some_and(|v| v == 0 || v > 16384) {
-                return Err(usage(format!(
-                    "{name} is out of range; expected 1 to 16384 pixels"
-                )));
-            }
-        }
-        scene.image.width = args.width.unwrap_or(scene.image.width);
-        scene.image.height = args.height.unwrap_or(scene.image.height);
+        args.size.apply(&mut scene)?;
         let mut name = stem;
         if scenes.iter().any(|(_, n): &(_, String)| *n == name) {
             name = format!("{name}-{}", scenes.len() + 1);

@@ -11,6 +11,7 @@ use shadelab::compare::{default_variants, Report, Variant};
 use shadelab::gpu::{GpuContext, GpuOptions};
 use shadelab::output::write_atomically;
 
+use super::args::{check_runs, ImageSize};
 use super::render::load_scene;
 use super::Failure;
 
@@ -35,12 +36,8 @@ pub struct CompareArgs {
     /// Join the reports in these shard folders into one report in --out.
     #[arg(long, num_args = 1.., value_name = "DIR", conflicts_with_all = ["scene", "variants", "shard"])]
     merge: Vec<PathBuf>,
-    /// Override the scene's image width.
-    #[arg(long)]
-    width: Option<u32>,
-    /// Override the scene's image height.
-    #[arg(long)]
-    height: Option<u32>,
+    #[command(flatten)]
+    size: ImageSize,
     /// Print the report as one JSON object on stdout.
     #[arg(long)]
     json: bool,
@@ -56,10 +53,6 @@ fn parse_shard(text: &str) -> Result<(usize, usize), String> {
     Ok((i, n))
 }
 
-fn usage(message: String) -> Failure {
-    Failure { code: 2, message }
-}
-
 fn write_report(report: &Report, dir: &Path) -> Result<(), Failure> {
     let json = serde_json::to_string_pretty(report).expect("reports serialise");
     write_atomically(&dir.join("report.json"), json.as_bytes())?;
@@ -68,7 +61,7 @@ fn write_report(report: &Report, dir: &Path) -> Result<(), Failure> {
 
 pub fn run_command(args: CompareArgs, options: &GpuOptions) -> Result<(), Failure> {
     std::fs::create_dir_all(&args.out)
-        .map_err(|e| usage(format!("cannot create {}: {e}", args.out.display())))?;
+        .map_err(|e| Failure::usage(format!("cannot create {}: {e}", args.out.display())))?;
     let report = if args.merge.is_empty() {
         render_variants(&args, options)?
     } else {
@@ -94,22 +87,9 @@ pub fn run_command(args: CompareArgs, options: &GpuOptions) -> Result<(), Failur
 }
 
 fn render_variants(args: &CompareArgs, options: &GpuOptions) -> Result<Report, Failure> {
-    if args.runs == 0 || args.runs > 1000 {
-        return Err(usage(format!(
-            "--runs {} is out of range; expected 1 to 1000",
-            args.runs
-        )));
-    }
+    check_runs(args.runs)?;
     let (mut scene, name) = load_scene(args.scene.as_deref())?;
-    for (flag, value) in [("--width", args.width), ("--height", args.height)] {
-        if value.is_some_and(|v| v == 0 || v > 16384) {
-            return Err(usage(format!(
-                "{flag} is out of range; expected 1 to 16384 pixels"
-            )));
-        }
-    }
-    scene.image.width = args.width.unwrap_or(scene.image.width);
-    scene.image.height = args.height.unwrap_or(scene.image.height);
+    args.size.apply(&mut scene)?;
     let variants: Vec<Variant> = if args.variants.is_empty() {
         default_variants(&scene)
     } else {
@@ -117,11 +97,11 @@ fn render_variants(args: &CompareArgs, options: &GpuOptions) -> Result<Report, F
             .iter()
             .map(|v| v.trim())
             .filter(|v| !v.is_empty())
-            .map(|v| v.parse::<Variant>().map_err(usage))
+            .map(|v| v.parse::<Variant>().map_err(Failure::usage))
             .collect::<Result<_, _>>()?
     };
     if variants.is_empty() {
-        return Err(usage("--variants names no variant".into()));
+        return Err(Failure::usage("--variants names no variant".into()));
     }
     let context = GpuContext::new(options)?;
     let bar = indicatif::ProgressBar::new(0);
@@ -155,9 +135,10 @@ fn merge_folders(args: &CompareArgs) -> Result<Report, Failure> {
     for dir in &args.merge {
         let path = dir.join("report.json");
         let text = std::fs::read_to_string(&path)
-            .map_err(|e| usage(format!("cannot read {}: {e}", path.display())))?;
-        let report: Report = serde_json::from_str(&text)
-            .map_err(|e| usage(format!("{} is not a shadelab report: {e}", path.display())))?;
+            .map_err(|e| Failure::usage(format!("cannot read {}: {e}", path.display())))?;
+        let report: Report = serde_json::from_str(&text).map_err(|e| {
+            Failure::usage(format!("{} is not a shadelab report: {e}", path.display()))
+        })?;
         // Bring the shard's images along.
         let mut files = vec![report.reference_image.clone()];
         for v in &report.variants {
@@ -168,12 +149,12 @@ fn merge_folders(args: &CompareArgs) -> Result<Report, Failure> {
             let (from, to) = (dir.join(&file), args.out.join(&file));
             if from != to {
                 std::fs::copy(&from, &to)
-                    .map_err(|e| usage(format!("cannot copy {}: {e}", from.display())))?;
+                    .map_err(|e| Failure::usage(format!("cannot copy {}: {e}", from.display())))?;
             }
         }
         shards.push(report);
     }
-    merge(shards).map_err(|e| usage(format!("cannot merge: {e}")))
+    merge(shards).map_err(|e| Failure::usage(format!("cannot merge: {e}")))
 }
 
 fn print_table(report: &Report, dir: &Path) {

@@ -49,15 +49,11 @@ pub struct DiffArgs {
     json: bool,
 }
 
-fn usage(message: String) -> Failure {
-    Failure { code: 2, message }
-}
-
 fn check_limit(name: &str, value: f64) -> Result<f64, Failure> {
     if value.is_finite() && value >= 0.0 {
         Ok(value)
     } else {
-        Err(usage(format!(
+        Err(Failure::usage(format!(
             "{name} {value} is invalid; expected a number >= 0"
         )))
     }
@@ -70,7 +66,7 @@ fn thresholds(args: &DiffArgs) -> Result<Thresholds, Failure> {
     for entry in &args.threshold {
         let (figure, text) = entry.split_once('=').unwrap_or(("flip_mean", entry));
         let value = text.trim().parse::<f64>().map_err(|_| {
-            usage(format!(
+            Failure::usage(format!(
                 "--threshold {entry} is invalid; expected X or FIGURE=X with a number X"
             ))
         })?;
@@ -80,7 +76,7 @@ fn thresholds(args: &DiffArgs) -> Result<Thresholds, Failure> {
             "max_abs" => t.max_abs = value,
             "p99_abs" => t.p99_abs = value,
             other => {
-                return Err(usage(format!(
+                return Err(Failure::usage(format!(
                     "--threshold {entry}: unknown figure {other:?}; expected flip_mean, max_abs or p99_abs"
                 )))
             }
@@ -114,7 +110,7 @@ pub fn run(args: DiffArgs) -> Result<(), Failure> {
     let mask = metrics::gradient_mask(&expected, edge_threshold);
     let comparison =
         metrics::compare_with(&expected, &actual, Some(&mask), &settings).map_err(|e| {
-            usage(format!(
+            Failure::usage(format!(
                 "cannot compare {} with {}: {e}",
                 args.expected.display(),
                 args.actual.display()

@@ -1,5 +1,6 @@
 //! Argument parsing and dispatch to one module per subcommand.
 
+mod args;
 mod bench;
 mod check;
 mod compare;
@@ -50,6 +51,13 @@ enum Command {
 pub struct Failure {
     pub code: u8,
     pub message: String,
+}
+
+impl Failure {
+    /// Bad input or usage: exit status 2.
+    pub fn usage(message: String) -> Self {
+        Failure { code: 2, message }
+    }
 }
 
 impl From<shadelab::Error> for Failure {

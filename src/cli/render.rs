@@ -9,6 +9,7 @@ use shadelab::rt_scene::RayStats;
 use shadelab::scene::{self, Scene};
 use shadelab::shading::Shading;
 
+use super::args::{check_depth, ImageSize};
 use super::Failure;
 
 #[derive(Args)]
@@ -16,17 +17,13 @@ pub struct RenderArgs {
     /// Scene file (.toml, .gltf or .glb); the built-in default scene if left out.
     scene: Option<PathBuf>,
     /// Shading mode.
-    #[arg(long, default_value = "phong", value_parser = parse_shading)]
+    #[arg(long, default_value = "phong")]
     shading: Shading,
     /// Renderer: the Vulkan pipelines (gpu) or the CPU reference (cpu).
     #[arg(long, default_value = "gpu", value_parser = ["gpu", "cpu"])]
     backend: String,
-    /// Image width in pixels (overrides the scene's [image] width).
-    #[arg(long)]
-    width: Option<u32>,
-    /// Image height in pixels (overrides the scene's [image] height).
-    #[arg(long)]
-    height: Option<u32>,
+    #[command(flatten)]
+    size: ImageSize,
     /// Ray tracing: maximum recursion depth.
     #[arg(long)]
     depth: Option<u32>,
@@ -52,10 +49,6 @@ pub struct RenderArgs {
     stats: bool,
 }
 
-fn parse_shading(s: &str) -> Result<Shading, String> {
-    s.parse()
-}
-
 pub fn load_scene(path: Option<&Path>) -> Result<(Scene, String), Failure> {
     match path {
         None => Ok((scene::default_scene(), "default".to_string())),
@@ -70,39 +63,16 @@ pub fn load_scene(path: Option<&Path>) -> Result<(Scene, String), Failure> {
     }
 }
 
-fn usage(message: String) -> Failure {
-    Failure { code: 2, message }
-}
-
 /// Applies the command-line overrides to the scene, checking their ranges as
 /// the scene loader checks the file's.
 fn apply_overrides(scene: &mut Scene, args: &RenderArgs) -> Result<(), Failure> {
-    for (name, value) in [("--width", args.width), ("--height", args.height)] {
-        if let Some(v) = value {
-            if v == 0 || v > 16384 {
-                return Err(usage(format!(
-                    "{name} {v} is out of range; expected 1 to 16384 pixels"
-                )));
-            }
-        }
-    }
-    if let Some(w) = args.width {
-        scene.image.width = w;
-    }
-    if let Some(h) = args.height {
-        scene.image.height = h;
-    }
+    args.size.apply(scene)?;
     if let Some(d) = args.depth {
-        if d > 64 {
-            return Err(usage(format!(
-                "--depth {d} is out of range; expected 0 to 64"
-            )));
-        }
-        scene.render.depth = d;
+        scene.render.depth = check_depth(d)?;
     }
     if let Some(c) = args.cutoff {
         if !c.is_finite() || c < 0.0 {
-            return Err(usage(format!(
+            return Err(Failure::usage(format!(
                 "--cutoff {c} is invalid; expected a number >= 0"
             )));
         }
@@ -110,7 +80,7 @@ fn apply_overrides(scene: &mut Scene, args: &RenderArgs) -> Result<(), Failure> 
     }
     if let Some(s) = args.samples {
         if s == 0 || s > 1024 {
-            return Err(usage(format!(
+            return Err(Failure::usage(format!(
                 "--samples {s} is out of range; expected 1 to 1024"
             )));
         }
@@ -118,19 +88,6 @@ fn apply_overrides(scene: &mut Scene, args: &RenderArgs) -> Result<(), Failure> 
     }
     if args.no_shadows {
         scene.render.shadows = false;
-    }
-    Ok(())
-}
-
-/// The CPU reference holds the image in f64 before it is written; the same
-/// pixel cap as the GPU path keeps that bounded.
-fn check_cpu_size(scene: &Scene) -> Result<(), Failure> {
-    let pixels = u64::from(scene.image.width) * u64::from(scene.image.height);
-    if pixels > shadelab::gpu::raster::MAX_PIXELS {
-        return Err(usage(format!(
-            "a {}x{} image exceeds the limit of 8192 x 8192 pixels; choose a smaller --width/--height",
-            scene.image.width, scene.image.height
-        )));
     }
     Ok(())
 }
@@ -148,7 +105,6 @@ pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
     // Check the output name before spending time on the render.
     shadelab::output::ImageFormat::from_path(&out)?;
     let (rendered, device) = if args.backend == "cpu" {
-        check_cpu_size(&scene)?;
         let (rendered, _) = shadelab::render::render_cpu(&scene, args.shading)?;
         (rendered, "CPU reference (f64)".to_string())
     } else {

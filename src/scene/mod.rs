@@ -40,6 +40,7 @@ pub mod toml_format;
 pub use error::SceneError;
 pub use model::*;
 pub use tessellate::tessellate;
+pub use toml_format::MAX_RESOLUTION;
 
 /// The built-in default scene (TOML), shown when no scene is given.
 pub const DEFAULT_SCENE_TOML: &str = include_str!("default.toml");

@@ -128,6 +128,9 @@ pub struct TriangleMesh {
     pub triangles: Vec<[u32; 3]>,
 }
 
+/// The deepest ray tree a scene or `--depth` may ask for.
+pub const MAX_DEPTH: u32 = 64;
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RenderSettings {
     /// Ray tracing: maximum recursion depth.

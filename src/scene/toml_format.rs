@@ -60,7 +60,7 @@ use super::error::SceneError;
 use super::gltf_import;
 use super::model::{
     Camera, ImageSettings, Interpolation, Lighting, Material, Object, PointLight, RenderSettings,
-    Scene, Shape,
+    Scene, Shape, MAX_DEPTH,
 };
 
 /// Default ambient intensity Ia (each channel).
@@ -661,7 +661,7 @@ pub fn parse(text: &str, base_dir: &Path, label: &str) -> Result<Scene, SceneErr
     let mut render = RenderSettings::default();
     if let Some(r) = &raw.render {
         if let Some(d) = &r.depth {
-            render.depth = cx.int_in(d, "render.depth", 0, 64, "")?;
+            render.depth = cx.int_in(d, "render.depth", 0, i64::from(MAX_DEPTH), "")?;
         }
         if let Some(c) = &r.cutoff {
             render.cutoff = cx.non_negative(c, "render.cutoff")?;

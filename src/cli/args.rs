@@ -1,0 +1,62 @@
+//! Arguments several subcommands share, with the range checks the scene
+//! loader applies to the same settings in a file. Checked here rather than
+//! by clap so that a bad value gets the one-line `shadelab: error:` of every
+//! other bad input.
+
+use clap::Args;
+use shadelab::scene::{Scene, MAX_DEPTH, MAX_RESOLUTION};
+
+use super::Failure;
+
+/// `--width` and `--height`, overriding the scene's `[image]` size.
+#[derive(Args)]
+pub struct ImageSize {
+    /// Image width in pixels (overrides the scene's [image] width).
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height in pixels (overrides the scene's [image] height).
+    #[arg(long)]
+    pub height: Option<u32>,
+}
+
+impl ImageSize {
+    /// Refuses a size the scene loader would refuse.
+    pub fn check(&self) -> Result<(), Failure> {
+        for (flag, value) in [("--width", self.width), ("--height", self.height)] {
+            if let Some(v) = value.filter(|&v| v == 0 || i64::from(v) > MAX_RESOLUTION) {
+                return Err(Failure::usage(format!(
+                    "{flag} {v} is out of range; expected 1 to {MAX_RESOLUTION} pixels"
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks the size, then sets it on `scene`.
+    pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
+        self.check()?;
+        scene.image.width = self.width.unwrap_or(scene.image.width);
+        scene.image.height = self.height.unwrap_or(scene.image.height);
+        Ok(())
+    }
+}
+
+/// `--depth`: the ray tracer's maximum depth, 0 to `MAX_DEPTH`.
+pub fn check_depth(depth: u32) -> Result<u32, Failure> {
+    if depth > MAX_DEPTH {
+        return Err(Failure::usage(format!(
+            "--depth {depth} is out of range; expected 0 to {MAX_DEPTH}"
+        )));
+    }
+    Ok(depth)
+}
+
+/// `--runs`: timed runs, 1 to 1000.
+pub fn check_runs(runs: usize) -> Result<usize, Failure> {
+    if runs == 0 || runs > 1000 {
+        return Err(Failure::usage(format!(
+            "--runs {runs} is out of range; expected 1 to 1000"
+        )));
+    }
+    Ok(runs)
+}
