@@ -9,9 +9,6 @@ use glam::DVec3;
 use shadelab::scene::{Interpolation, Object, Scene, Shape};
 use shadelab::shading::Shading;
 
-/// f32 against f64 on values below ~2 (see raster_modes.rs).
-const FLOAT_TOL: f64 = 1e-4;
-
 fn assert_same_everywhere(scene: &Scene, shading: Shading) {
     let gpu_image = render(&gpu(), scene, shading);
     let (cpu, _) = shadelab::render::render_cpu(scene, shading).unwrap();

@@ -9,10 +9,6 @@ use shadelab::cpu::lighting::shade;
 use shadelab::scene::{tessellate, Interpolation, Object, Scene, Shape};
 use shadelab::shading::Shading;
 
-/// f32 arithmetic on values below ~2 is good to ~1e-6; 1e-4 leaves a wide
-/// margin and is still 40 times finer than one 8-bit output step (1/255).
-const FLOAT_TOL: f64 = 1e-4;
-
 #[test]
 fn flat_gives_each_triangle_one_colour_the_formula_at_its_centroid() {
     let mut s = scene(160, 160, 30.0);
@@ -147,12 +143,7 @@ fn screen_and_perspective_agree_on_a_screen_parallel_plane() {
             render(&context, &persp, shading),
             render(&context, &screen, shading),
         );
-        let worst = a
-            .pixels
-            .iter()
-            .zip(&b.pixels)
-            .map(|(p, q)| max_abs_diff(to_dvec(*p), to_dvec(*q)))
-            .fold(0.0, f64::max);
+        let worst = worst_difference(&a, &b);
         assert!(worst < FLOAT_TOL, "{shading}: images differ by {worst}");
     }
 }

@@ -6,8 +6,10 @@
 //! shader to `rt_layout`.
 
 use ash::vk;
+use rt_layout::TraceSpecialization;
 use shadelab::gpu::shader_catalog::{BindingKind, ShaderBlob, ShaderStage, ALL_SHADERS};
 use shadelab::gpu::{raster_layout, rt_layout};
+use std::mem::offset_of;
 
 /// What the host declares for one pipeline family.
 struct HostInterface {
@@ -88,6 +90,9 @@ fn every_shader_binding_is_declared_by_the_host_with_the_same_type_and_record() 
 
 #[test]
 fn push_constant_blocks_have_the_hosts_size() {
+    // A stage that declares no push-constant block is skipped; every stage
+    // that declares one must match. The raster stages all declare theirs.
+    let mut compared = 0;
     for shader in ALL_SHADERS {
         let host = host_for(shader);
         if shader.push_constant_size > 0 || host.push_constant_size == 0 {
@@ -96,8 +101,10 @@ fn push_constant_blocks_have_the_hosts_size() {
                 "{}",
                 shader.name
             );
+            compared += 1;
         }
     }
+    assert!(compared >= 6, "only {compared} stages compared");
 }
 
 #[test]
@@ -125,8 +132,42 @@ fn specialization_constants_match_by_id_and_name() {
     for (entry, (id, _)) in raster.iter().zip(raster_layout::SPEC_CONSTANTS) {
         assert_eq!(entry.constant_id, u32::from(*id));
     }
+    // Each field sits where its constant's map entry says: the field named
+    // like the constant is at 4 x the constant's place in the list.
     let traced = rt_layout::TraceSpecialization::map_entries();
-    assert_eq!(traced.len(), rt_layout::SPEC_CONSTANTS.len());
+    let fields = [
+        ("LIGHT_COUNT", offset_of!(TraceSpecialization, light_count)),
+        (
+            "USE_SPECULAR",
+            offset_of!(TraceSpecialization, use_specular),
+        ),
+        (
+            "USE_ATTENUATION",
+            offset_of!(TraceSpecialization, use_attenuation),
+        ),
+        ("SHADOWS", offset_of!(TraceSpecialization, shadows)),
+        (
+            "HAS_REFLECTION",
+            offset_of!(TraceSpecialization, has_reflection),
+        ),
+        (
+            "HAS_TRANSMISSION",
+            offset_of!(TraceSpecialization, has_transmission),
+        ),
+        ("HAS_SPHERES", offset_of!(TraceSpecialization, has_spheres)),
+        ("HAS_PLANES", offset_of!(TraceSpecialization, has_planes)),
+        ("HAS_BOXES", offset_of!(TraceSpecialization, has_boxes)),
+        ("HAS_MESHES", offset_of!(TraceSpecialization, has_meshes)),
+        ("COUNT_RAYS", offset_of!(TraceSpecialization, count_rays)),
+    ];
+    assert_eq!(fields.len(), rt_layout::SPEC_CONSTANTS.len());
+    for (name, offset) in fields {
+        let index = rt_layout::SPEC_CONSTANTS
+            .iter()
+            .position(|(_, n)| *n == name)
+            .unwrap_or_else(|| panic!("{name} is not a ray-tracing constant"));
+        assert_eq!(traced[index].offset as usize, offset, "{name}");
+    }
     // The shared constants mean the same in both pipelines.
     assert_eq!(
         &rt_layout::SPEC_CONSTANTS[..3],

@@ -163,13 +163,32 @@ pub fn interior_pixels(width: u32, height: u32, ids: &[Option<usize>]) -> Vec<(u
     out
 }
 
+/// GPU (f32) against an f64 value below ~2: f32 arithmetic there is good to
+/// ~1e-6; 1e-4 leaves a wide margin and is still 40 times finer than one
+/// 8-bit output step (1/255).
+pub const FLOAT_TOL: f64 = 1e-4;
+
 pub fn to_dvec(rgb: [f32; 3]) -> DVec3 {
     DVec3::new(f64::from(rgb[0]), f64::from(rgb[1]), f64::from(rgb[2]))
 }
 
-/// Largest per-channel absolute difference.
+/// Largest per-channel absolute difference; infinite when either side is
+/// not finite (glam's `max_element` and `f64::max` would drop a NaN).
 pub fn max_abs_diff(a: DVec3, b: DVec3) -> f64 {
-    (a - b).abs().max_element()
+    let d = (a - b).abs();
+    if d.is_finite() {
+        d.max_element()
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The worst per-channel difference of two images; infinite if a pixel of
+/// either is not finite (`metrics::stats::pixel_errors`).
+pub fn worst_difference(a: &LinearImage, b: &LinearImage) -> f64 {
+    shadelab::metrics::stats::pixel_errors(a, b)
+        .into_iter()
+        .fold(0.0, f64::max)
 }
 
 /// A screen-parallel 4x4 grid whose vertices land exactly on pixel centres:
