@@ -190,7 +190,7 @@ void hit_triangle(vec3 o, RayFrame frame, uint index, inout Hit best) {
     float bv = w / det;
     vec3 n = unit_or_zero((1.0 - bu - bv) * triangles[index].n0.xyz + bu * triangles[index].n1.xyz
                           + bv * triangles[index].n2.xyz);
-    best = Hit(t, n, normalize(cross(p1 - p0, p2 - p0)), triangles[index].material_object.x, object, index);
+    best = Hit(t, n, unit_or_zero(cross(p1 - p0, p2 - p0)), triangles[index].material_object.x, object, index);
 }
 
 // Slab test of a BVH node against [0, t_max].
@@ -204,12 +204,16 @@ bool hits_node(vec3 o, vec3 inv_d, uint node, float t_max) {
     return enter <= leave;
 }
 
-void hit_meshes(vec3 o, vec3 d, inout Hit best) {
+// `stop_below`: return as soon as a hit nearer than this is found (a
+// shadow ray's any-hit query; negative for the nearest hit).
+void hit_meshes(vec3 o, vec3 d, inout Hit best, float stop_below) {
     // A zero direction component gives an infinite inverse; the slab test
     // then sorts that axis out (lo - o and hi - o have the same sign or
     // the ray lies inside the slab).
     vec3 inv_d = vec3(1.0) / d;
     RayFrame frame = ray_frame(d);
+    // Cannot overflow: the host refuses a tree deeper than the stack
+    // (rt_layout::BVH_STACK_SIZE), since a dropped node would be a miss.
     uint stack[BVH_STACK_SIZE];
     int top = 0;
     stack[top++] = 0u;
@@ -224,6 +228,9 @@ void hit_meshes(vec3 o, vec3 d, inout Hit best) {
             for (uint k = 0u; k < count; ++k) {
                 hit_triangle(o, frame, primitive_indices[first + k], best);
             }
+            if (best.t < stop_below) {
+                return;
+            }
         } else if (top + 2 <= BVH_STACK_SIZE) {
             stack[top++] = first + 1u;
             stack[top++] = first;
@@ -231,29 +238,52 @@ void hit_meshes(vec3 o, vec3 d, inout Hit best) {
     }
 }
 
-Hit nearest(vec3 o, vec3 d) {
-    Hit best = Hit(NO_HIT, vec3(0.0), vec3(0.0), 0u, 0xffffffffu, 0xffffffffu);
+// Every primitive against the ray, keeping the nearest hit in `best`;
+// returns early once `best.t < stop_below` (see hit_meshes).
+void hit_all(vec3 o, vec3 d, inout Hit best, float stop_below) {
     if (HAS_SPHERES) {
         for (uint i = 0u; i < frame.counts.x; ++i) {
             hit_sphere(o, d, i, best);
+        }
+        if (best.t < stop_below) {
+            return;
         }
     }
     if (HAS_PLANES) {
         for (uint i = 0u; i < frame.counts.y; ++i) {
             hit_plane(o, d, i, best);
         }
+        if (best.t < stop_below) {
+            return;
+        }
     }
     if (HAS_BOXES) {
         for (uint i = 0u; i < frame.counts.z; ++i) {
             hit_box(o, d, i, best);
         }
-    }
-    if (HAS_MESHES) {
-        if (frame.counts.w > 0u) {
-            hit_meshes(o, d, best);
+        if (best.t < stop_below) {
+            return;
         }
     }
+    if (HAS_MESHES) {
+        hit_meshes(o, d, best, stop_below);
+    }
+}
+
+Hit nearest(vec3 o, vec3 d) {
+    Hit best = Hit(NO_HIT, vec3(0.0), vec3(0.0), 0u, 0xffffffffu, 0xffffffffu);
+    hit_all(o, d, best, -1.0);
     return best;
+}
+
+// Whether anything is hit at 0 < t < t_max: the shadow-ray query, the twin
+// of cpu::intersect::Accel::any. It starts from a "hit" at t_max with the
+// lowest object index, which only a strictly nearer hit replaces
+// (`nearer`), and stops at the first one; the BVH walk is bounded by t_max.
+bool occluded(vec3 o, vec3 d, float t_max) {
+    Hit best = Hit(t_max, vec3(0.0), vec3(0.0), 0u, 0u, 0u);
+    hit_all(o, d, best, t_max);
+    return best.t < t_max;
 }
 
 // Pushes a secondary ray's origin off the surface, to the side it leaves to,
@@ -297,7 +327,7 @@ vec3 local_shading(vec3 p, Hit hit, vec3 d) {
             // otherwise be hidden by it at random (assets/hard/grazing-light).
             vec3 at = abs(lights[j].position.xyz);
             float light_eps = 1.0e-4 * max(1.0, max(at.x, max(at.y, at.z)));
-            if (nearest(o, to_light / reach).t < reach - light_eps) {
+            if (occluded(o, to_light / reach, reach - light_eps)) {
                 continue;
             }
         }
@@ -340,6 +370,9 @@ vec3 trace_sample(vec3 dir) {
         if (N == vec3(0.0)) {
             continue;  // no direction to reflect or refract about
         }
+        // Decided by kr and total internal reflection, not by the weight, as
+        // on the CPU: a weight that underflows in f32 is still a child (pruned).
+        bool reflects = kr > 0.0;
         float reflect_weight = ray.weight * kr;
         bool refracts = false;
         vec3 refract_dir = vec3(0.0);
@@ -354,13 +387,14 @@ vec3 trace_sample(vec3 dir) {
             float cos_i = -dot(n, ray.dir);
             float k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
             if (k < 0.0) {
-                reflect_weight = ray.weight * (kr + kt);  // total internal reflection
+                reflects = true;  // total internal reflection
+                reflect_weight = ray.weight * (kr + kt);
             } else {
                 refracts = true;
                 refract_dir = normalize(eta * ray.dir + (eta * cos_i - sqrt(k)) * n);
             }
         }
-        if (reflect_weight > 0.0) {
+        if (reflects) {
             if (reflect_weight < cutoff) {
                 count(4);
             } else {

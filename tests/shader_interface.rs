@@ -195,3 +195,15 @@ fn every_stage_is_present() {
         );
     }
 }
+
+/// The host refuses a BVH deeper than the shader's traversal stack; the two
+/// constants must agree (the shader's is a plain `const`, not reflected).
+#[test]
+fn the_bvh_stack_size_is_the_shaders() {
+    let source = include_str!("../shaders/raytrace.comp.glsl");
+    let declared = format!("const int BVH_STACK_SIZE = {};", rt_layout::BVH_STACK_SIZE);
+    assert!(
+        source.contains(&declared),
+        "raytrace.comp.glsl lacks `{declared}`"
+    );
+}

@@ -5,6 +5,8 @@
 //!
 //! It owns only geometry: no shading, no ray tree (that is `raytrace.rs`).
 
+use std::ops::ControlFlow;
+
 use glam::DVec3;
 
 use crate::rt_scene::{widened_box, RtBox, RtPlane, RtScene, RtSphere, RtTriangle};
@@ -148,7 +150,11 @@ pub fn cuboid(ray: &Ray, b: &RtBox) -> Option<(f64, DVec3, u32)> {
 /// edge function that rounds to exactly 0 counts as inside for both
 /// triangles (the tie rule of docs/raytracing.md then picks one).
 pub fn triangle(ray: &Ray, tri: &RtTriangle) -> Option<(f64, f64, f64)> {
-    let frame = RayFrame::new(ray.dir);
+    triangle_in(&RayFrame::new(ray.dir), ray, tri)
+}
+
+/// `triangle` with the ray's shear computed once for all its triangles.
+fn triangle_in(frame: &RayFrame, ray: &Ray, tri: &RtTriangle) -> Option<(f64, f64, f64)> {
     let [a, b, c] = tri.positions.map(|p| frame.transform(p - ray.origin));
     let u = c.x * b.y - c.y * b.x;
     let v = a.x * c.y - a.y * c.x;
@@ -390,38 +396,28 @@ impl<'a> Accel<'a> {
                 }
             }
         }
-        if !self.nodes.is_empty() {
-            let mut stack = NodeStack::new(0);
-            while let Some(index) = stack.pop() {
-                let node = &self.nodes[index as usize];
-                let t_max = best.map_or(f64::INFINITY, |b| b.t);
-                if box_entry(ray, node.min, node.max, t_max).is_none() {
+        let frame = RayFrame::new(ray.dir);
+        let t_max = best.map_or(f64::INFINITY, |b| b.t);
+        self.walk(ray, t_max, |leaf, t_max| {
+            for &k in leaf {
+                let tri = &s.triangles[k as usize];
+                let Some((t, u, v)) = triangle_in(&frame, ray, tri) else {
                     continue;
-                }
-                if node.prim_count == 0 {
-                    stack.push(node.first_index);
-                    stack.push(node.first_index + 1);
-                    continue;
-                }
-                let first = node.first_index as usize;
-                for &k in &s.bvh.primitive_indices[first..first + node.prim_count as usize] {
-                    let tri = &s.triangles[k as usize];
-                    let Some((t, u, v)) = triangle(ray, tri) else {
-                        continue;
-                    };
-                    if better(t, tri.object, k, best.as_ref()) {
-                        best = Some(Hit {
-                            t,
-                            object: tri.object,
-                            material: tri.material,
-                            primitive: Primitive::Triangle(k),
-                            normal: triangle_normal(tri, u, v),
-                            geometric_normal: triangle_geometric_normal(tri),
-                        });
-                    }
+                };
+                if better(t, tri.object, k, best.as_ref()) {
+                    best = Some(Hit {
+                        t,
+                        object: tri.object,
+                        material: tri.material,
+                        primitive: Primitive::Triangle(k),
+                        normal: triangle_normal(tri, u, v),
+                        geometric_normal: triangle_geometric_normal(tri),
+                    });
+                    *t_max = t;
                 }
             }
-        }
+            ControlFlow::Continue(())
+        });
         best
     }
 
@@ -439,8 +435,33 @@ impl<'a> Accel<'a> {
         {
             return true;
         }
+        let frame = RayFrame::new(ray.dir);
+        let mut blocked = false;
+        self.walk(ray, t_max, |leaf, _| {
+            blocked = leaf.iter().any(|&k| {
+                triangle_in(&frame, ray, &s.triangles[k as usize])
+                    .is_some_and(|(t, _, _)| within(t))
+            });
+            if blocked {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        });
+        blocked
+    }
+
+    /// Walks the BVH depth-first, handing `leaf` the triangle indices of
+    /// every leaf whose box the ray enters before `t_max`. `leaf` may lower
+    /// `t_max` (a nearer hit) or break off the walk (any hit will do).
+    fn walk(
+        &self,
+        ray: &Ray,
+        mut t_max: f64,
+        mut leaf: impl FnMut(&[u32], &mut f64) -> ControlFlow<()>,
+    ) {
         if self.nodes.is_empty() {
-            return false;
+            return;
         }
         let mut stack = NodeStack::new(0);
         while let Some(index) = stack.pop() {
@@ -454,14 +475,12 @@ impl<'a> Accel<'a> {
                 continue;
             }
             let first = node.first_index as usize;
-            let leaf = &s.bvh.primitive_indices[first..first + node.prim_count as usize];
-            if leaf.iter().any(|&k| {
-                triangle(ray, &s.triangles[k as usize]).is_some_and(|(t, _, _)| within(t))
-            }) {
-                return true;
+            let indices =
+                &self.scene.bvh.primitive_indices[first..first + node.prim_count as usize];
+            if leaf(indices, &mut t_max).is_break() {
+                return;
             }
         }
-        false
     }
 }
 

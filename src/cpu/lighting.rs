@@ -4,8 +4,9 @@
 //!
 //! Defined answers where naive code is undefined (the same on the GPU):
 //! a zero normal receives the ambient term only; a light exactly at the
-//! shaded point contributes nothing; `p = 0` gives `S = 1` whenever
-//! `N·L > 0` (x^0 = 1, also for x = 0).
+//! shaded point contributes nothing; `p = 0` gives `S = 1` whenever the
+//! light faces the surface (x^0 = 1, also for x = 0); and a light faces it
+//! only when `N·L > FACING_EPS`, not by rounding.
 
 use glam::DVec3;
 
@@ -38,8 +39,8 @@ pub fn shade(
 /// `shade` with the unit vector toward the viewer `v` given (the ray tracer
 /// passes `-d`), and light `j` counted only if `visible(j, light)` says so.
 /// `visible` is asked, in light order, only for the lights that would add
-/// something (`N·L > 0` and not at the point): the ray tracer casts shadow
-/// rays for exactly those.
+/// something (`N·L > FACING_EPS` and not at the point): the ray tracer casts
+/// shadow rays for exactly those.
 pub fn shade_visible(
     lighting: &Lighting,
     lights: &[PointLight],

@@ -47,7 +47,7 @@ pub enum RayKind {
 ///   miss) and the part of it (u32: a box's face `2 axis + (0 for -, 1 for
 ///   +)`, else 0; `u32::MAX` on a miss); integers little-endian;
 /// - after a hit's ray record, for every light the shading asks about
-///   (`N·L > 0`, light not at the point), in light order: the byte 3, the
+///   (`N·L > FACING_EPS`, light not at the point), in light order: the byte 3, the
 ///   light index (u32) and 1 if it is visible (always, with shadows off) or
 ///   2 if its shadow ray is blocked.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

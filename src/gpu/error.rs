@@ -19,6 +19,8 @@ pub enum GpuError {
     },
     #[error("a {width}x{height} image exceeds this device's limit of {limit} pixels per side; choose a smaller --width/--height")]
     ImageTooLarge { width: u32, height: u32, limit: u32 },
+    #[error("the meshes' BVH is {depth} levels deep, more than the GPU ray tracer's {limit}; render this scene with --backend cpu")]
+    BvhTooDeep { depth: usize, limit: usize },
     #[error("Vulkan call {call} failed: {result}")]
     Vulkan {
         call: &'static str,
@@ -35,7 +37,9 @@ impl GpuError {
     pub fn is_bad_input(&self) -> bool {
         matches!(
             self,
-            GpuError::ImageTooLarge { .. } | GpuError::DeviceNotFound { .. }
+            GpuError::ImageTooLarge { .. }
+                | GpuError::DeviceNotFound { .. }
+                | GpuError::BvhTooDeep { .. }
         )
     }
 }

@@ -210,6 +210,14 @@ pub fn render(
     check_image_size(context, width, height)?;
     let view = View::new(scene, width, height);
     let rt = RtScene::new(scene);
+    // The shader's traversal stack would drop nodes (rays would miss).
+    let depth = rt.bvh_depth();
+    if depth >= BVH_STACK_SIZE {
+        return Err(GpuError::BvhTooDeep {
+            depth,
+            limit: BVH_STACK_SIZE - 1,
+        });
+    }
     let spec = specialization(&rt, count_rays);
     let pipeline_started = Instant::now();
     let pipeline = create_pipeline(context, &spec)?;

@@ -39,6 +39,11 @@ pub const BINDINGS: &[(u32, vk::DescriptorType)] = &[
 
 /// Specialization constants: (constant_id, name in GLSL). Ids 0 to 2 mean
 /// the same as in the raster pipelines.
+/// Entries of the BVH traversal stack in raytrace.comp.glsl (its
+/// `BVH_STACK_SIZE`; tests/shader_interface.rs holds the two equal). A walk
+/// of a tree `d` nodes deep needs at most `d` entries.
+pub const BVH_STACK_SIZE: usize = 64;
+
 pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (0, "LIGHT_COUNT"),
     (1, "USE_SPECULAR"),
