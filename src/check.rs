@@ -21,14 +21,11 @@ use std::sync::Arc;
 use crate::error::Error;
 use crate::gpu::GpuContext;
 use crate::linear_image::LinearImage;
-use crate::metrics::flip::{flip, FlipStats};
+use crate::metrics::flip::{flip, FlipStats, PIXELS_PER_DEGREE};
 use crate::metrics::stats::ErrorStats;
 use crate::render::{render_cpu, render_gpu};
 use crate::scene::Scene;
 use crate::shading::Shading;
-
-/// FLIP's default viewing condition: a 0.7 m away 24" 4K monitor.
-pub const PIXELS_PER_DEGREE: f32 = 67.0;
 
 /// The limits a GPU render must keep against the CPU reference.
 ///

@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use clap::Args;
+use shadelab::compare::run::median_and_spread;
 use shadelab::gpu::{raster, raytrace, GpuContext, GpuOptions, GpuTimings};
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
@@ -46,16 +47,6 @@ fn once(context: &Arc<GpuContext>, scene: &Scene, shading: Shading) -> Result<Gp
     })
 }
 
-fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    let n = values.len();
-    if n % 2 == 1 {
-        values[n / 2]
-    } else {
-        (values[n / 2 - 1] + values[n / 2]) / 2.0
-    }
-}
-
 #[derive(serde::Serialize)]
 struct Row {
     shading: Shading,
@@ -89,14 +80,19 @@ pub fn run(args: BenchArgs, options: &GpuOptions) -> Result<(), Failure> {
             // (see GpuTimings::submit_ms).
             gpus.push(t.submit_ms);
         }
-        let spread = totals.iter().copied().fold(f64::MIN, f64::max)
-            - totals.iter().copied().fold(f64::MAX, f64::min);
-        Ok((median(totals), median(gpus), spread))
+        let (total, spread) = median_and_spread(totals);
+        Ok((total, median_and_spread(gpus).0, spread))
     };
-    let baseline = time(Shading::Flat)?.0;
+    // Flat is the baseline; timed once, and reused if it is in the list.
+    let flat = time(Shading::Flat)?;
+    let baseline = flat.0;
     let mut rows = Vec::new();
     for &shading in &args.shading {
-        let (total_ms, gpu_ms, total_spread_ms) = time(shading)?;
+        let (total_ms, gpu_ms, total_spread_ms) = if shading == Shading::Flat {
+            flat
+        } else {
+            time(shading)?
+        };
         // Rays are counted in a separate run: counting costs atomics.
         let rays = if shading.raster_mode().is_none() {
             raytrace::render(&context, &scene, true)?

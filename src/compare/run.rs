@@ -11,16 +11,13 @@ use super::variant::Variant;
 use crate::error::Error;
 use crate::gpu::GpuContext;
 use crate::linear_image::LinearImage;
-use crate::metrics::flip::{flip, FlipStats};
+use crate::metrics::flip::{flip, FlipStats, PIXELS_PER_DEGREE};
 use crate::metrics::heatmap::flip_heatmap;
 use crate::metrics::stats::ErrorStats;
 use crate::output::write_image;
 use crate::render::{render_cpu, render_gpu};
 use crate::scene::Scene;
 use crate::shading::Shading;
-
-/// FLIP's default viewing condition (as in `check`).
-const PIXELS_PER_DEGREE: f32 = 67.0;
 
 pub struct CompareOptions {
     /// Timed GPU runs per variant, after one warm-up.
@@ -68,7 +65,8 @@ fn errors(expected: &LinearImage, actual: &LinearImage) -> (Errors, FlipStats) {
     (e, flip)
 }
 
-fn median_and_spread(mut values: Vec<f64>) -> (f64, f64) {
+/// The median of timed runs and their spread (slowest minus fastest).
+pub fn median_and_spread(mut values: Vec<f64>) -> (f64, f64) {
     values.sort_by(f64::total_cmp);
     let n = values.len();
     let median = if n % 2 == 1 {
