@@ -52,9 +52,8 @@ pub struct RtTriangle {
     pub object: u32,
 }
 
+/// Every position is relative to the eye (`scene.camera.position`).
 pub struct RtScene {
-    /// The eye in world space; every position below is relative to it.
-    pub eye: DVec3,
     pub spheres: Vec<RtSphere>,
     pub planes: Vec<RtPlane>,
     pub boxes: Vec<RtBox>,
@@ -74,7 +73,6 @@ impl RtScene {
     pub fn new(scene: &Scene) -> Self {
         let eye = scene.camera.position;
         let mut rt = RtScene {
-            eye,
             spheres: Vec::new(),
             planes: Vec::new(),
             boxes: Vec::new(),
@@ -214,6 +212,16 @@ impl RayStats {
     pub fn total(&self) -> u64 {
         self.primary + self.shadow + self.reflected + self.refracted
     }
+}
+
+/// The sample grid of docs/raytracing.md for `samples` per pixel:
+/// `kx = ceil(sqrt(samples))` columns and `ky = ceil(samples / kx)` rows.
+/// Both tracers place their samples from it.
+pub fn sample_grid(samples: u32) -> (u32, u32) {
+    let samples = samples.max(1);
+    // The least kx with kx^2 >= samples, in integers.
+    let kx = (1..).find(|k: &u32| k * k >= samples).unwrap_or(1);
+    (kx, samples.div_ceil(kx))
 }
 
 /// Relative widening of the BVH's boxes: f32 rounding moves a coordinate by

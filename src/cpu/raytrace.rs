@@ -14,7 +14,7 @@ use super::intersect::{Accel, Hit, Primitive, Ray};
 use super::lighting::shade_visible;
 use crate::camera::View;
 use crate::linear_image::LinearImage;
-use crate::rt_scene::{RayStats, RtScene};
+use crate::rt_scene::{sample_grid, RayStats, RtScene};
 use crate::scene::Scene;
 
 /// The ray-traced image and, per pixel, what its rays saw.
@@ -95,17 +95,8 @@ impl PathSignature {
 /// centres of a `kx x ky` grid, `kx = ceil(sqrt(n))`, `ky = ceil(n / kx)`,
 /// row by row, the first `n` of them.
 pub fn sample_offsets(n: u32) -> Vec<(f64, f64)> {
-    let n = n.max(1);
-    let mut kx = f64::from(n).sqrt().ceil() as u32;
-    // Guard the float square root: the least kx with kx * kx >= n.
-    while kx * kx < n {
-        kx += 1;
-    }
-    while kx > 1 && (kx - 1) * (kx - 1) >= n {
-        kx -= 1;
-    }
-    let ky = n.div_ceil(kx);
-    (0..n)
+    let (kx, ky) = sample_grid(n);
+    (0..n.max(1))
         .map(|i| {
             (
                 (f64::from(i % kx) + 0.5) / f64::from(kx),
@@ -167,10 +158,6 @@ impl<'a> Tracer<'a> {
             view,
             offsets: sample_offsets(scene.render.samples),
         }
-    }
-
-    pub fn scene(&self) -> &RtScene {
-        self.accel.scene
     }
 
     /// The primary ray through image point `(x, y)` in pixels.

@@ -17,13 +17,13 @@ use super::descriptors::{create_set_layout, Descriptors};
 use super::error::{GpuError, VkContext};
 use super::pipeline::PipelineObjects;
 use super::raster::check_image_size;
-use super::raster_layout::GpuLight;
+use super::raster_scene;
 use super::rt_layout::*;
 use super::shader_catalog::RAYTRACE_COMP;
 use super::timestamps::{GpuTimings, Timestamps};
 use crate::camera::View;
 use crate::linear_image::LinearImage;
-use crate::rt_scene::{widened_box, RayStats, RtScene};
+use crate::rt_scene::{sample_grid, widened_box, RayStats, RtScene};
 use crate::scene::Scene;
 
 /// Workgroup edge: `local_size_x` and `local_size_y` in the shader.
@@ -86,13 +86,15 @@ fn create_pipeline(
     Ok(p)
 }
 
-/// Only what the scene uses: its lights, shadows if on, reflection and
+/// Only what the scene uses: the lighting constants of the raster pipelines
+/// (`raster_scene::specialization`), shadows if on, reflection and
 /// refraction if some material has them, and the primitive kinds present.
-fn specialization(rt: &RtScene, count_rays: bool) -> TraceSpecialization {
+fn specialization(scene: &Scene, rt: &RtScene, count_rays: bool) -> TraceSpecialization {
+    let lighting = raster_scene::specialization(scene);
     TraceSpecialization {
-        light_count: rt.lights.len() as i32,
-        use_specular: u32::from(rt.materials.iter().any(|m| m.ks > 0.0)),
-        use_attenuation: u32::from(rt.lighting.attenuation),
+        light_count: lighting.light_count,
+        use_specular: lighting.use_specular,
+        use_attenuation: lighting.use_attenuation,
         shadows: u32::from(rt.render.shadows && !rt.lights.is_empty()),
         has_reflection: u32::from(rt.has_reflection() && rt.render.depth > 0),
         has_transmission: u32::from(rt.has_transmission() && rt.render.depth > 0),
@@ -104,12 +106,6 @@ fn specialization(rt: &RtScene, count_rays: bool) -> TraceSpecialization {
     }
 }
 
-/// `kx`, `ky` of the sample grid (docs/raytracing.md).
-pub fn sample_grid(samples: u32) -> (u32, u32) {
-    let kx = (f64::from(samples).sqrt().ceil() as u32).max(1);
-    (kx, samples.div_ceil(kx))
-}
-
 /// The storage buffers' contents, in `BINDINGS` order from `SPHERES`.
 struct SceneRecords {
     spheres: Vec<GpuSphere>,
@@ -119,7 +115,6 @@ struct SceneRecords {
     nodes: Vec<GpuBvhNode>,
     primitive_indices: Vec<u32>,
     materials: Vec<GpuMaterial>,
-    lights: Vec<GpuLight>,
 }
 
 fn records(rt: &RtScene) -> SceneRecords {
@@ -188,14 +183,6 @@ fn records(rt: &RtScene) -> SceneRecords {
                 kt_ior: [m.kt as f32, m.ior as f32, 0.0, 0.0],
             })
             .collect(),
-        lights: rt
-            .lights
-            .iter()
-            .map(|l| GpuLight {
-                position: v4(l.position, 0.0),
-                intensity: v4(l.intensity, 0.0),
-            })
-            .collect(),
     }
 }
 
@@ -218,7 +205,7 @@ pub fn render(
             limit: BVH_STACK_SIZE - 1,
         });
     }
-    let spec = specialization(&rt, count_rays);
+    let spec = specialization(scene, &rt, count_rays);
     let pipeline_started = Instant::now();
     let pipeline = create_pipeline(context, &spec)?;
     let pipeline_ms = pipeline_started.elapsed().as_secs_f64() * 1e3;
@@ -242,7 +229,10 @@ pub fn render(
     let r = records(&rt);
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let upload = |name: &str, bytes: &[u8]| Buffer::with_data(context, name, bytes, storage);
-    let lights = upload("lights", bytemuck::cast_slice(&r.lights))?;
+    let lights = upload(
+        "lights",
+        bytemuck::cast_slice(&raster_scene::lights(scene, view.eye)),
+    )?;
     let uniform_buffer = Buffer::with_data(
         context,
         "trace uniforms",
