@@ -5,7 +5,7 @@
 use std::fmt;
 use std::str::FromStr;
 
-use crate::scene::{Interpolation, Scene, Shape};
+use crate::scene::{Interpolation, Scene, Shape, MAX_DEPTH};
 use crate::shading::Shading;
 
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -70,11 +70,7 @@ impl fmt::Display for Variant {
             keys.push(format!("segments={n}"));
         }
         if let Some(i) = self.interpolation {
-            let name = match i {
-                Interpolation::Perspective => "perspective",
-                Interpolation::Screen => "screen",
-            };
-            keys.push(format!("interpolation={name}"));
+            keys.push(format!("interpolation={}", i.name()));
         }
         if let Some(d) = self.depth {
             keys.push(format!("depth={d}"));
@@ -128,17 +124,16 @@ impl FromStr for Variant {
                 }
                 "interpolation" => {
                     only(raster, "flat, gouraud and phong")?;
-                    v.interpolation = Some(match value {
-                        "perspective" => Interpolation::Perspective,
-                        "screen" => Interpolation::Screen,
-                        _ => return Err(bad("perspective or screen")),
-                    });
+                    v.interpolation = Some(
+                        Interpolation::from_name(value).ok_or_else(|| bad("perspective or screen"))?,
+                    );
                 }
                 "depth" => {
                     only(!raster, "raytrace")?;
-                    let d: u32 = value.parse().map_err(|_| bad("an integer from 0 to 64"))?;
-                    if d > 64 {
-                        return Err(bad("an integer from 0 to 64"));
+                    let range = format!("an integer from 0 to {MAX_DEPTH}");
+                    let d: u32 = value.parse().map_err(|_| bad(&range))?;
+                    if d > MAX_DEPTH {
+                        return Err(bad(&range));
                     }
                     v.depth = Some(d);
                 }

@@ -6,6 +6,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::context::GpuContext;
+use super::error::GpuError;
 
 pub struct PipelineObjects {
     context: Arc<GpuContext>,
@@ -27,6 +28,17 @@ impl PipelineObjects {
             modules: Vec::new(),
         }
     }
+}
+
+/// The one pipeline a `vkCreate*Pipelines` call made, or its error named
+/// after `call`.
+pub fn single_pipeline(
+    created: Result<Vec<vk::Pipeline>, (Vec<vk::Pipeline>, vk::Result)>,
+    call: &'static str,
+) -> Result<vk::Pipeline, GpuError> {
+    created
+        .map(|pipelines| pipelines[0])
+        .map_err(|(_, result)| GpuError::Vulkan { call, result })
 }
 
 impl Drop for PipelineObjects {

@@ -15,7 +15,7 @@ use super::context::GpuContext;
 use super::descriptors::{create_set_layout, Descriptors};
 use super::error::{GpuError, VkContext};
 use super::image::{subresource_range, Image};
-use super::pipeline::PipelineObjects;
+use super::pipeline::{single_pipeline, PipelineObjects};
 use super::raster_layout::{DrawConstants, FrameUniforms, Specialization, Vertex, BINDINGS};
 use super::raster_scene::{build_geometry, lights, specialization};
 use super::shader_catalog::{self as shaders, ShaderBlob};
@@ -163,13 +163,9 @@ fn create_pipeline(
         .layout(p.layout)
         .push_next(&mut rendering);
     // SAFETY: every pointer in `info` refers to locals alive for the call.
-    let pipelines =
-        unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
-            .map_err(|(_, result)| GpuError::Vulkan {
-                call: "vkCreateGraphicsPipelines",
-                result,
-            })?;
-    p.pipeline = pipelines[0];
+    let created =
+        unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
+    p.pipeline = single_pipeline(created, "vkCreateGraphicsPipelines")?;
     Ok(p)
 }
 

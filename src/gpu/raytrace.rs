@@ -15,7 +15,7 @@ use super::commands::OneShot;
 use super::context::GpuContext;
 use super::descriptors::{create_set_layout, Descriptors};
 use super::error::{GpuError, VkContext};
-use super::pipeline::PipelineObjects;
+use super::pipeline::{single_pipeline, PipelineObjects};
 use super::raster::check_image_size;
 use super::raster_scene;
 use super::rt_layout::*;
@@ -76,13 +76,9 @@ fn create_pipeline(
         .stage(stage)
         .layout(p.layout);
     // SAFETY: every pointer in `info` refers to locals alive for the call.
-    let pipelines =
-        unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) }
-            .map_err(|(_, result)| GpuError::Vulkan {
-                call: "vkCreateComputePipelines",
-                result,
-            })?;
-    p.pipeline = pipelines[0];
+    let created =
+        unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
+    p.pipeline = single_pipeline(created, "vkCreateComputePipelines")?;
     Ok(p)
 }
 

@@ -46,8 +46,25 @@ pub enum Interpolation {
     #[default]
     Perspective,
     /// Screen-space linear interpolation, the lecture's scanline rule
-    /// (GLSL `noperspective`).
+    /// (computed from perspective-correct varyings: `screen_linear.glsl`).
     Screen,
+}
+
+impl Interpolation {
+    /// The spelling of scene files and variants.
+    pub fn name(self) -> &'static str {
+        match self {
+            Interpolation::Perspective => "perspective",
+            Interpolation::Screen => "screen",
+        }
+    }
+
+    /// The inverse of `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        [Interpolation::Perspective, Interpolation::Screen]
+            .into_iter()
+            .find(|i| i.name() == name)
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -202,19 +202,12 @@ struct ImageRaw {
     background: Option<Spanned<V3>>,
 }
 
-#[derive(Deserialize, Clone, Copy)]
-#[serde(rename_all = "lowercase")]
-enum InterpolationRaw {
-    Perspective,
-    Screen,
-}
-
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct LightingRaw {
     ambient: Option<Spanned<NumOr3>>,
     k: Option<Spanned<Finite>>,
-    interpolation: Option<InterpolationRaw>,
+    interpolation: Option<Interpolation>,
     attenuation: Option<bool>,
 }
 
@@ -588,10 +581,7 @@ pub fn parse(text: &str, base_dir: &Path, label: &str) -> Result<Scene, SceneErr
             lighting.k = cx.non_negative(k, "lighting.k")?;
         }
         if let Some(i) = l.interpolation {
-            lighting.interpolation = match i {
-                InterpolationRaw::Perspective => Interpolation::Perspective,
-                InterpolationRaw::Screen => Interpolation::Screen,
-            };
+            lighting.interpolation = i;
         }
         if let Some(a) = l.attenuation {
             lighting.attenuation = a;
