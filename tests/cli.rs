@@ -619,3 +619,36 @@ fn every_command_checks_size_depth_and_runs_alike() {
     }
     assert!(!dir.path().join("x.png").exists());
 }
+
+/// A case that cannot be checked fails as a case: the JUnit report is still
+/// written, with the reason, and the exit status is the error's.
+#[test]
+fn check_reports_a_case_it_cannot_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = shadelab(
+        dir.path(),
+        &[
+            "check",
+            "--shading",
+            "flat,phong",
+            "--width",
+            "10000",
+            "--height",
+            "10000",
+            "--out",
+            "o",
+            "--junit",
+            "j.xml",
+        ],
+    );
+    assert_eq!(run.code, 2, "{}{}", run.stdout, run.stderr);
+    assert_eq!(
+        run.stdout.matches("ERROR default/").count(),
+        2,
+        "{}",
+        run.stdout
+    );
+    let xml = std::fs::read_to_string(dir.path().join("j.xml")).expect("the JUnit report");
+    let failures = xml.matches("<failure message=\"could not be checked").count();
+    assert_eq!(failures, 2, "{xml}");
+}

@@ -99,11 +99,39 @@ pub fn run(args: CheckArgs, options: &GpuOptions) -> Result<(), Failure> {
     let mut cases = Vec::new();
     let mut reports = Vec::new();
     let mut failed = 0;
+    // A case that cannot be checked at all (the device refuses the scene,
+    // say) fails on its own; the others still run and the report is still
+    // written. The run then exits with that error's status.
+    let mut first_error: Option<Failure> = None;
     for (scene, name) in &scenes {
         let folder = args.out.join(name);
         std::fs::create_dir_all(&folder).map_err(|e| io_failure(&folder, e))?;
         for &shading in &args.shading {
-            let outcome = check(&context, scene, scene, shading, &limits_for(shading))?;
+            let outcome = match check(&context, scene, scene, shading, &limits_for(shading)) {
+                Ok(outcome) => outcome,
+                Err(e) => {
+                    let error = Failure::from(e);
+                    if !args.json {
+                        println!("ERROR {name}/{shading}  {}", error.message);
+                    }
+                    failed += 1;
+                    cases.push(TestCase {
+                        classname: name.clone(),
+                        name: shading.to_string(),
+                        time_s: 0.0,
+                        failure: Some(format!("could not be checked: {}", error.message)),
+                        output: String::new(),
+                    });
+                    reports.push(serde_json::json!({
+                        "scene": name,
+                        "shading": shading,
+                        "passed": false,
+                        "error": error.message,
+                    }));
+                    first_error.get_or_insert(error);
+                    continue;
+                }
+            };
             write_images(&folder, &outcome)?;
             let verdict = if outcome.passed() { "PASS" } else { "FAIL" };
             if !outcome.passed() {
@@ -161,6 +189,9 @@ pub fn run(args: CheckArgs, options: &GpuOptions) -> Result<(), Failure> {
             cases.len(),
             args.out.display()
         );
+    }
+    if let Some(error) = first_error {
+        return Err(error);
     }
     if failed > 0 {
         return Err(Failure {
