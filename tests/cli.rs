@@ -567,6 +567,18 @@ fn compare_shards_merge_from_the_command_line() {
         dir.path().join("merged/gouraud.png").is_file(),
         "images come along"
     );
+
+    // A report that names an image outside its folder is refused before
+    // anything is copied.
+    let report = dir.path().join("b/report.json");
+    let text = std::fs::read_to_string(&report).unwrap();
+    let tampered = text.replacen("\"phong.png\"", "\"../phong.png\"", 1);
+    assert_ne!(text, tampered, "the shard names phong.png");
+    std::fs::write(&report, tampered).unwrap();
+    let run = shadelab(dir.path(), &["compare", "--merge", "a", "b", "--out", "evil"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("../phong.png"), "{}", run.stderr);
+    assert!(!dir.path().join("evil/flat.png").exists(), "nothing copied");
 }
 
 /// The size, depth and run-count checks are shared by every command that
@@ -649,6 +661,8 @@ fn check_reports_a_case_it_cannot_run() {
         run.stdout
     );
     let xml = std::fs::read_to_string(dir.path().join("j.xml")).expect("the JUnit report");
-    let failures = xml.matches("<failure message=\"could not be checked").count();
+    let failures = xml
+        .matches("<failure message=\"could not be checked")
+        .count();
     assert_eq!(failures, 2, "{xml}");
 }

@@ -2,7 +2,7 @@
 //! measured against the CPU reference of the same variant and against the
 //! scene's reference image; or `--merge` of shard folders into one report.
 
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 
 use clap::Args;
 use shadelab::compare::present::write_presentation;
@@ -139,22 +139,41 @@ fn merge_folders(args: &CompareArgs) -> Result<Report, Failure> {
         let report: Report = serde_json::from_str(&text).map_err(|e| {
             Failure::usage(format!("{} is not a shadelab report: {e}", path.display()))
         })?;
-        // Bring the shard's images along.
+        shards.push((dir, report));
+    }
+    // Merge (which checks that the shards belong together) before copying
+    // anything, so a refused merge leaves --out as it was.
+    let merged = merge(shards.iter().map(|(_, r)| r.clone()).collect())
+        .map_err(|e| Failure::usage(format!("cannot merge: {e}")))?;
+    let mut copies = Vec::new();
+    for (dir, report) in &shards {
         let mut files = vec![report.reference_image.clone()];
         for v in &report.variants {
             files.push(v.image.clone());
             files.push(v.heatmap.clone());
         }
         for file in files {
-            let (from, to) = (dir.join(&file), args.out.join(&file));
-            if from != to {
-                std::fs::copy(&from, &to)
-                    .map_err(|e| Failure::usage(format!("cannot copy {}: {e}", from.display())))?;
+            // A report names files inside its own folder: a bare file name.
+            let mut parts = Path::new(&file).components();
+            if !matches!(
+                (parts.next(), parts.next()),
+                (Some(Component::Normal(_)), None)
+            ) {
+                return Err(Failure::usage(format!(
+                    "{}: image `{file}` is not a file name in the shard's folder",
+                    dir.join("report.json").display()
+                )));
             }
+            copies.push((dir.join(&file), args.out.join(&file)));
         }
-        shards.push(report);
     }
-    merge(shards).map_err(|e| Failure::usage(format!("cannot merge: {e}")))
+    for (from, to) in copies {
+        if from != to {
+            std::fs::copy(&from, &to)
+                .map_err(|e| Failure::usage(format!("cannot copy {}: {e}", from.display())))?;
+        }
+    }
+    Ok(merged)
 }
 
 fn print_table(report: &Report, dir: &Path) {
