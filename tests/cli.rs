@@ -575,7 +575,10 @@ fn compare_shards_merge_from_the_command_line() {
     let tampered = text.replacen("\"phong.png\"", "\"../phong.png\"", 1);
     assert_ne!(text, tampered, "the shard names phong.png");
     std::fs::write(&report, tampered).unwrap();
-    let run = shadelab(dir.path(), &["compare", "--merge", "a", "b", "--out", "evil"]);
+    let run = shadelab(
+        dir.path(),
+        &["compare", "--merge", "a", "b", "--out", "evil"],
+    );
     assert_eq!(run.code, 2, "{}", run.stderr);
     assert!(run.stderr.contains("../phong.png"), "{}", run.stderr);
     assert!(!dir.path().join("evil/flat.png").exists(), "nothing copied");

@@ -52,6 +52,44 @@ pub struct CpuRender {
     pub near_edge: Vec<bool>,
 }
 
+/// What the coverage test and the edge distance need of a triangle,
+/// computed once per triangle rather than per sample.
+struct Edges {
+    /// Snapped to the sub-pixel grid and ordered so that the interior has
+    /// positive edge functions (for coverage).
+    snapped: [DVec2; 3],
+    /// Whether each snapped edge `snapped[i] -> snapped[i + 1]` is a top or
+    /// a left edge.
+    top_left: [bool; 3],
+    /// `edge(window[0], window[1], window[2])`, twice the signed area.
+    window_area: f64,
+    /// Lengths of the unsnapped edges `window[i] -> window[i + 1]`.
+    lengths: [f64; 3],
+}
+
+impl Edges {
+    /// `None` when the snapped triangle has no area: it covers no sample.
+    fn new(window: [DVec2; 3]) -> Option<Self> {
+        let [a, b, c] = window.map(snap);
+        let snapped_area = edge(a, b, c);
+        if snapped_area == 0.0 {
+            return None;
+        }
+        // Orient so the interior has positive edge functions.
+        let snapped = if snapped_area > 0.0 {
+            [a, b, c]
+        } else {
+            [a, c, b]
+        };
+        Some(Edges {
+            snapped,
+            top_left: [0, 1, 2].map(|i| is_top_left(snapped[i], snapped[(i + 1) % 3])),
+            window_area: edge(window[0], window[1], window[2]),
+            lengths: [0, 1, 2].map(|i| (window[(i + 1) % 3] - window[i]).length()),
+        })
+    }
+}
+
 /// One screen-space triangle ready to rasterize.
 struct Triangle {
     object: u32,
@@ -59,8 +97,7 @@ struct Triangle {
     primitive: u32,
     /// Window coordinates in pixels, unsnapped (for interpolation).
     window: [DVec2; 3],
-    /// Snapped to the sub-pixel grid (for coverage).
-    snapped: [DVec2; 3],
+    edges: Edges,
     /// Reversed depth `near / w` per vertex.
     depth: [f64; 3],
     /// `1 / w` per vertex, for perspective-correct interpolation.
@@ -179,10 +216,8 @@ fn screen_triangle(
     flat_color: DVec3,
 ) -> Option<Triangle> {
     let window = vertices.map(|v| window_of(view, v.clip));
-    let snapped = window.map(snap);
-    if edge(snapped[0], snapped[1], snapped[2]) == 0.0 {
-        return None; // no area on the sub-pixel grid: covers no sample
-    }
+    let edges = Edges::new(window)?;
+    let snapped = edges.snapped;
     let lo = snapped[0].min(snapped[1]).min(snapped[2]);
     let hi = snapped[0].max(snapped[1]).max(snapped[2]);
     let (w, h) = (f64::from(view.width), f64::from(view.height));
@@ -200,7 +235,7 @@ fn screen_triangle(
         object,
         primitive,
         window,
-        snapped,
+        edges,
         depth: vertices.map(|v| v.clip.z / v.clip.w),
         inv_w: vertices.map(|v| 1.0 / v.clip.w),
         vertices,
@@ -212,42 +247,36 @@ fn screen_triangle(
 
 /// Screen-space barycentrics of `p` if the sample is covered.
 fn coverage(t: &Triangle, p: DVec2) -> Option<[f64; 3]> {
-    let [a, b, c] = t.snapped;
-    let area = edge(a, b, c);
-    // Orient so the interior has positive edge functions.
-    let (a, b, c) = if area > 0.0 { (a, b, c) } else { (a, c, b) };
-    for (u, v) in [(a, b), (b, c), (c, a)] {
-        let e = edge(u, v, p);
-        if e < 0.0 || (e == 0.0 && !is_top_left(u, v)) {
+    for i in 0..3 {
+        let e = edge(t.edges.snapped[i], t.edges.snapped[(i + 1) % 3], p);
+        if e < 0.0 || (e == 0.0 && !t.edges.top_left[i]) {
             return None;
         }
     }
     // Interpolation weights from the unsnapped positions.
+    Some(barycentrics(t, p))
+}
+
+/// Barycentrics of `p` from the unsnapped window positions (extrapolated
+/// outside the triangle).
+fn barycentrics(t: &Triangle, p: DVec2) -> [f64; 3] {
     let [a, b, c] = t.window;
-    let area = edge(a, b, c);
-    Some([
+    let area = t.edges.window_area;
+    [
         edge(b, c, p) / area,
         edge(c, a, p) / area,
         edge(a, b, p) / area,
-    ])
+    ]
 }
 
 /// Signed distance in pixels from `p` to the triangle's boundary (positive
 /// inside), and the barycentrics of `p` (extrapolated outside).
 fn boundary_distance(t: &Triangle, p: DVec2) -> (f64, [f64; 3]) {
-    let [a, b, c] = t.window;
-    let area = edge(a, b, c);
-    let sign = area.signum();
-    let distance = [(a, b), (b, c), (c, a)]
-        .iter()
-        .map(|&(u, v)| sign * edge(u, v, p) / (v - u).length())
+    let sign = t.edges.window_area.signum();
+    let distance = (0..3)
+        .map(|i| sign * edge(t.window[i], t.window[(i + 1) % 3], p) / t.edges.lengths[i])
         .fold(f64::INFINITY, f64::min);
-    let bary = [
-        edge(b, c, p) / area,
-        edge(c, a, p) / area,
-        edge(a, b, p) / area,
-    ];
-    (distance, bary)
+    (distance, barycentrics(t, p))
 }
 
 fn shade_sample(
@@ -411,7 +440,7 @@ mod tests {
             object: 0,
             primitive: 0,
             window: points,
-            snapped: points.map(snap),
+            edges: Edges::new(points).expect("a triangle with area"),
             depth: [1.0; 3],
             inv_w: [1.0; 3],
             vertices: [v; 3],
