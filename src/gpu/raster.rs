@@ -474,12 +474,7 @@ pub fn render(
             &vk::DependencyInfo::default().buffer_memory_barriers(&to_host),
         );
     }
-    let submitted = Instant::now();
-    commands.submit_and_wait()?;
-    let submit_ms = submitted.elapsed().as_secs_f64() * 1e3;
-    context.check_validation()?;
-
-    let gpu_ms = timestamps.elapsed_ms()?;
+    let (submit_ms, gpu_ms) = timestamps.submit_and_measure(&commands)?;
 
     let image = LinearImage::from_rgba32f_bytes(width, height, readback.mapped());
     Ok(RasterOutput {

@@ -304,11 +304,7 @@ pub fn render(
         );
         timestamps.stop(cmd);
     }
-    let submitted = Instant::now();
-    commands.submit_and_wait()?;
-    let submit_ms = submitted.elapsed().as_secs_f64() * 1e3;
-    context.check_validation()?;
-    let gpu_ms = timestamps.elapsed_ms()?;
+    let (submit_ms, gpu_ms) = timestamps.submit_and_measure(&commands)?;
 
     let image = LinearImage::from_rgba32f_bytes(width, height, output.mapped());
     let counter = |i: usize| {

@@ -1,9 +1,11 @@
 //! Two GPU timestamps around a piece of recorded work.
 
 use std::sync::Arc;
+use std::time::Instant;
 
 use ash::vk;
 
+use super::commands::OneShot;
 use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
 
@@ -71,6 +73,17 @@ impl Timestamps {
                 1,
             )
         };
+    }
+
+    /// Submits the recorded work (which `start` and `stop` bracket), waits
+    /// for it, turns any validation message into an error, and returns
+    /// `(submit_ms, gpu_ms)` for `GpuTimings`.
+    pub fn submit_and_measure(&self, commands: &OneShot) -> Result<(f64, f64), GpuError> {
+        let submitted = Instant::now();
+        commands.submit_and_wait()?;
+        let submit_ms = submitted.elapsed().as_secs_f64() * 1e3;
+        self.context.check_validation()?;
+        Ok((submit_ms, self.elapsed_ms()?))
     }
 
     /// Milliseconds between the two, after the submission has completed.
