@@ -154,9 +154,12 @@ fn specialization_constants_match_by_id_and_name() {
             "HAS_TRANSMISSION",
             offset_of!(TraceSpecialization, has_transmission),
         ),
-        ("HAS_SPHERES", offset_of!(TraceSpecialization, has_spheres)),
-        ("HAS_PLANES", offset_of!(TraceSpecialization, has_planes)),
-        ("HAS_BOXES", offset_of!(TraceSpecialization, has_boxes)),
+        (
+            "SPHERE_COUNT",
+            offset_of!(TraceSpecialization, sphere_count),
+        ),
+        ("PLANE_COUNT", offset_of!(TraceSpecialization, plane_count)),
+        ("BOX_COUNT", offset_of!(TraceSpecialization, box_count)),
         ("HAS_MESHES", offset_of!(TraceSpecialization, has_meshes)),
         ("COUNT_RAYS", offset_of!(TraceSpecialization, count_rays)),
     ];

@@ -1,8 +1,17 @@
 // The interface between the host and the ray-tracing compute shader:
 // specialization constants, descriptor bindings, buffer records. The host's
-// side is src/gpu/rt_layout.rs; tests/shader_interface.rs checks the two
-// agree. Positions are camera-relative (the eye is the origin), computed in
-// double precision on the host (src/rt_scene.rs).
+// side is src/gpu/rt_layout.rs (records built in src/gpu/rt_records.rs);
+// tests/shader_interface.rs checks the two agree. Positions are
+// camera-relative (the eye is the origin), computed in double precision on
+// the host (src/rt_scene.rs).
+//
+// The records are laid out for lavapipe, where every buffer read at an
+// index that differs between invocations costs a scalar load per lane and
+// per 4-byte component (docs/raytracing.md, "Why the shader is shaped this
+// way"): the BVH stores both children's boxes in their parent, so one read
+// of a node tests both; triangles are stored in BVH leaf order with only
+// what the intersection test needs, and what shading needs sits in a
+// second record read once per ray, for the nearest hit.
 
 // Shared with the raster pipelines (same ids, same meaning).
 #include "lights.glsl"
@@ -11,9 +20,12 @@
 layout(constant_id = 3) const bool SHADOWS = true;
 layout(constant_id = 4) const bool HAS_REFLECTION = true;    // kr > 0 or kt > 0 somewhere
 layout(constant_id = 5) const bool HAS_TRANSMISSION = true;  // kt > 0 somewhere
-layout(constant_id = 6) const bool HAS_SPHERES = true;
-layout(constant_id = 7) const bool HAS_PLANES = true;
-layout(constant_id = 8) const bool HAS_BOXES = true;
+// Object counts by kind: loops over them have a trip count known when the
+// pipeline is built, so the driver unrolls short ones and every record is
+// then read at a constant index (one load for all invocations).
+layout(constant_id = 6) const int SPHERE_COUNT = 0;
+layout(constant_id = 7) const int PLANE_COUNT = 0;
+layout(constant_id = 8) const int BOX_COUNT = 0;
 layout(constant_id = 9) const bool HAS_MESHES = true;
 // Ray statistics with atomics, only when asked for (--stats).
 layout(constant_id = 10) const bool COUNT_RAYS = false;
@@ -25,8 +37,7 @@ layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     vec4 up_aspect;       // xyz: camera up, w: width / height
     vec4 forward_cutoff;  // xyz: camera forward, w: the cut-off weight
     uvec4 image;          // x: width, y: height, z: samples, w: maximum depth
-    uvec4 grid;           // x, y: the sample grid kx, ky
-    uvec4 counts;         // spheres, planes, boxes, triangles
+    uvec4 grid;           // x, y: the sample grid kx, ky; z: tiles across; w: the BVH's root link
 } frame;
 
 struct Sphere {
@@ -51,22 +62,46 @@ struct Box {
     uvec4 material_object;
 };
 
-struct Triangle {
-    vec4 p0;
-    vec4 p1;
-    vec4 p2;
-    vec4 n0;
-    vec4 n1;
-    vec4 n2;
-    uvec4 material_object;
+// What the intersection test reads, in BVH leaf order. `index` is the
+// triangle's place in the scene's triangle list (rt_scene::RtScene), which
+// the tie rule compares; `object` its scene object.
+struct TriangleGeometry {
+    vec3 p0;
+    uint index;
+    vec3 p1;
+    uint object;
+    vec3 p2;
+    uint unused;
 };
 
-struct BvhNode {
-    vec3 lo;
-    uint prim_count;  // 0: inner node, children at first and first + 1
-    vec3 hi;
-    uint first;       // leaf: first entry in `primitive_indices`
+// What shading the nearest hit reads, in the same order.
+struct TriangleShading {
+    vec3 n0;
+    uint material;
+    vec3 n1;
+    uint unused1;
+    vec3 n2;
+    uint unused2;
+    vec3 geometric;  // unit geometric normal (f64 on the host), for offsets
+    uint unused3;
 };
+
+// An inner node of the BVH with both children's boxes. A child link is a
+// node index, or for a leaf LEAF_BIT | its triangle
+// count less one in bits 26 to 30 and its first triangle below. The root's
+// link is in the uniforms (a mesh of a few triangles is one leaf).
+struct BvhNode {
+    vec3 left_lo;
+    uint left;
+    vec3 left_hi;
+    uint unused1;
+    vec3 right_lo;
+    uint right;
+    vec3 right_hi;
+    uint unused2;
+};
+
+const uint LEAF_BIT = 0x80000000u;
 
 struct RtMaterial {
     vec4 color_ka;
@@ -77,11 +112,13 @@ struct RtMaterial {
 layout(std430, set = 0, binding = 2) readonly buffer SphereBuffer { Sphere spheres[]; };
 layout(std430, set = 0, binding = 3) readonly buffer PlaneBuffer { Plane planes[]; };
 layout(std430, set = 0, binding = 4) readonly buffer BoxBuffer { Box boxes[]; };
-layout(std430, set = 0, binding = 5) readonly buffer TriangleBuffer { Triangle triangles[]; };
+layout(std430, set = 0, binding = 5) readonly buffer TriangleGeometryBuffer { TriangleGeometry triangles[]; };
 layout(std430, set = 0, binding = 6) readonly buffer BvhBuffer { BvhNode nodes[]; };
-layout(std430, set = 0, binding = 7) readonly buffer PrimitiveBuffer { uint primitive_indices[]; };
+layout(std430, set = 0, binding = 7) readonly buffer TriangleShadingBuffer { TriangleShading triangle_shading[]; };
 layout(std430, set = 0, binding = 8) readonly buffer MaterialBuffer { RtMaterial materials[]; };
 // Not `writeonly`: naga does not accept write-only storage buffers.
 layout(std430, set = 0, binding = 9) buffer OutputBuffer { vec4 pixels[]; };
 // primary, shadow, reflected, refracted, pruned, deepest level, 2 unused.
 layout(std430, set = 0, binding = 10) buffer StatsBuffer { uint counters[8]; };
+// The order in which workgroups take the image's 8x8 tiles (see main).
+layout(std430, set = 0, binding = 11) readonly buffer TileOrderBuffer { uint tile_order[]; };

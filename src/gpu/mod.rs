@@ -14,6 +14,7 @@ pub mod raster_layout;
 mod raster_scene;
 pub mod raytrace;
 pub mod rt_layout;
+mod rt_records;
 pub mod shader_catalog;
 mod timestamps;
 mod validation;

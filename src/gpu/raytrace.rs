@@ -19,14 +19,15 @@ use super::pipeline::{single_pipeline, PipelineObjects};
 use super::raster::check_image_size;
 use super::raster_scene;
 use super::rt_layout::*;
+use super::rt_records::{records, tile_order};
 use super::shader_catalog::RAYTRACE_COMP;
 use super::timestamps::{GpuTimings, Timestamps};
 use crate::camera::View;
 use crate::linear_image::LinearImage;
-use crate::rt_scene::{sample_grid, widened_box, RayStats, RtScene};
+use crate::rt_scene::{sample_grid, RayStats, RtScene};
 use crate::scene::Scene;
 
-/// Workgroup edge: `local_size_x` and `local_size_y` in the shader.
+/// The edge of the square tile one workgroup traces (64 invocations).
 const GROUP: u32 = 8;
 
 pub struct TraceOutput {
@@ -39,10 +40,6 @@ pub struct TraceOutput {
 fn v4(v: DVec3, w: f32) -> [f32; 4] {
     let v = v.as_vec3();
     [v.x, v.y, v.z, w]
-}
-
-fn ids(material: u32, object: u32) -> [u32; 4] {
-    [material, object, 0, 0]
 }
 
 fn create_pipeline(
@@ -94,91 +91,11 @@ fn specialization(scene: &Scene, rt: &RtScene, count_rays: bool) -> TraceSpecial
         shadows: u32::from(rt.render.shadows && !rt.lights.is_empty()),
         has_reflection: u32::from(rt.has_reflection() && rt.render.depth > 0),
         has_transmission: u32::from(rt.has_transmission() && rt.render.depth > 0),
-        has_spheres: u32::from(!rt.spheres.is_empty()),
-        has_planes: u32::from(!rt.planes.is_empty()),
-        has_boxes: u32::from(!rt.boxes.is_empty()),
+        sphere_count: rt.spheres.len() as i32,
+        plane_count: rt.planes.len() as i32,
+        box_count: rt.boxes.len() as i32,
         has_meshes: u32::from(!rt.triangles.is_empty()),
         count_rays: u32::from(count_rays),
-    }
-}
-
-/// The storage buffers' contents, in `BINDINGS` order from `SPHERES`.
-struct SceneRecords {
-    spheres: Vec<GpuSphere>,
-    planes: Vec<GpuPlane>,
-    boxes: Vec<GpuBox>,
-    triangles: Vec<GpuTriangle>,
-    nodes: Vec<GpuBvhNode>,
-    primitive_indices: Vec<u32>,
-    materials: Vec<GpuMaterial>,
-}
-
-fn records(rt: &RtScene) -> SceneRecords {
-    SceneRecords {
-        spheres: rt
-            .spheres
-            .iter()
-            .map(|s| GpuSphere {
-                center_radius: v4(s.center, s.radius as f32),
-                material_object: ids(s.material, s.object),
-            })
-            .collect(),
-        planes: rt
-            .planes
-            .iter()
-            .map(|p| GpuPlane {
-                center_half: v4(p.center, p.half_size as f32),
-                normal: v4(p.normal, 0.0),
-                u: v4(p.u, 0.0),
-                v: v4(p.v, 0.0),
-                material_object: ids(p.material, p.object),
-            })
-            .collect(),
-        boxes: rt
-            .boxes
-            .iter()
-            .map(|b| GpuBox {
-                center: v4(b.center, 0.0),
-                half_extents: v4(b.half_extents, 0.0),
-                axis_x: v4(b.rotation.x_axis, 0.0),
-                axis_y: v4(b.rotation.y_axis, 0.0),
-                axis_z: v4(b.rotation.z_axis, 0.0),
-                material_object: ids(b.material, b.object),
-            })
-            .collect(),
-        triangles: rt
-            .triangles
-            .iter()
-            .map(|t| GpuTriangle {
-                p: t.positions.map(|p| v4(p, 0.0)),
-                n: t.normals.map(|n| v4(n, 0.0)),
-                material_object: ids(t.material, t.object),
-            })
-            .collect(),
-        nodes: rt
-            .bvh
-            .nodes
-            .iter()
-            .map(|n| {
-                let (lo, hi) = widened_box(n.aabb.min.as_dvec3(), n.aabb.max.as_dvec3());
-                GpuBvhNode {
-                    lo: lo.as_vec3().to_array(),
-                    prim_count: n.prim_count,
-                    hi: hi.as_vec3().to_array(),
-                    first: n.first_index,
-                }
-            })
-            .collect(),
-        primitive_indices: rt.bvh.primitive_indices.clone(),
-        materials: rt
-            .materials
-            .iter()
-            .map(|m| GpuMaterial {
-                color_ka: v4(m.color, m.ka as f32),
-                kd_ks_p_kr: [m.kd as f32, m.ks as f32, m.p as f32, m.kr as f32],
-                kt_ior: [m.kt as f32, m.ior as f32, 0.0, 0.0],
-            })
-            .collect(),
     }
 }
 
@@ -206,7 +123,9 @@ pub fn render(
     let pipeline = create_pipeline(context, &spec)?;
     let pipeline_ms = pipeline_started.elapsed().as_secs_f64() * 1e3;
 
+    let r = records(&rt)?;
     let (kx, ky) = sample_grid(rt.render.samples);
+    let (tiles_across, tiles_down) = (width.div_ceil(GROUP), height.div_ceil(GROUP));
     let uniforms = TraceUniforms {
         ambient_k: v4(rt.lighting.ambient, rt.lighting.k as f32),
         background: v4(rt.background, 0.0),
@@ -214,15 +133,8 @@ pub fn render(
         up_aspect: v4(view.up, view.aspect as f32),
         forward_cutoff: v4(view.forward, rt.render.cutoff as f32),
         image: [width, height, rt.render.samples, rt.render.depth],
-        grid: [kx, ky, 0, 0],
-        counts: [
-            rt.spheres.len() as u32,
-            rt.planes.len() as u32,
-            rt.boxes.len() as u32,
-            rt.triangles.len() as u32,
-        ],
+        grid: [kx, ky, tiles_across, r.root],
     };
-    let r = records(&rt);
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let upload = |name: &str, bytes: &[u8]| Buffer::with_data(context, name, bytes, storage);
     let lights = upload(
@@ -240,9 +152,13 @@ pub fn render(
     let boxes = upload("boxes", bytemuck::cast_slice(&r.boxes))?;
     let triangles = upload("triangles", bytemuck::cast_slice(&r.triangles))?;
     let nodes = upload("bvh nodes", bytemuck::cast_slice(&r.nodes))?;
-    let indices = upload(
-        "primitive indices",
-        bytemuck::cast_slice(&r.primitive_indices),
+    let triangle_shading = upload(
+        "triangle shading",
+        bytemuck::cast_slice(&r.triangle_shading),
+    )?;
+    let tile_order = upload(
+        "tile order",
+        bytemuck::cast_slice(&tile_order(tiles_across * tiles_down)),
     )?;
     let materials = upload("materials", bytemuck::cast_slice(&r.materials))?;
     let pixel_bytes = u64::from(width) * u64::from(height) * 16;
@@ -267,10 +183,11 @@ pub fn render(
             &boxes,
             &triangles,
             &nodes,
-            &indices,
+            &triangle_shading,
             &materials,
             &output,
             &stats,
+            &tile_order,
         ],
     )?;
 
@@ -292,7 +209,7 @@ pub fn render(
             &[descriptors.set],
             &[],
         );
-        device.cmd_dispatch(cmd, width.div_ceil(GROUP), height.div_ceil(GROUP), 1);
+        device.cmd_dispatch(cmd, tiles_across, tiles_down, 1);
         let to_host = [vk::MemoryBarrier2::default()
             .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
             .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)

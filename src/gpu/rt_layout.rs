@@ -15,10 +15,11 @@ pub const PLANES: u32 = 3;
 pub const BOXES: u32 = 4;
 pub const TRIANGLES: u32 = 5;
 pub const BVH_NODES: u32 = 6;
-pub const PRIMITIVE_INDICES: u32 = 7;
+pub const TRIANGLE_SHADING: u32 = 7;
 pub const MATERIALS: u32 = 8;
 pub const OUTPUT: u32 = 9;
 pub const STATS: u32 = 10;
+pub const TILE_ORDER: u32 = 11;
 
 const STORAGE: vk::DescriptorType = vk::DescriptorType::STORAGE_BUFFER;
 
@@ -31,19 +32,21 @@ pub const BINDINGS: &[(u32, vk::DescriptorType)] = &[
     (BOXES, STORAGE),
     (TRIANGLES, STORAGE),
     (BVH_NODES, STORAGE),
-    (PRIMITIVE_INDICES, STORAGE),
+    (TRIANGLE_SHADING, STORAGE),
     (MATERIALS, STORAGE),
     (OUTPUT, STORAGE),
     (STATS, STORAGE),
+    (TILE_ORDER, STORAGE),
 ];
+
+/// Entries of the BVH traversal stack in raytrace.comp.glsl (its
+/// `BVH_STACK_SIZE`; tests/shader_interface.rs holds the two equal). The
+/// walk stacks one far child per inner node on its path, so a tree `d`
+/// nodes deep needs fewer than `d` entries.
+pub const BVH_STACK_SIZE: usize = 64;
 
 /// Specialization constants: (constant_id, name in GLSL). Ids 0 to 2 mean
 /// the same as in the raster pipelines.
-/// Entries of the BVH traversal stack in raytrace.comp.glsl (its
-/// `BVH_STACK_SIZE`; tests/shader_interface.rs holds the two equal). A walk
-/// of a tree `d` nodes deep needs at most `d` entries.
-pub const BVH_STACK_SIZE: usize = 64;
-
 pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (0, "LIGHT_COUNT"),
     (1, "USE_SPECULAR"),
@@ -51,9 +54,9 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (3, "SHADOWS"),
     (4, "HAS_REFLECTION"),
     (5, "HAS_TRANSMISSION"),
-    (6, "HAS_SPHERES"),
-    (7, "HAS_PLANES"),
-    (8, "HAS_BOXES"),
+    (6, "SPHERE_COUNT"),
+    (7, "PLANE_COUNT"),
+    (8, "BOX_COUNT"),
     (9, "HAS_MESHES"),
     (10, "COUNT_RAYS"),
 ];
@@ -68,10 +71,9 @@ pub struct TraceUniforms {
     pub forward_cutoff: [f32; 4],
     /// width, height, samples, maximum depth.
     pub image: [u32; 4],
-    /// The sample grid kx, ky.
+    /// The sample grid kx, ky; tiles across the image; the BVH's root
+    /// link (`GpuBvhNode`).
     pub grid: [u32; 4],
-    /// spheres, planes, boxes, triangles.
-    pub counts: [u32; 4],
 }
 
 #[repr(C)]
@@ -102,21 +104,61 @@ pub struct GpuBox {
     pub material_object: [u32; 4],
 }
 
+/// What the intersection test reads of a triangle, in BVH leaf order.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
-pub struct GpuTriangle {
-    pub p: [[f32; 4]; 3],
-    pub n: [[f32; 4]; 3],
-    pub material_object: [u32; 4],
+pub struct GpuTriangleGeometry {
+    pub p0: [f32; 3],
+    /// The triangle's index in `RtScene::triangles` (the tie rule's order).
+    pub index: u32,
+    pub p1: [f32; 3],
+    pub object: u32,
+    pub p2: [f32; 3],
+    pub unused: u32,
 }
 
+/// What shading reads of the nearest hit's triangle, in BVH leaf order.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuTriangleShading {
+    pub n0: [f32; 3],
+    pub material: u32,
+    pub n1: [f32; 3],
+    pub unused1: u32,
+    pub n2: [f32; 3],
+    pub unused2: u32,
+    pub geometric: [f32; 3],
+    pub unused3: u32,
+}
+
+/// An inner BVH node holding both children's boxes; a link is a node index
+/// or a leaf (`leaf_link`).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct GpuBvhNode {
-    pub lo: [f32; 3],
-    pub prim_count: u32,
-    pub hi: [f32; 3],
-    pub first: u32,
+    pub left_lo: [f32; 3],
+    pub left: u32,
+    pub left_hi: [f32; 3],
+    pub unused1: u32,
+    pub right_lo: [f32; 3],
+    pub right: u32,
+    pub right_hi: [f32; 3],
+    pub unused2: u32,
+}
+
+/// A link's leaf flag (the shader's `LEAF_BIT`).
+pub const LEAF_BIT: u32 = 1 << 31;
+/// Triangles a leaf may hold: its count less one fills bits 26 to 30.
+pub const MAX_LEAF_TRIANGLES: u32 = 32;
+/// Triangles a scene may hold: a leaf's first triangle fills bits 0 to 25.
+pub const MAX_TRIANGLES: usize = 1 << 26;
+
+/// The link to a leaf of `count` triangles (1 to `MAX_LEAF_TRIANGLES`)
+/// starting at `first` (below `MAX_TRIANGLES`).
+pub fn leaf_link(first: u32, count: u32) -> u32 {
+    debug_assert!((1..=MAX_LEAF_TRIANGLES).contains(&count));
+    debug_assert!((first as usize) < MAX_TRIANGLES);
+    LEAF_BIT | (count - 1) << 26 | first
 }
 
 #[repr(C)]
@@ -137,9 +179,9 @@ pub struct TraceSpecialization {
     pub shadows: u32,
     pub has_reflection: u32,
     pub has_transmission: u32,
-    pub has_spheres: u32,
-    pub has_planes: u32,
-    pub has_boxes: u32,
+    pub sphere_count: i32,
+    pub plane_count: i32,
+    pub box_count: i32,
     pub has_meshes: u32,
     pub count_rays: u32,
 }
@@ -167,13 +209,14 @@ pub fn record_size(binding: u32) -> usize {
         SPHERES => std::mem::size_of::<GpuSphere>(),
         PLANES => std::mem::size_of::<GpuPlane>(),
         BOXES => std::mem::size_of::<GpuBox>(),
-        TRIANGLES => std::mem::size_of::<GpuTriangle>(),
+        TRIANGLES => std::mem::size_of::<GpuTriangleGeometry>(),
         BVH_NODES => std::mem::size_of::<GpuBvhNode>(),
-        PRIMITIVE_INDICES => 4,
+        TRIANGLE_SHADING => std::mem::size_of::<GpuTriangleShading>(),
         MATERIALS => std::mem::size_of::<GpuMaterial>(),
         OUTPUT => 16,
         // A fixed array of 8 counters, not a runtime array: its block size.
         STATS => 32,
+        TILE_ORDER => 4,
         _ => 0,
     }
 }

@@ -1,0 +1,233 @@
+//! The ray tracer's buffers, built from the scene both tracers read
+//! (`rt_scene::RtScene`) in the layouts of `rt_layout`: f64 positions
+//! rounded to f32, the BVH re-linked so that each inner node holds both
+//! children's boxes, and the triangles in BVH leaf order, split into what
+//! the intersection test reads and what the nearest hit's shading reads.
+//! `docs/raytracing.md` ("Why the shader is shaped this way") says why.
+
+use glam::DVec3;
+use obvhs::bvh2::node::Bvh2Node;
+
+use super::error::GpuError;
+use super::rt_layout::*;
+use crate::rt_scene::{widened_box, RtScene};
+
+/// The storage buffers' contents.
+pub struct SceneRecords {
+    pub spheres: Vec<GpuSphere>,
+    pub planes: Vec<GpuPlane>,
+    pub boxes: Vec<GpuBox>,
+    pub triangles: Vec<GpuTriangleGeometry>,
+    pub triangle_shading: Vec<GpuTriangleShading>,
+    pub nodes: Vec<GpuBvhNode>,
+    /// The link the BVH walk starts from: node 0, or a leaf when the whole
+    /// tree is one (unused without triangles).
+    pub root: u32,
+    pub materials: Vec<GpuMaterial>,
+}
+
+fn v3(v: DVec3) -> [f32; 3] {
+    v.as_vec3().to_array()
+}
+
+fn v4(v: DVec3, w: f32) -> [f32; 4] {
+    let v = v.as_vec3();
+    [v.x, v.y, v.z, w]
+}
+
+fn ids(material: u32, object: u32) -> [u32; 4] {
+    [material, object, 0, 0]
+}
+
+pub fn records(rt: &RtScene) -> Result<SceneRecords, GpuError> {
+    let (nodes, root) = bvh_nodes(&rt.bvh.nodes)?;
+    if rt.triangles.len() >= MAX_TRIANGLES {
+        return Err(GpuError::SceneTooLarge(format!(
+            "{} triangles, more than the GPU ray tracer's {}",
+            rt.triangles.len(),
+            MAX_TRIANGLES - 1
+        )));
+    }
+    // Leaf order: a leaf's triangles are the run its link names.
+    let order = if rt.triangles.is_empty() {
+        &[][..]
+    } else {
+        &rt.bvh.primitive_indices[..]
+    };
+    Ok(SceneRecords {
+        spheres: rt
+            .spheres
+            .iter()
+            .map(|s| GpuSphere {
+                center_radius: v4(s.center, s.radius as f32),
+                material_object: ids(s.material, s.object),
+            })
+            .collect(),
+        planes: rt
+            .planes
+            .iter()
+            .map(|p| GpuPlane {
+                center_half: v4(p.center, p.half_size as f32),
+                normal: v4(p.normal, 0.0),
+                u: v4(p.u, 0.0),
+                v: v4(p.v, 0.0),
+                material_object: ids(p.material, p.object),
+            })
+            .collect(),
+        boxes: rt
+            .boxes
+            .iter()
+            .map(|b| GpuBox {
+                center: v4(b.center, 0.0),
+                half_extents: v4(b.half_extents, 0.0),
+                axis_x: v4(b.rotation.x_axis, 0.0),
+                axis_y: v4(b.rotation.y_axis, 0.0),
+                axis_z: v4(b.rotation.z_axis, 0.0),
+                material_object: ids(b.material, b.object),
+            })
+            .collect(),
+        triangles: order
+            .iter()
+            .map(|&i| {
+                let t = &rt.triangles[i as usize];
+                GpuTriangleGeometry {
+                    p0: v3(t.positions[0]),
+                    index: i,
+                    p1: v3(t.positions[1]),
+                    object: t.object,
+                    p2: v3(t.positions[2]),
+                    unused: 0,
+                }
+            })
+            .collect(),
+        triangle_shading: order
+            .iter()
+            .map(|&i| {
+                let t = &rt.triangles[i as usize];
+                let [a, b, c] = t.positions;
+                GpuTriangleShading {
+                    n0: v3(t.normals[0]),
+                    material: t.material,
+                    n1: v3(t.normals[1]),
+                    unused1: 0,
+                    n2: v3(t.normals[2]),
+                    unused2: 0,
+                    geometric: v3((b - a).cross(c - a).normalize_or_zero()),
+                    unused3: 0,
+                }
+            })
+            .collect(),
+        nodes,
+        root,
+        materials: rt
+            .materials
+            .iter()
+            .map(|m| GpuMaterial {
+                color_ka: v4(m.color, m.ka as f32),
+                kd_ks_p_kr: [m.kd as f32, m.ks as f32, m.p as f32, m.kr as f32],
+                kt_ior: [m.kt as f32, m.ior as f32, 0.0, 0.0],
+            })
+            .collect(),
+    })
+}
+
+/// The inner nodes of a binary BVH (children at `first_index` and the one
+/// after it; node 0 the root), each re-linked to hold its children's boxes,
+/// widened as both tracers widen them (`rt_scene::widened_box`). Returns
+/// them with the root's link.
+fn bvh_nodes(tree: &[Bvh2Node]) -> Result<(Vec<GpuBvhNode>, u32), GpuError> {
+    let Some(root) = tree.first() else {
+        return Ok((Vec::new(), 0));
+    };
+    // Inner nodes keep their relative order; `slot[i]` is node i's new index.
+    let mut slot = vec![u32::MAX; tree.len()];
+    let mut inner = 0u32;
+    for (i, node) in tree.iter().enumerate() {
+        if node.prim_count == 0 {
+            slot[i] = inner;
+            inner += 1;
+        }
+    }
+    let link = |i: usize| -> Result<u32, GpuError> {
+        let node = &tree[i];
+        if node.prim_count == 0 {
+            return Ok(slot[i]);
+        }
+        if node.prim_count > MAX_LEAF_TRIANGLES {
+            return Err(GpuError::SceneTooLarge(format!(
+                "a BVH leaf of {} triangles, more than the GPU ray tracer's {MAX_LEAF_TRIANGLES}",
+                node.prim_count
+            )));
+        }
+        Ok(leaf_link(node.first_index, node.prim_count))
+    };
+    if root.prim_count > 0 {
+        return Ok((Vec::new(), link(0)?));
+    }
+    let bounds = |i: usize| {
+        let aabb = tree[i].aabb();
+        let (lo, hi) = widened_box(aabb.min.as_dvec3(), aabb.max.as_dvec3());
+        (v3(lo), v3(hi))
+    };
+    let mut nodes = Vec::with_capacity(inner as usize);
+    for node in tree.iter().filter(|n| n.prim_count == 0) {
+        let (l, r) = (node.first_index as usize, node.first_index as usize + 1);
+        let ((left_lo, left_hi), (right_lo, right_hi)) = (bounds(l), bounds(r));
+        nodes.push(GpuBvhNode {
+            left_lo,
+            left: link(l)?,
+            left_hi,
+            unused1: 0,
+            right_lo,
+            right: link(r)?,
+            right_hi,
+            unused2: 0,
+        });
+    }
+    Ok((nodes, 0))
+}
+
+/// The order in which workgroups take the image's tiles: tile `k * step mod
+/// count` for workgroup `k`, with `step` coprime to `count` near
+/// `0.618 count`, so that every contiguous run of workgroups (lavapipe gives
+/// each thread one) is spread evenly over the image.
+pub fn tile_order(count: u32) -> Vec<u32> {
+    let n = u64::from(count.max(1));
+    let gcd = |mut a: u64, mut b: u64| {
+        while b != 0 {
+            (a, b) = (b, a % b);
+        }
+        a
+    };
+    let mut step = ((n as f64 * 0.618_034).round() as u64).max(1);
+    while gcd(step, n) != 1 {
+        step += 1;
+    }
+    (0..n).map(|k| (k * step % n) as u32).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_tile_order_is_a_permutation_that_spreads_halves() {
+        for count in [1u32, 2, 3, 64, 128 * 128, 97 * 61] {
+            let order = tile_order(count);
+            let mut seen = vec![false; count as usize];
+            for &t in &order {
+                assert!(!seen[t as usize], "tile {t} twice of {count}");
+                seen[t as usize] = true;
+            }
+            assert!(seen.iter().all(|&s| s));
+            if count >= 64 {
+                // The first half of the workgroups takes about half of the
+                // image's top half, not all of it.
+                let half = count as usize / 2;
+                let top = order[..half].iter().filter(|&&t| t < count / 2).count();
+                let share = top as f64 / half as f64;
+                assert!((0.4..0.6).contains(&share), "{count}: {share}");
+            }
+        }
+    }
+}
