@@ -1,17 +1,26 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_shuffle : require
 // Backward (Whitted) ray tracing, one invocation per pixel, exactly as
 // docs/raytracing.md specifies (its CPU twin is src/cpu/raytrace.rs):
 // stratified samples, nearest hits with the object-order tie rule, shadow
 // rays, reflection and refraction with total internal reflection.
 //
-// Shaped for lavapipe, which runs 8 invocations in the lanes of one SIMD
-// register: a branch costs what the union of its lanes' paths costs, a loop
-// runs until its slowest lane is done, and a buffer read at an index that
-// differs between lanes costs a scalar load per lane and component
-// (docs/raytracing.md, "Why the shader is shaped this way"). So the inner
-// loops read as little as they can, and whatever only the nearest hit needs
-// (normals, material) is read once, after the search.
+// Shaped for lavapipe, which runs a subgroup's 8 invocations in the lanes
+// of one SIMD register: a branch costs what the union of its lanes' paths
+// costs, and a buffer read at an index that differs between lanes costs a
+// scalar load per lane and 4-byte component (docs/raytracing.md, "Why the
+// shader is shaped this way"). So a subgroup's rays walk the BVH together,
+// as one packet: each lane reads one 8-byte piece of a node or triangle and
+// shuffles hand the pieces to every lane. Whatever only the nearest hit
+// needs (normals, material) is read once, per lane, after the search.
+//
+// Packets need every lane of the subgroup present wherever a shuffle runs:
+// the walk, and every call that leads to one, is in uniform control flow.
+// A lane with nothing to trace (a pixel off the image, a ray tree that has
+// ended, a light behind the surface) takes part with a negative distance
+// limit, which no box or primitive passes.
 
 // 64 invocations: 8 subgroups of 8 lanes, each a 4x2 block of an 8x8 tile.
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
@@ -58,24 +67,147 @@ void count(int kind) {
     }
 }
 
+// Whether `b` holds in any lane of the subgroup, and the sum of `x` over
+// it; every lane must be here. Butterflies of shuffles, written out: a
+// loop over the steps is not unrolled by lavapipe, and a loop costs it far
+// more than the shuffles; subgroupAny and subgroupAdd are scalar loops over
+// the lanes there. Sizes up to 64 (the tests on gl_SubgroupSize fold away
+// where the driver knows it).
+uint or_lanes(uint v) {
+    uint lane = gl_SubgroupInvocationID;
+    v |= subgroupShuffle(v, lane ^ 1u);
+    if (gl_SubgroupSize > 2u) {
+        v |= subgroupShuffle(v, lane ^ 2u);
+    }
+    if (gl_SubgroupSize > 4u) {
+        v |= subgroupShuffle(v, lane ^ 4u);
+    }
+    if (gl_SubgroupSize > 8u) {
+        v |= subgroupShuffle(v, lane ^ 8u);
+    }
+    if (gl_SubgroupSize > 16u) {
+        v |= subgroupShuffle(v, lane ^ 16u);
+    }
+    if (gl_SubgroupSize > 32u) {
+        v |= subgroupShuffle(v, lane ^ 32u);
+    }
+    return v;
+}
+
+bool packet_any(bool b) {
+    return or_lanes(b ? 1u : 0u) != 0u;
+}
+
+int packet_sum(int x) {
+    uint lane = gl_SubgroupInvocationID;
+    x += subgroupShuffle(x, lane ^ 1u);
+    if (gl_SubgroupSize > 2u) {
+        x += subgroupShuffle(x, lane ^ 2u);
+    }
+    if (gl_SubgroupSize > 4u) {
+        x += subgroupShuffle(x, lane ^ 4u);
+    }
+    if (gl_SubgroupSize > 8u) {
+        x += subgroupShuffle(x, lane ^ 8u);
+    }
+    if (gl_SubgroupSize > 16u) {
+        x += subgroupShuffle(x, lane ^ 16u);
+    }
+    if (gl_SubgroupSize > 32u) {
+        x += subgroupShuffle(x, lane ^ 32u);
+    }
+    return x;
+}
+
+// A record of word pairs read by the whole subgroup: lane i holds the
+// record's pairs i, i + S, i + 2S and i + 3S (S = gl_SubgroupSize; the host
+// requires S >= 4, and no record has more than 16 pairs). Every lane must
+// be here; the record's index must be the same in all of them.
+struct Shared {
+    uvec2 p0;
+    uvec2 p1;
+    uvec2 p2;
+    uvec2 p3;
+};
+
+// Word `w` of a shared record, in every lane (with `w` a constant and the
+// subgroup size known to the driver, one shuffle).
+uint word(Shared r, uint w) {
+    uint pair = w >> 1;
+    uint slot = pair / gl_SubgroupSize;
+    uvec2 held = slot == 0u ? r.p0 : (slot == 1u ? r.p1 : (slot == 2u ? r.p2 : r.p3));
+    return subgroupShuffle((w & 1u) == 0u ? held.x : held.y, pair % gl_SubgroupSize);
+}
+
+vec3 vec3_at(Shared r, uint w) {
+    return uintBitsToFloat(uvec3(word(r, w), word(r, w + 1u), word(r, w + 2u)));
+}
+
+float float_at(Shared r, uint w) {
+    return uintBitsToFloat(word(r, w));
+}
+
+// read_X(index): record `index` of buffer X, shared (see Shared).
+#define SHARED_READER(name, buffer, pairs)                                \
+    Shared name(uint index) {                                             \
+        uint lane = gl_SubgroupInvocationID;                              \
+        uint size = gl_SubgroupSize;                                      \
+        uint at = index * (pairs) + lane;                                 \
+        Shared r = Shared(uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));    \
+        if (lane < (pairs)) {                                             \
+            r.p0 = buffer[at];                                            \
+        }                                                                 \
+        if (lane + size < (pairs)) {                                      \
+            r.p1 = buffer[at + size];                                     \
+        }                                                                 \
+        if (lane + 2u * size < (pairs)) {                                 \
+            r.p2 = buffer[at + 2u * size];                                \
+        }                                                                 \
+        if (lane + 3u * size < (pairs)) {                                 \
+            r.p3 = buffer[at + 3u * size];                                \
+        }                                                                 \
+        return r;                                                         \
+    }
+
+// X_word(index, w): word `w` of record `index`, read by this lane alone.
+#define LANE_READER(name, buffer, pairs)                                  \
+    uint name(uint index, uint w) {                                       \
+        uvec2 pair = buffer[index * (pairs) + (w >> 1)];                  \
+        return (w & 1u) == 0u ? pair.x : pair.y;                          \
+    }
+
+SHARED_READER(read_node, node_pairs, NODE_PAIRS)
+SHARED_READER(read_triangle, triangle_pairs, TRI_PAIRS)
+SHARED_READER(read_sphere, sphere_pairs, SPHERE_PAIRS)
+SHARED_READER(read_plane, plane_pairs, PLANE_PAIRS)
+SHARED_READER(read_box, box_pairs, BOX_PAIRS)
+LANE_READER(triangle_word, triangle_pairs, TRI_PAIRS)
+LANE_READER(sphere_word, sphere_pairs, SPHERE_PAIRS)
+LANE_READER(plane_word, plane_pairs, PLANE_PAIRS)
+LANE_READER(box_word, box_pairs, BOX_PAIRS)
+
+vec3 lane_vec3(uvec3 words) {
+    return uintBitsToFloat(words);
+}
+
 // The scene object of a shape, and its place among that object's
 // primitives (triangles only), for the tie rule.
 uint object_of(uint shape) {
     uint index = shape & ~KIND_MASK;
     switch (shape & KIND_MASK) {
         case KIND_SPHERE:
-            return spheres[index].material_object.y;
+            return sphere_word(index, SPHERE_OBJECT);
         case KIND_PLANE:
-            return planes[index].material_object.y;
+            return plane_word(index, PLANE_OBJECT);
         case KIND_BOX:
-            return boxes[index].material_object.y;
+            return box_word(index, BOX_OBJECT);
         default:
-            return triangles[index].object;
+            return triangle_word(index, TRI_OBJECT);
     }
 }
 
 uint order_of(uint shape) {
-    return (shape & KIND_MASK) == KIND_TRIANGLE ? triangles[shape & ~KIND_MASK].index : 0u;
+    return (shape & KIND_MASK) == KIND_TRIANGLE ? triangle_word(shape & ~KIND_MASK, TRI_INDEX) : 0u;
 }
 
 // Whether a hit at exactly best.t on `shape` replaces best: the lower
@@ -96,10 +228,81 @@ void consider(float t, uint shape, vec2 uv, inout Hit best) {
     }
 }
 
-// Distance to sphere i along the ray, or 0 for none (the stable form).
-float sphere_t(vec3 o, vec3 d, int i) {
-    vec3 c = spheres[i].center_radius.xyz;
-    float r = spheres[i].center_radius.w;
+// The analytic objects' geometry, read in the loops over every object.
+// With short lists the loops unroll and each read is at a constant index,
+// one load for the subgroup; with long ones (SHARED_OBJECT_READS) a loop
+// index would make every lane read every word on its own, and the subgroup
+// shares the reads instead (the loops run in uniform control flow).
+struct SphereGeometry {
+    vec3 center;
+    float radius;
+};
+
+SphereGeometry sphere_geometry(int i) {
+    if (SHARED_OBJECT_READS) {
+        Shared r = read_sphere(uint(i));
+        return SphereGeometry(vec3_at(r, SPHERE_CENTER), float_at(r, SPHERE_RADIUS));
+    }
+    uint at = uint(i) * SPHERE_PAIRS;
+    uvec2 a = sphere_pairs[at];
+    uvec2 b = sphere_pairs[at + 1u];
+    return SphereGeometry(uintBitsToFloat(uvec3(a, b.x)), uintBitsToFloat(b.y));
+}
+
+struct PlaneGeometry {
+    vec3 center;
+    float half_size;
+    vec3 normal;
+    vec3 u;
+    vec3 v;
+};
+
+PlaneGeometry plane_geometry(int i) {
+    if (SHARED_OBJECT_READS) {
+        Shared r = read_plane(uint(i));
+        return PlaneGeometry(vec3_at(r, PLANE_CENTER), float_at(r, PLANE_HALF), vec3_at(r, PLANE_NORMAL),
+                             vec3_at(r, PLANE_U), vec3_at(r, PLANE_V));
+    }
+    uint at = uint(i) * PLANE_PAIRS;
+    uvec2 w01 = plane_pairs[at];
+    uvec2 w23 = plane_pairs[at + 1u];
+    uvec2 w45 = plane_pairs[at + 2u];
+    uvec2 w67 = plane_pairs[at + 3u];
+    uvec2 w89 = plane_pairs[at + 4u];
+    uvec2 w1011 = plane_pairs[at + 5u];
+    uvec2 w1213 = plane_pairs[at + 6u];
+    uvec2 w1415 = plane_pairs[at + 7u];
+    return PlaneGeometry(uintBitsToFloat(uvec3(w01, w23.x)), uintBitsToFloat(w23.y),
+                         uintBitsToFloat(uvec3(w45, w67.x)), uintBitsToFloat(uvec3(w89, w1011.x)),
+                         uintBitsToFloat(uvec3(w1213, w1415.x)));
+}
+
+struct BoxGeometry {
+    vec3 center;
+    vec3 half_extents;
+    mat3 rotation;  // box-local axes to world axes
+};
+
+BoxGeometry box_geometry(int i) {
+    if (SHARED_OBJECT_READS) {
+        Shared r = read_box(uint(i));
+        return BoxGeometry(vec3_at(r, BOX_CENTER), vec3_at(r, BOX_HALF),
+                           mat3(vec3_at(r, BOX_AXIS_X), vec3_at(r, BOX_AXIS_Y), vec3_at(r, BOX_AXIS_Z)));
+    }
+    uint at = uint(i) * BOX_PAIRS;
+    vec3 v[5];
+    for (uint k = 0u; k < 5u; ++k) {
+        uvec2 a = box_pairs[at + 2u * k];
+        uvec2 b = box_pairs[at + 2u * k + 1u];
+        v[k] = uintBitsToFloat(uvec3(a, b.x));
+    }
+    return BoxGeometry(v[0], v[1], mat3(v[2], v[3], v[4]));
+}
+
+// Distance to a sphere along the ray, or 0 for none (the stable form).
+float sphere_t(vec3 o, vec3 d, SphereGeometry s) {
+    vec3 c = s.center;
+    float r = s.radius;
     vec3 f = o - c;
     float b = -dot(f, d);
     vec3 l = f + b * d;
@@ -116,26 +319,23 @@ float sphere_t(vec3 o, vec3 d, int i) {
     return min(t0, t1) > 0.0 ? min(t0, t1) : max(t0, t1);
 }
 
-float plane_t(vec3 o, vec3 d, int i) {
-    vec3 c = planes[i].center_half.xyz;
-    vec3 n = planes[i].normal.xyz;
-    float denom = dot(d, n);
+float plane_t(vec3 o, vec3 d, PlaneGeometry p) {
+    float denom = dot(d, p.normal);
     if (denom == 0.0) {
         return 0.0;
     }
-    float t = dot(c - o, n) / denom;
-    vec3 rel = o + t * d - c;
-    float h = planes[i].center_half.w;
-    bool inside = abs(dot(rel, planes[i].u.xyz)) <= h && abs(dot(rel, planes[i].v.xyz)) <= h;
+    float t = dot(p.center - o, p.normal) / denom;
+    vec3 rel = o + t * d - p.center;
+    bool inside = abs(dot(rel, p.u)) <= p.half_size && abs(dot(rel, p.v)) <= p.half_size;
     return inside ? t : 0.0;
 }
 
-// Distance to box i, or 0; `face` gets the axis of the face hit and the
+// Distance to a box, or 0; `face` gets the axis of the face hit and the
 // sign of its outward normal (box-local).
-float box_t(vec3 o, vec3 d, int i, out vec2 face) {
-    mat3 rot = mat3(boxes[i].axis_x.xyz, boxes[i].axis_y.xyz, boxes[i].axis_z.xyz);
-    vec3 h = boxes[i].half_extents.xyz;
-    vec3 lo = transpose(rot) * (o - boxes[i].center.xyz);
+float box_t(vec3 o, vec3 d, BoxGeometry box, out vec2 face) {
+    mat3 rot = box.rotation;
+    vec3 h = box.half_extents;
+    vec3 lo = transpose(rot) * (o - box.center);
     vec3 ld = transpose(rot) * d;
     float t_near = -NO_HIT;
     float t_far = NO_HIT;
@@ -196,12 +396,12 @@ vec3 sheared(RayFrame f, vec3 p) {
                 f.shear.z * p[f.axes.z]);
 }
 
-// Triangle i (leaf order) against the ray: its t, or 0 for none, and the
-// barycentrics of p1 and p2.
-float triangle_t(vec3 o, RayFrame frame, uint i, out vec2 uv) {
-    vec3 a = sheared(frame, triangles[i].p0 - o);
-    vec3 b = sheared(frame, triangles[i].p1 - o);
-    vec3 c = sheared(frame, triangles[i].p2 - o);
+// A triangle, shared by the subgroup (read_triangle), against this lane's
+// ray: its t, or 0 for none, and the barycentrics of p1 and p2.
+float triangle_t(vec3 o, RayFrame frame, Shared tri, out vec2 uv) {
+    vec3 a = sheared(frame, vec3_at(tri, TRI_P0) - o);
+    vec3 b = sheared(frame, vec3_at(tri, TRI_P1) - o);
+    vec3 c = sheared(frame, vec3_at(tri, TRI_P2) - o);
     // `precise`: a fused multiply-add would round one product and not the
     // other, and the neighbour's edge function would no longer be the exact
     // negative of this one.
@@ -215,9 +415,10 @@ float triangle_t(vec3 o, RayFrame frame, uint i, out vec2 uv) {
 }
 
 // Entry distance of the ray into a box (the slab test against [0, t_max]),
-// or NO_HIT if it misses. A zero direction component gives an infinite
-// inverse; the slab test then sorts that axis out (lo - o and hi - o have
-// the same sign, or the ray lies inside the slab).
+// or NO_HIT if it misses; a negative t_max misses every box. A zero
+// direction component gives an infinite inverse; the slab test then sorts
+// that axis out (lo - o and hi - o have the same sign, or the ray lies
+// inside the slab).
 float box_entry(vec3 o, vec3 inv_d, vec3 lo, vec3 hi, float t_max) {
     vec3 t1 = (lo - o) * inv_d;
     vec3 t2 = (hi - o) * inv_d;
@@ -228,11 +429,19 @@ float box_entry(vec3 o, vec3 inv_d, vec3 lo, vec3 hi, float t_max) {
     return enter <= leave ? enter : NO_HIT;
 }
 
-// The meshes' triangles through the BVH. Nearest-hit (`any_hit` false):
-// near child first, the far one stacked with its entry distance and
-// skipped when popped beyond the nearest hit. Shadow query (`any_hit`):
-// stops at the first hit nearer than best.t. A link is an inner node's
-// index, or LEAF_BIT | count - 1 << 26 | the leaf's first triangle.
+// The meshes' triangles through the BVH, the subgroup's rays as one packet
+// (call in uniform control flow). Each lane's ray takes part up to best.t
+// (negative: not at all). A node is visited when any lane's ray enters its
+// box within that lane's limit; of two children both entered, the one most
+// lanes enter first goes first and the other waits on the stack with every
+// lane's entry distance, to be skipped when popped if no lane can still
+// find a nearer hit in it. A lane tests only what its own walk would have
+// reached, and more: the nearest hit and the tie rule are what a walk of
+// its own would give.
+//
+// Nearest hit (`any_hit` false): best is the nearest hit. Shadow query
+// (`any_hit`): a lane that finds a hit nearer than best.t stops there, its
+// best.shape set and best.t made negative.
 void hit_meshes(vec3 o, vec3 d, inout Hit best, bool any_hit) {
     uint link = frame.grid.w;  // the root: node 0, or a leaf
     vec3 inv_d = vec3(1.0) / d;
@@ -242,71 +451,81 @@ void hit_meshes(vec3 o, vec3 d, inout Hit best, bool any_hit) {
     uint stack_link[BVH_STACK_SIZE];
     float stack_t[BVH_STACK_SIZE];
     int top = 0;
-    bool done = false;
-    do {
+    bool done = !packet_any(best.t >= 0.0);
+    while (!done) {
         if ((link & LEAF_BIT) == 0u) {
-            float t_left = box_entry(o, inv_d, nodes[link].left_lo, nodes[link].left_hi, best.t);
-            float t_right = box_entry(o, inv_d, nodes[link].right_lo, nodes[link].right_hi, best.t);
-            uint left = nodes[link].left;
-            uint right = nodes[link].right;
-            bool both = t_left != NO_HIT && t_right != NO_HIT;
-            bool right_first = t_right < t_left;
-            uint next = right_first ? right : left;
-            if (both) {
+            Shared node = read_node(link);
+            float t_left = box_entry(o, inv_d, vec3_at(node, NODE_LEFT_LO), vec3_at(node, NODE_LEFT_HI), best.t);
+            float t_right =
+                box_entry(o, inv_d, vec3_at(node, NODE_RIGHT_LO), vec3_at(node, NODE_RIGHT_HI), best.t);
+            uint left = word(node, NODE_LEFT);
+            uint right = word(node, NODE_RIGHT);
+            // One butterfly for both children (bit 0: some lane enters the
+            // left one, bit 1: the right one). The nearer child goes first
+            // as lane 0 sees them, when lane 0 enters both: rays of a packet
+            // are alike, and a vote would lengthen every step's critical
+            // path by a second butterfly.
+            uint enters = or_lanes((t_left != NO_HIT ? 1u : 0u) | (t_right != NO_HIT ? 2u : 0u));
+            bool right_first = subgroupShuffle(t_right < t_left ? 1u : 0u, 0u) != 0u;
+            bool enters_left = (enters & 1u) != 0u;
+            bool enters_right = (enters & 2u) != 0u;
+            if (enters_left && enters_right) {
                 stack_link[top] = right_first ? left : right;
                 stack_t[top] = right_first ? t_left : t_right;
                 ++top;
-            }
-            link = next;
-            if (t_left == NO_HIT && t_right == NO_HIT) {
+                link = right_first ? right : left;
+            } else if (enters_left) {
+                link = left;
+            } else if (enters_right) {
+                link = right;
+            } else {
                 link = NO_SHAPE;  // pop below
             }
         } else {
             uint first = link & 0x03ffffffu;
             uint end = first + ((link >> 26) & 31u) + 1u;
             for (uint i = first; i < end; ++i) {
+                Shared tri = read_triangle(i);
                 vec2 uv;
-                float t = triangle_t(o, shear, i, uv);
+                float t = triangle_t(o, shear, tri, uv);
                 if (any_hit) {
                     if (t > 0.0 && t < best.t) {
-                        best = Hit(t, KIND_TRIANGLE | i, uv);
+                        best = Hit(-1.0, KIND_TRIANGLE | i, uv);
                     }
                 } else {
                     consider(t, KIND_TRIANGLE | i, uv, best);
                 }
             }
             link = NO_SHAPE;
-            if (any_hit && best.shape != NO_SHAPE) {
-                return;
-            }
         }
         if (link == NO_SHAPE) {
             done = true;
             while (top > 0) {
                 --top;
-                if (stack_t[top] <= best.t) {
+                if (packet_any(stack_t[top] <= best.t)) {
                     link = stack_link[top];
                     done = false;
                     break;
                 }
             }
         }
-    } while (!done);
+    }
 }
 
 // Every primitive against the ray: the nearest hit, ties to the lower
-// object, then the lower triangle.
-Hit nearest(vec3 o, vec3 d) {
-    Hit best = Hit(NO_HIT, NO_SHAPE, vec2(0.0));
+// object, then the lower triangle. Call in uniform control flow; a lane
+// with no ray to trace passes `traces` false and gets no hit.
+Hit nearest(vec3 o, vec3 d, bool traces) {
+    Hit best = Hit(traces ? NO_HIT : -1.0, NO_SHAPE, vec2(0.0));
     for (int i = 0; i < SPHERE_COUNT; ++i) {
-        consider(sphere_t(o, d, i), KIND_SPHERE | uint(i), vec2(0.0), best);
+        consider(sphere_t(o, d, sphere_geometry(i)), KIND_SPHERE | uint(i), vec2(0.0), best);
     }
     for (int i = 0; i < PLANE_COUNT; ++i) {
-        consider(plane_t(o, d, i), KIND_PLANE | uint(i), vec2(0.0), best);
+        consider(plane_t(o, d, plane_geometry(i)), KIND_PLANE | uint(i), vec2(0.0), best);
     }
     for (int i = 0; i < BOX_COUNT; ++i) {
         vec2 face;
-        float t = box_t(o, d, i, face);
+        float t = box_t(o, d, box_geometry(i), face);
         consider(t, KIND_BOX | uint(i), face, best);
     }
     if (HAS_MESHES) {
@@ -316,34 +535,30 @@ Hit nearest(vec3 o, vec3 d) {
 }
 
 // Whether anything is hit at 0 < t < t_max: the shadow-ray query, the twin
-// of cpu::intersect::Accel::any. It stops at the first such hit; the BVH
-// walk is bounded by t_max.
+// of cpu::intersect::Accel::any. Call in uniform control flow; a negative
+// t_max asks nothing. The BVH walk is bounded by t_max and ends for a lane
+// at its first hit.
 bool occluded(vec3 o, vec3 d, float t_max) {
+    bool blocked = false;
     for (int i = 0; i < SPHERE_COUNT; ++i) {
-        float t = sphere_t(o, d, i);
-        if (t > 0.0 && t < t_max) {
-            return true;
-        }
+        float t = sphere_t(o, d, sphere_geometry(i));
+        blocked = blocked || (t > 0.0 && t < t_max);
     }
     for (int i = 0; i < PLANE_COUNT; ++i) {
-        float t = plane_t(o, d, i);
-        if (t > 0.0 && t < t_max) {
-            return true;
-        }
+        float t = plane_t(o, d, plane_geometry(i));
+        blocked = blocked || (t > 0.0 && t < t_max);
     }
     for (int i = 0; i < BOX_COUNT; ++i) {
         vec2 face;
-        float t = box_t(o, d, i, face);
-        if (t > 0.0 && t < t_max) {
-            return true;
-        }
+        float t = box_t(o, d, box_geometry(i), face);
+        blocked = blocked || (t > 0.0 && t < t_max);
     }
     if (HAS_MESHES) {
-        Hit best = Hit(t_max, NO_SHAPE, vec2(0.0));
+        Hit best = Hit(blocked ? -1.0 : t_max, NO_SHAPE, vec2(0.0));
         hit_meshes(o, d, best, true);
-        return best.shape != NO_SHAPE;
+        blocked = blocked || best.shape != NO_SHAPE;
     }
-    return false;
+    return blocked;
 }
 
 // What shading needs of the nearest hit, read once per ray.
@@ -364,19 +579,26 @@ Surfel resolve(vec3 o, vec3 d, Hit hit) {
     vec3 n = vec3(0.0);
     uint material = 0u;
     if (kind == KIND_SPHERE) {
-        n = (p - spheres[index].center_radius.xyz) / spheres[index].center_radius.w;
-        material = spheres[index].material_object.x;
+        vec3 center = lane_vec3(uvec3(sphere_word(index, SPHERE_CENTER), sphere_word(index, SPHERE_CENTER + 1u),
+                                      sphere_word(index, SPHERE_CENTER + 2u)));
+        n = (p - center) / uintBitsToFloat(sphere_word(index, SPHERE_RADIUS));
+        material = sphere_word(index, SPHERE_MATERIAL);
     }
     if (kind == KIND_PLANE) {
-        n = planes[index].normal.xyz;
-        material = planes[index].material_object.x;
+        n = lane_vec3(uvec3(plane_word(index, PLANE_NORMAL), plane_word(index, PLANE_NORMAL + 1u),
+                            plane_word(index, PLANE_NORMAL + 2u)));
+        material = plane_word(index, PLANE_MATERIAL);
     }
     if (kind == KIND_BOX) {
-        mat3 rot = mat3(boxes[index].axis_x.xyz, boxes[index].axis_y.xyz, boxes[index].axis_z.xyz);
+        mat3 rot;
+        for (uint c = 0u; c < 3u; ++c) {
+            uint w = BOX_AXIS_X + 4u * c;
+            rot[c] = lane_vec3(uvec3(box_word(index, w), box_word(index, w + 1u), box_word(index, w + 2u)));
+        }
         vec3 local_normal = vec3(0.0);
         local_normal[int(hit.uv.x)] = hit.uv.y;
         n = rot * local_normal;
-        material = boxes[index].material_object.x;
+        material = box_word(index, BOX_MATERIAL);
     }
     if (HAS_MESHES && kind == KIND_TRIANGLE) {
         float bu = hit.uv.x;
@@ -406,34 +628,39 @@ Surface surface_of(uint material) {
     return Surface(color_ka.rgb, color_ka.a, kd_ks_p.x, kd_ks_p.y, kd_ks_p.z);
 }
 
-vec3 local_shading(Surfel s, Surface m, vec3 d) {
+// The local model at a hit, shadow rays included. Call in uniform control
+// flow (shadow rays walk the BVH as packets); a lane whose `lit` is false
+// casts none and gets the ambient term.
+vec3 local_shading(Surfel s, Surface m, vec3 d, bool lit) {
     vec3 intensity = ambient_term(m, frame.ambient_k.rgb);
     vec3 N = s.normal;
-    if (N == vec3(0.0)) {
-        return intensity;
-    }
+    lit = lit && N != vec3(0.0);
     for (int j = 0; j < LIGHT_COUNT; ++j) {
-        vec3 L;
-        float dist;
-        float n_dot_l;
-        if (!light_faces(j, s.p, N, L, dist, n_dot_l)) {
-            continue;
-        }
+        vec3 L = vec3(0.0, 0.0, 1.0);
+        float dist = 0.0;
+        float n_dot_l = 0.0;
+        bool faces = lit && light_faces(j, s.p, N, L, dist, n_dot_l);
         if (SHADOWS) {
             vec3 o = offset_origin(s.p, s.geometric, L);
             vec3 to_light = lights[j].position.xyz - o;
             float reach = length(to_light);
-            count(1);
             // Stop short of the light by the offset epsilon at the light, as
             // the ray starts off the surface: a light lying on a surface would
             // otherwise be hidden by it at random (assets/hard/grazing-light).
             vec3 at = abs(lights[j].position.xyz);
             float light_eps = 1.0e-4 * max(1.0, max(at.x, max(at.y, at.z)));
-            if (occluded(o, to_light / reach, reach - light_eps)) {
-                continue;
+            bool casts = faces && reach > 0.0;
+            vec3 dir = casts ? to_light / reach : vec3(0.0, 0.0, 1.0);
+            if (faces) {
+                count(1);
+            }
+            if (occluded(o, dir, casts ? reach - light_eps : -1.0)) {
+                faces = false;
             }
         }
-        intensity += light_term(j, N, -d, L, dist, n_dot_l, m, frame.ambient_k.w);
+        if (faces) {
+            intensity += light_term(j, N, -d, L, dist, n_dot_l, m, frame.ambient_k.w);
+        }
     }
     return intensity;
 }
@@ -441,26 +668,36 @@ vec3 local_shading(Surfel s, Surface m, vec3 d) {
 // One sample's ray tree, in the order of docs/raytracing.md: the tree is
 // walked depth first with the refracted child before the reflected one. The
 // ray in hand goes on to its first child; only a reflected ray whose
-// sibling is refracted waits on the stack.
-vec3 trace_sample(vec3 dir) {
+// sibling is refracted waits on the stack. The subgroup goes on while any
+// lane has a ray (the walks are packets); `live` says whether this one has.
+vec3 trace_sample(vec3 dir, bool live) {
     Ray waiting[STACK_SIZE];
     int top = 0;
     Ray ray = Ray(vec3(0.0), dir, 1.0, 0);
-    count(0);
+    if (live) {
+        count(0);
+    }
     vec3 total = vec3(0.0);
     int max_depth = int(frame.image.w);
     float cutoff = frame.forward_cutoff.w;
-    bool live = true;
-    do {
-        deepest = max(deepest, ray.depth);
-        Hit hit = nearest(ray.origin, ray.dir);
-        live = false;
-        if (hit.shape == NO_SHAPE) {
+    while (packet_any(live)) {
+        if (live) {
+            deepest = max(deepest, ray.depth);
+        }
+        Hit hit = nearest(ray.origin, ray.dir, live);
+        bool hits = live && hit.shape != NO_SHAPE;
+        if (live && !hits) {
             total += ray.weight * frame.background.rgb;
-        } else {
-            Surfel s = resolve(ray.origin, ray.dir, hit);
-            Surface m = surface_of(s.material);
-            total += ray.weight * local_shading(s, m, ray.dir);
+        }
+        Surfel s = Surfel(vec3(0.0), vec3(0.0), vec3(0.0), 0u);
+        if (hits) {
+            s = resolve(ray.origin, ray.dir, hit);
+        }
+        Surface m = surface_of(s.material);
+        vec3 local = local_shading(s, m, ray.dir, hits);
+        live = false;
+        if (hits) {
+            total += ray.weight * local;
             // Specialization constants appear only as whole conditions: naga's
             // SPIR-V reader rejects operators on them (OpSpecConstantOp).
             bool may_branch = false;
@@ -531,7 +768,7 @@ vec3 trace_sample(vec3 dir) {
             ray = waiting[--top];
             live = true;
         }
-    } while (live);
+    }
     return total;
 }
 
@@ -549,9 +786,9 @@ void main() {
                         (tile / tiles_across) * 8u + (block >> 1) * 2u + ((lane >> 2) & 1u));
     uint width = frame.image.x;
     uint height = frame.image.y;
-    if (pixel.x >= width || pixel.y >= height) {
-        return;
-    }
+    // No early return: the lanes of a pixel off the image still take part
+    // in their subgroup's packets, with nothing to trace.
+    bool on_image = pixel.x < width && pixel.y < height;
     for (int k = 0; k < 5; ++k) {
         local_counts[k] = 0u;
     }
@@ -567,7 +804,10 @@ void main() {
         float focal = frame.right_focal.w;
         vec3 dir = frame.forward_cutoff.xyz + frame.right_focal.xyz * (ndc_x * frame.up_aspect.w / focal)
                    - frame.up_aspect.xyz * (ndc_y / focal);
-        sum += trace_sample(normalize(dir));
+        sum += trace_sample(normalize(dir), on_image);
+    }
+    if (!on_image) {
+        return;
     }
     pixels[pixel.y * width + pixel.x] = vec4(sum / float(samples), 1.0);
     if (COUNT_RAYS) {

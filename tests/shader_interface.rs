@@ -162,6 +162,10 @@ fn specialization_constants_match_by_id_and_name() {
         ("BOX_COUNT", offset_of!(TraceSpecialization, box_count)),
         ("HAS_MESHES", offset_of!(TraceSpecialization, has_meshes)),
         ("COUNT_RAYS", offset_of!(TraceSpecialization, count_rays)),
+        (
+            "SHARED_OBJECT_READS",
+            offset_of!(TraceSpecialization, shared_object_reads),
+        ),
     ];
     assert_eq!(fields.len(), rt_layout::SPEC_CONSTANTS.len());
     for (name, offset) in fields {
@@ -209,4 +213,85 @@ fn the_bvh_stack_size_is_the_shaders() {
         source.contains(&declared),
         "raytrace.comp.glsl lacks `{declared}`"
     );
+}
+
+/// Spheres, planes, boxes, triangles and BVH nodes are read as word pairs
+/// (so that a subgroup can share a record), which naga's reflection cannot
+/// see into: the shader names each field's word offset in a constant, held
+/// here to the host's record layout.
+#[test]
+fn pair_records_have_the_hosts_word_offsets() {
+    use rt_layout::{GpuBox, GpuBvhNode, GpuPlane, GpuSphere, GpuTriangleGeometry};
+    use std::mem::size_of;
+    let source = include_str!("../shaders/include/rt_interface.glsl");
+    let constant = |name: &str| -> usize {
+        let prefix = format!("const uint {name} = ");
+        let line = source
+            .lines()
+            .find_map(|l| l.trim().strip_prefix(prefix.as_str()))
+            .unwrap_or_else(|| panic!("rt_interface.glsl lacks `{prefix}`"));
+        let digits: String = line.chars().take_while(char::is_ascii_digit).collect();
+        digits.parse().unwrap()
+    };
+    let word = |byte_offset: usize| byte_offset / 4;
+    let pairs = |name: &str, size: usize| assert_eq!(constant(name) * 8, size, "{name}");
+    pairs("SPHERE_PAIRS", size_of::<GpuSphere>());
+    pairs("PLANE_PAIRS", size_of::<GpuPlane>());
+    pairs("BOX_PAIRS", size_of::<GpuBox>());
+    pairs("TRI_PAIRS", size_of::<GpuTriangleGeometry>());
+    pairs("NODE_PAIRS", size_of::<GpuBvhNode>());
+    let checks = [
+        ("SPHERE_CENTER", word(offset_of!(GpuSphere, center_radius))),
+        (
+            "SPHERE_RADIUS",
+            word(offset_of!(GpuSphere, center_radius)) + 3,
+        ),
+        (
+            "SPHERE_MATERIAL",
+            word(offset_of!(GpuSphere, material_object)),
+        ),
+        (
+            "SPHERE_OBJECT",
+            word(offset_of!(GpuSphere, material_object)) + 1,
+        ),
+        ("PLANE_CENTER", word(offset_of!(GpuPlane, center_half))),
+        ("PLANE_HALF", word(offset_of!(GpuPlane, center_half)) + 3),
+        ("PLANE_NORMAL", word(offset_of!(GpuPlane, normal))),
+        ("PLANE_U", word(offset_of!(GpuPlane, u))),
+        ("PLANE_V", word(offset_of!(GpuPlane, v))),
+        (
+            "PLANE_MATERIAL",
+            word(offset_of!(GpuPlane, material_object)),
+        ),
+        (
+            "PLANE_OBJECT",
+            word(offset_of!(GpuPlane, material_object)) + 1,
+        ),
+        ("BOX_CENTER", word(offset_of!(GpuBox, center))),
+        ("BOX_HALF", word(offset_of!(GpuBox, half_extents))),
+        ("BOX_AXIS_X", word(offset_of!(GpuBox, axis_x))),
+        ("BOX_AXIS_Y", word(offset_of!(GpuBox, axis_y))),
+        ("BOX_AXIS_Z", word(offset_of!(GpuBox, axis_z))),
+        ("BOX_MATERIAL", word(offset_of!(GpuBox, material_object))),
+        ("BOX_OBJECT", word(offset_of!(GpuBox, material_object)) + 1),
+        ("TRI_P0", word(offset_of!(GpuTriangleGeometry, p0))),
+        ("TRI_INDEX", word(offset_of!(GpuTriangleGeometry, index))),
+        ("TRI_P1", word(offset_of!(GpuTriangleGeometry, p1))),
+        ("TRI_OBJECT", word(offset_of!(GpuTriangleGeometry, object))),
+        ("TRI_P2", word(offset_of!(GpuTriangleGeometry, p2))),
+        ("NODE_LEFT_LO", word(offset_of!(GpuBvhNode, left_lo))),
+        ("NODE_LEFT", word(offset_of!(GpuBvhNode, left))),
+        ("NODE_LEFT_HI", word(offset_of!(GpuBvhNode, left_hi))),
+        ("NODE_RIGHT_LO", word(offset_of!(GpuBvhNode, right_lo))),
+        ("NODE_RIGHT", word(offset_of!(GpuBvhNode, right))),
+        ("NODE_RIGHT_HI", word(offset_of!(GpuBvhNode, right_hi))),
+    ];
+    for (name, expected) in checks {
+        assert_eq!(constant(name), expected, "{name}");
+    }
+    // A leaf link packs its count less one and its first triangle.
+    let link = rt_layout::leaf_link(12345, 7);
+    assert_eq!(link & rt_layout::LEAF_BIT, rt_layout::LEAF_BIT);
+    assert_eq!((link >> 26) & 31, 6);
+    assert_eq!(link & 0x03ff_ffff, 12345);
 }

@@ -11,7 +11,8 @@
 // way"): the BVH stores both children's boxes in their parent, so one read
 // of a node tests both; triangles are stored in BVH leaf order with only
 // what the intersection test needs, and what shading needs sits in a
-// second record read once per ray, for the nearest hit.
+// second record read once per ray, for the nearest hit. Nodes and
+// triangles are read as word pairs, a subgroup at a time.
 
 // Shared with the raster pipelines (same ids, same meaning).
 #include "lights.glsl"
@@ -29,6 +30,9 @@ layout(constant_id = 8) const int BOX_COUNT = 0;
 layout(constant_id = 9) const bool HAS_MESHES = true;
 // Ray statistics with atomics, only when asked for (--stats).
 layout(constant_id = 10) const bool COUNT_RAYS = false;
+// Object lists too long to unroll: their records are read a subgroup at a
+// time (raytrace.comp.glsl, `sphere_geometry`).
+layout(constant_id = 11) const bool SHARED_OBJECT_READS = false;
 
 layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     vec4 ambient_k;       // rgb: Ia, w: k
@@ -40,41 +44,46 @@ layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     uvec4 grid;           // x, y: the sample grid kx, ky; z: tiles across; w: the BVH's root link
 } frame;
 
-struct Sphere {
-    vec4 center_radius;
-    uvec4 material_object;
-};
+// Object records, read as word pairs (like nodes and triangles below):
+// rt_layout::GpuSphere, GpuPlane and GpuBox, with these word offsets.
+const uint SPHERE_PAIRS = 4u;
+const uint SPHERE_CENTER = 0u;
+const uint SPHERE_RADIUS = 3u;
+const uint SPHERE_MATERIAL = 4u;
+const uint SPHERE_OBJECT = 5u;
 
-struct Plane {
-    vec4 center_half;  // xyz: centre, w: half the edge length
-    vec4 normal;
-    vec4 u;
-    vec4 v;
-    uvec4 material_object;
-};
+const uint PLANE_PAIRS = 10u;
+const uint PLANE_CENTER = 0u;
+const uint PLANE_HALF = 3u;  // half the edge length
+const uint PLANE_NORMAL = 4u;
+const uint PLANE_U = 8u;
+const uint PLANE_V = 12u;
+const uint PLANE_MATERIAL = 16u;
+const uint PLANE_OBJECT = 17u;
 
-struct Box {
-    vec4 center;
-    vec4 half_extents;
-    vec4 axis_x;  // the columns of the box's rotation
-    vec4 axis_y;
-    vec4 axis_z;
-    uvec4 material_object;
-};
+const uint BOX_PAIRS = 12u;
+const uint BOX_CENTER = 0u;
+const uint BOX_HALF = 4u;
+const uint BOX_AXIS_X = 8u;  // the columns of the box's rotation
+const uint BOX_AXIS_Y = 12u;
+const uint BOX_AXIS_Z = 16u;
+const uint BOX_MATERIAL = 20u;
+const uint BOX_OBJECT = 21u;
 
-// What the intersection test reads, in BVH leaf order. `index` is the
-// triangle's place in the scene's triangle list (rt_scene::RtScene), which
-// the tie rule compares; `object` its scene object.
-struct TriangleGeometry {
-    vec3 p0;
-    uint index;
-    vec3 p1;
-    uint object;
-    vec3 p2;
-    uint unused;
-};
+// What the intersection test reads of a triangle, in BVH leaf order: 6
+// word pairs (rt_layout::GpuTriangleGeometry), read as pairs so that the
+// lanes of a subgroup can share them (raytrace.comp.glsl, `Shared`). Word
+// offsets: p0, p1 and p2 (3 floats each); `index`, the triangle's place in
+// the scene's triangle list (rt_scene::RtScene), which the tie rule
+// compares; `object`, its scene object.
+const uint TRI_PAIRS = 6u;
+const uint TRI_P0 = 0u;
+const uint TRI_INDEX = 3u;
+const uint TRI_P1 = 4u;
+const uint TRI_OBJECT = 7u;
+const uint TRI_P2 = 8u;
 
-// What shading the nearest hit reads, in the same order.
+// What shading reads of the nearest hit's triangle, in the same order.
 struct TriangleShading {
     vec3 n0;
     uint material;
@@ -86,20 +95,18 @@ struct TriangleShading {
     uint unused3;
 };
 
-// An inner node of the BVH with both children's boxes. A child link is a
-// node index, or for a leaf LEAF_BIT | its triangle
-// count less one in bits 26 to 30 and its first triangle below. The root's
-// link is in the uniforms (a mesh of a few triangles is one leaf).
-struct BvhNode {
-    vec3 left_lo;
-    uint left;
-    vec3 left_hi;
-    uint unused1;
-    vec3 right_lo;
-    uint right;
-    vec3 right_hi;
-    uint unused2;
-};
+// An inner node of the BVH with both children's boxes: 8 word pairs
+// (rt_layout::GpuBvhNode), read like triangles. A child link is a node
+// index, or for a leaf LEAF_BIT | its triangle count less one in bits 26
+// to 30 and its first triangle below. The root's link is in the uniforms
+// (a mesh of a few triangles is one leaf).
+const uint NODE_PAIRS = 8u;
+const uint NODE_LEFT_LO = 0u;
+const uint NODE_LEFT = 3u;
+const uint NODE_LEFT_HI = 4u;
+const uint NODE_RIGHT_LO = 8u;
+const uint NODE_RIGHT = 11u;
+const uint NODE_RIGHT_HI = 12u;
 
 const uint LEAF_BIT = 0x80000000u;
 
@@ -109,11 +116,11 @@ struct RtMaterial {
     vec4 kt_ior;
 };
 
-layout(std430, set = 0, binding = 2) readonly buffer SphereBuffer { Sphere spheres[]; };
-layout(std430, set = 0, binding = 3) readonly buffer PlaneBuffer { Plane planes[]; };
-layout(std430, set = 0, binding = 4) readonly buffer BoxBuffer { Box boxes[]; };
-layout(std430, set = 0, binding = 5) readonly buffer TriangleGeometryBuffer { TriangleGeometry triangles[]; };
-layout(std430, set = 0, binding = 6) readonly buffer BvhBuffer { BvhNode nodes[]; };
+layout(std430, set = 0, binding = 2) readonly buffer SphereBuffer { uvec2 sphere_pairs[]; };
+layout(std430, set = 0, binding = 3) readonly buffer PlaneBuffer { uvec2 plane_pairs[]; };
+layout(std430, set = 0, binding = 4) readonly buffer BoxBuffer { uvec2 box_pairs[]; };
+layout(std430, set = 0, binding = 5) readonly buffer TriangleGeometryBuffer { uvec2 triangle_pairs[]; };
+layout(std430, set = 0, binding = 6) readonly buffer BvhBuffer { uvec2 node_pairs[]; };
 layout(std430, set = 0, binding = 7) readonly buffer TriangleShadingBuffer { TriangleShading triangle_shading[]; };
 layout(std430, set = 0, binding = 8) readonly buffer MaterialBuffer { RtMaterial materials[]; };
 // Not `writeonly`: naga does not accept write-only storage buffers.

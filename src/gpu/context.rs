@@ -128,7 +128,10 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
     let mut out = Vec::new();
     for (index, physical) in physicals.into_iter().enumerate() {
         let mut driver = vk::PhysicalDeviceDriverProperties::default();
-        let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
+        let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
+        let mut props2 = vk::PhysicalDeviceProperties2::default()
+            .push_next(&mut driver)
+            .push_next(&mut subgroup);
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
         let mut f2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut f13);
         // SAFETY: `physical` came from this instance; the chains are local.
@@ -165,6 +168,8 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
             Some("geometryShader (for gl_PrimitiveID in flat shading)".to_string())
         } else if queue_family.is_none() {
             Some("a graphics and compute queue".to_string())
+        } else if !packet_tracing_supported(&subgroup) {
+            Some("subgroup shuffles in compute shaders, 4 or more invocations wide (for the ray tracer's packets)".to_string())
         } else {
             None
         };
@@ -189,6 +194,20 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
         });
     }
     Ok(out)
+}
+
+/// The ray tracer walks its BVH a subgroup at a time, the lanes sharing
+/// each node's words by shuffles (`shaders/raytrace.comp.glsl`): it needs
+/// them in compute shaders, and a subgroup of at least 4 lanes holds a
+/// node's 8 word pairs in two registers.
+fn packet_tracing_supported(subgroup: &vk::PhysicalDeviceSubgroupProperties) -> bool {
+    subgroup.subgroup_size >= 4
+        && subgroup
+            .supported_stages
+            .contains(vk::ShaderStageFlags::COMPUTE)
+        && subgroup
+            .supported_operations
+            .contains(vk::SubgroupFeatureFlags::BASIC | vk::SubgroupFeatureFlags::SHUFFLE)
 }
 
 /// Lists every Vulkan device, usable or not (for `shadelab info`).

@@ -79,6 +79,14 @@ fn create_pipeline(
     Ok(p)
 }
 
+/// Object counts up to which lavapipe unrolls the shader's loops over
+/// them (a trip count of at most 32 and a body of at most 832 instructions
+/// in all), so that each record is read at a constant index. Past them the
+/// records are read a subgroup at a time (`SHARED_OBJECT_READS`).
+const UNROLLED_SPHERES: usize = 16;
+const UNROLLED_PLANES: usize = 12;
+const UNROLLED_BOXES: usize = 6;
+
 /// Only what the scene uses: the lighting constants of the raster pipelines
 /// (`raster_scene::specialization`), shadows if on, reflection and
 /// refraction if some material has them, and the primitive kinds present.
@@ -96,7 +104,16 @@ fn specialization(scene: &Scene, rt: &RtScene, count_rays: bool) -> TraceSpecial
         box_count: rt.boxes.len() as i32,
         has_meshes: u32::from(!rt.triangles.is_empty()),
         count_rays: u32::from(count_rays),
+        shared_object_reads: u32::from(shares_object_reads(rt)),
     }
+}
+
+/// Whether some object list is too long for lavapipe to unroll the loop
+/// over it, so the shader reads its records a subgroup at a time.
+pub fn shares_object_reads(rt: &RtScene) -> bool {
+    rt.spheres.len() > UNROLLED_SPHERES
+        || rt.planes.len() > UNROLLED_PLANES
+        || rt.boxes.len() > UNROLLED_BOXES
 }
 
 /// Ray traces `scene` at its `image` size; counts rays if `count_rays`.
@@ -141,12 +158,6 @@ pub fn render(
         "lights",
         bytemuck::cast_slice(&raster_scene::lights(scene, view.eye)),
     )?;
-    let uniform_buffer = Buffer::with_data(
-        context,
-        "trace uniforms",
-        bytemuck::bytes_of(&uniforms),
-        vk::BufferUsageFlags::UNIFORM_BUFFER,
-    )?;
     let spheres = upload("spheres", bytemuck::cast_slice(&r.spheres))?;
     let planes = upload("planes", bytemuck::cast_slice(&r.planes))?;
     let boxes = upload("boxes", bytemuck::cast_slice(&r.boxes))?;
@@ -161,6 +172,12 @@ pub fn render(
         bytemuck::cast_slice(&tile_order(tiles_across * tiles_down)),
     )?;
     let materials = upload("materials", bytemuck::cast_slice(&r.materials))?;
+    let uniform_buffer = Buffer::with_data(
+        context,
+        "trace uniforms",
+        bytemuck::bytes_of(&uniforms),
+        vk::BufferUsageFlags::UNIFORM_BUFFER,
+    )?;
     let pixel_bytes = u64::from(width) * u64::from(height) * 16;
     let output = Buffer::new(
         context,

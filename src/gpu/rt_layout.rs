@@ -59,6 +59,7 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (8, "BOX_COUNT"),
     (9, "HAS_MESHES"),
     (10, "COUNT_RAYS"),
+    (11, "SHARED_OBJECT_READS"),
 ];
 
 #[repr(C)]
@@ -184,6 +185,7 @@ pub struct TraceSpecialization {
     pub box_count: i32,
     pub has_meshes: u32,
     pub count_rays: u32,
+    pub shared_object_reads: u32,
 }
 
 impl TraceSpecialization {
@@ -206,11 +208,10 @@ pub fn record_size(binding: u32) -> usize {
     match binding {
         LIGHTS => std::mem::size_of::<GpuLight>(),
         UNIFORMS => std::mem::size_of::<TraceUniforms>(),
-        SPHERES => std::mem::size_of::<GpuSphere>(),
-        PLANES => std::mem::size_of::<GpuPlane>(),
-        BOXES => std::mem::size_of::<GpuBox>(),
-        TRIANGLES => std::mem::size_of::<GpuTriangleGeometry>(),
-        BVH_NODES => std::mem::size_of::<GpuBvhNode>(),
+        // Read as word pairs, a subgroup at a time; the records' word
+        // offsets are checked against the shader's constants by
+        // tests/shader_interface.rs.
+        SPHERES | PLANES | BOXES | TRIANGLES | BVH_NODES => 8,
         TRIANGLE_SHADING => std::mem::size_of::<GpuTriangleShading>(),
         MATERIALS => std::mem::size_of::<GpuMaterial>(),
         OUTPUT => 16,
