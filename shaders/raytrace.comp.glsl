@@ -22,7 +22,7 @@
 // ended, a light behind the surface) takes part with a negative distance
 // limit, which no box or primitive passes.
 
-// 64 invocations: 8 subgroups of 8 lanes, each a 4x2 block of an 8x8 tile.
+// 64 invocations for a 16x16 tile (see main).
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
 #include "rt_interface.glsl"
@@ -48,7 +48,11 @@ const uint NO_SHAPE = 0xffffffffu;
 struct Hit {
     float t;
     uint shape;  // KIND_* | index, or NO_SHAPE
-    vec2 uv;     // triangle: barycentrics of p1 and p2; box: axis, sign
+    vec2 uv;     // triangle: barycentrics of p1 and p2
+    // An analytic object's normal and material, known (at constant-index
+    // reads) when it is hit; a triangle's are read after the search.
+    vec3 normal;
+    uint material;
 };
 
 struct Ray {
@@ -222,9 +226,9 @@ bool wins_tie(uint shape, Hit best) {
 }
 
 // Makes a hit at t the nearest if it is (t > 0, then the tie rule).
-void consider(float t, uint shape, vec2 uv, inout Hit best) {
+void consider(float t, uint shape, vec2 uv, vec3 normal, uint material, inout Hit best) {
     if (t > 0.0 && t <= best.t && (t < best.t || wins_tie(shape, best))) {
-        best = Hit(t, shape, uv);
+        best = Hit(t, shape, uv, normal, material);
     }
 }
 
@@ -236,17 +240,18 @@ void consider(float t, uint shape, vec2 uv, inout Hit best) {
 struct SphereGeometry {
     vec3 center;
     float radius;
+    uint material;
 };
 
 SphereGeometry sphere_geometry(int i) {
     if (SHARED_OBJECT_READS) {
         Shared r = read_sphere(uint(i));
-        return SphereGeometry(vec3_at(r, SPHERE_CENTER), float_at(r, SPHERE_RADIUS));
+        return SphereGeometry(vec3_at(r, SPHERE_CENTER), float_at(r, SPHERE_RADIUS), word(r, SPHERE_MATERIAL));
     }
     uint at = uint(i) * SPHERE_PAIRS;
     uvec2 a = sphere_pairs[at];
     uvec2 b = sphere_pairs[at + 1u];
-    return SphereGeometry(uintBitsToFloat(uvec3(a, b.x)), uintBitsToFloat(b.y));
+    return SphereGeometry(uintBitsToFloat(uvec3(a, b.x)), uintBitsToFloat(b.y), sphere_pairs[at + 2u].x);
 }
 
 struct PlaneGeometry {
@@ -255,13 +260,14 @@ struct PlaneGeometry {
     vec3 normal;
     vec3 u;
     vec3 v;
+    uint material;
 };
 
 PlaneGeometry plane_geometry(int i) {
     if (SHARED_OBJECT_READS) {
         Shared r = read_plane(uint(i));
         return PlaneGeometry(vec3_at(r, PLANE_CENTER), float_at(r, PLANE_HALF), vec3_at(r, PLANE_NORMAL),
-                             vec3_at(r, PLANE_U), vec3_at(r, PLANE_V));
+                             vec3_at(r, PLANE_U), vec3_at(r, PLANE_V), word(r, PLANE_MATERIAL));
     }
     uint at = uint(i) * PLANE_PAIRS;
     uvec2 w01 = plane_pairs[at];
@@ -274,20 +280,22 @@ PlaneGeometry plane_geometry(int i) {
     uvec2 w1415 = plane_pairs[at + 7u];
     return PlaneGeometry(uintBitsToFloat(uvec3(w01, w23.x)), uintBitsToFloat(w23.y),
                          uintBitsToFloat(uvec3(w45, w67.x)), uintBitsToFloat(uvec3(w89, w1011.x)),
-                         uintBitsToFloat(uvec3(w1213, w1415.x)));
+                         uintBitsToFloat(uvec3(w1213, w1415.x)), plane_pairs[at + 8u].x);
 }
 
 struct BoxGeometry {
     vec3 center;
     vec3 half_extents;
     mat3 rotation;  // box-local axes to world axes
+    uint material;
 };
 
 BoxGeometry box_geometry(int i) {
     if (SHARED_OBJECT_READS) {
         Shared r = read_box(uint(i));
         return BoxGeometry(vec3_at(r, BOX_CENTER), vec3_at(r, BOX_HALF),
-                           mat3(vec3_at(r, BOX_AXIS_X), vec3_at(r, BOX_AXIS_Y), vec3_at(r, BOX_AXIS_Z)));
+                           mat3(vec3_at(r, BOX_AXIS_X), vec3_at(r, BOX_AXIS_Y), vec3_at(r, BOX_AXIS_Z)),
+                           word(r, BOX_MATERIAL));
     }
     uint at = uint(i) * BOX_PAIRS;
     vec3 v[5];
@@ -296,7 +304,7 @@ BoxGeometry box_geometry(int i) {
         uvec2 b = box_pairs[at + 2u * k + 1u];
         v[k] = uintBitsToFloat(uvec3(a, b.x));
     }
-    return BoxGeometry(v[0], v[1], mat3(v[2], v[3], v[4]));
+    return BoxGeometry(v[0], v[1], mat3(v[2], v[3], v[4]), box_pairs[at + 10u].x);
 }
 
 // Distance to a sphere along the ray, or 0 for none (the stable form).
@@ -490,10 +498,10 @@ void hit_meshes(vec3 o, vec3 d, inout Hit best, bool any_hit) {
                 float t = triangle_t(o, shear, tri, uv);
                 if (any_hit) {
                     if (t > 0.0 && t < best.t) {
-                        best = Hit(-1.0, KIND_TRIANGLE | i, uv);
+                        best = Hit(-1.0, KIND_TRIANGLE | i, uv, vec3(0.0), 0u);
                     }
                 } else {
-                    consider(t, KIND_TRIANGLE | i, uv, best);
+                    consider(t, KIND_TRIANGLE | i, uv, vec3(0.0), 0u, best);
                 }
             }
             link = NO_SHAPE;
@@ -516,17 +524,25 @@ void hit_meshes(vec3 o, vec3 d, inout Hit best, bool any_hit) {
 // object, then the lower triangle. Call in uniform control flow; a lane
 // with no ray to trace passes `traces` false and gets no hit.
 Hit nearest(vec3 o, vec3 d, bool traces) {
-    Hit best = Hit(traces ? NO_HIT : -1.0, NO_SHAPE, vec2(0.0));
+    Hit best = Hit(traces ? NO_HIT : -1.0, NO_SHAPE, vec2(0.0), vec3(0.0), 0u);
     for (int i = 0; i < SPHERE_COUNT; ++i) {
-        consider(sphere_t(o, d, sphere_geometry(i)), KIND_SPHERE | uint(i), vec2(0.0), best);
+        SphereGeometry g = sphere_geometry(i);
+        float t = sphere_t(o, d, g);
+        vec3 n = (o + t * d - g.center) / g.radius;
+        consider(t, KIND_SPHERE | uint(i), vec2(0.0), n, g.material, best);
     }
     for (int i = 0; i < PLANE_COUNT; ++i) {
-        consider(plane_t(o, d, plane_geometry(i)), KIND_PLANE | uint(i), vec2(0.0), best);
+        PlaneGeometry g = plane_geometry(i);
+        consider(plane_t(o, d, g), KIND_PLANE | uint(i), vec2(0.0), g.normal, g.material, best);
     }
     for (int i = 0; i < BOX_COUNT; ++i) {
+        BoxGeometry g = box_geometry(i);
         vec2 face;
-        float t = box_t(o, d, box_geometry(i), face);
-        consider(t, KIND_BOX | uint(i), face, best);
+        float t = box_t(o, d, g, face);
+        // The outward normal of the face hit: a column of the rotation.
+        vec3 axis = face.x == 0.0 ? g.rotation[0] : (face.x == 1.0 ? g.rotation[1] : g.rotation[2]);
+        vec3 n = axis * face.y;
+        consider(t, KIND_BOX | uint(i), vec2(0.0), n, g.material, best);
     }
     if (HAS_MESHES) {
         hit_meshes(o, d, best, false);
@@ -554,7 +570,7 @@ bool occluded(vec3 o, vec3 d, float t_max) {
         blocked = blocked || (t > 0.0 && t < t_max);
     }
     if (HAS_MESHES) {
-        Hit best = Hit(blocked ? -1.0 : t_max, NO_SHAPE, vec2(0.0));
+        Hit best = Hit(blocked ? -1.0 : t_max, NO_SHAPE, vec2(0.0), vec3(0.0), 0u);
         hit_meshes(o, d, best, true);
         blocked = blocked || best.shape != NO_SHAPE;
     }
@@ -576,30 +592,6 @@ Surfel resolve(vec3 o, vec3 d, Hit hit) {
     vec3 p = o + hit.t * d;
     uint index = hit.shape & ~KIND_MASK;
     uint kind = hit.shape & KIND_MASK;
-    vec3 n = vec3(0.0);
-    uint material = 0u;
-    if (kind == KIND_SPHERE) {
-        vec3 center = lane_vec3(uvec3(sphere_word(index, SPHERE_CENTER), sphere_word(index, SPHERE_CENTER + 1u),
-                                      sphere_word(index, SPHERE_CENTER + 2u)));
-        n = (p - center) / uintBitsToFloat(sphere_word(index, SPHERE_RADIUS));
-        material = sphere_word(index, SPHERE_MATERIAL);
-    }
-    if (kind == KIND_PLANE) {
-        n = lane_vec3(uvec3(plane_word(index, PLANE_NORMAL), plane_word(index, PLANE_NORMAL + 1u),
-                            plane_word(index, PLANE_NORMAL + 2u)));
-        material = plane_word(index, PLANE_MATERIAL);
-    }
-    if (kind == KIND_BOX) {
-        mat3 rot;
-        for (uint c = 0u; c < 3u; ++c) {
-            uint w = BOX_AXIS_X + 4u * c;
-            rot[c] = lane_vec3(uvec3(box_word(index, w), box_word(index, w + 1u), box_word(index, w + 2u)));
-        }
-        vec3 local_normal = vec3(0.0);
-        local_normal[int(hit.uv.x)] = hit.uv.y;
-        n = rot * local_normal;
-        material = box_word(index, BOX_MATERIAL);
-    }
     if (HAS_MESHES && kind == KIND_TRIANGLE) {
         float bu = hit.uv.x;
         float bv = hit.uv.y;
@@ -608,7 +600,7 @@ Surfel resolve(vec3 o, vec3 d, Hit hit) {
         return Surfel(p, unit_or_zero(shading), triangle_shading[index].geometric,
                       triangle_shading[index].material);
     }
-    return Surfel(p, n, n, material);
+    return Surfel(p, hit.normal, hit.normal, hit.material);
 }
 
 // Pushes a secondary ray's origin off the surface, to the side it leaves to,
@@ -620,12 +612,39 @@ vec3 offset_origin(vec3 p, vec3 geometric, vec3 dir) {
     return p + side * eps * geometric;
 }
 
-// Fields are read one by one: naga's SPIR-V reader lacks OpCopyLogical,
-// which a whole-struct copy out of a buffer would emit.
-Surface surface_of(uint material) {
-    vec4 color_ka = materials[material].color_ka;
-    vec4 kd_ks_p = materials[material].kd_ks_p_kr;
-    return Surface(color_ka.rgb, color_ka.a, kd_ks_p.x, kd_ks_p.y, kd_ks_p.z);
+// What a hit's material holds. Fields are read one by one: naga's SPIR-V
+// reader lacks OpCopyLogical, which a whole-struct copy out of a buffer
+// would emit.
+struct MaterialRecord {
+    vec4 color_ka;
+    vec4 kd_ks_p_kr;
+    vec2 kt_ior;
+};
+
+MaterialRecord material_at(uint index) {
+    return MaterialRecord(materials[index].color_ka, materials[index].kd_ks_p_kr, materials[index].kt_ior.xy);
+}
+
+// Material `index` of each lane. With few materials (SELECT_MATERIALS)
+// every one is read at a constant index, one load for the subgroup, and
+// each lane keeps its own: cheaper than each lane reading its own.
+MaterialRecord material_record(uint index) {
+    if (SELECT_MATERIALS) {
+        MaterialRecord m = material_at(0u);
+        for (int k = 1; k < MATERIAL_COUNT; ++k) {
+            MaterialRecord c = material_at(uint(k));
+            bool mine = uint(k) == index;
+            m.color_ka = mine ? c.color_ka : m.color_ka;
+            m.kd_ks_p_kr = mine ? c.kd_ks_p_kr : m.kd_ks_p_kr;
+            m.kt_ior = mine ? c.kt_ior : m.kt_ior;
+        }
+        return m;
+    }
+    return material_at(index);
+}
+
+Surface surface_of(MaterialRecord m) {
+    return Surface(m.color_ka.rgb, m.color_ka.a, m.kd_ks_p_kr.x, m.kd_ks_p_kr.y, m.kd_ks_p_kr.z);
 }
 
 // The local model at a hit, shadow rays included. Call in uniform control
@@ -690,11 +709,17 @@ vec3 trace_sample(vec3 dir, bool live) {
             total += ray.weight * frame.background.rgb;
         }
         Surfel s = Surfel(vec3(0.0), vec3(0.0), vec3(0.0), 0u);
-        if (hits) {
-            s = resolve(ray.origin, ray.dir, hit);
+        MaterialRecord material = MaterialRecord(vec4(0.0), vec4(0.0), vec2(0.0));
+        vec3 local = vec3(0.0);
+        // Shading walks shadow rays as packets: the whole subgroup comes
+        // here, or none of it (where every ray left the scene).
+        if (packet_any(hits)) {
+            if (hits) {
+                s = resolve(ray.origin, ray.dir, hit);
+            }
+            material = material_record(s.material);
+            local = local_shading(s, surface_of(material), ray.dir, hits);
         }
-        Surface m = surface_of(s.material);
-        vec3 local = local_shading(s, m, ray.dir, hits);
         live = false;
         if (hits) {
             total += ray.weight * local;
@@ -707,7 +732,7 @@ vec3 trace_sample(vec3 dir, bool live) {
                 may_branch = ray.depth < max_depth && s.normal != vec3(0.0);
             }
             if (may_branch) {
-                float kr = materials[s.material].kd_ks_p_kr.w;
+                float kr = material.kd_ks_p_kr.w;
                 vec3 N = s.normal;
                 // Decided by kr and total internal reflection, not by the
                 // weight, as on the CPU: a weight that underflows in f32 is
@@ -718,8 +743,8 @@ vec3 trace_sample(vec3 dir, bool live) {
                 vec3 refract_dir = vec3(0.0);
                 float refract_weight = 0.0;
                 if (HAS_TRANSMISSION) {
-                    float kt = materials[s.material].kt_ior.x;
-                    float ior = materials[s.material].kt_ior.y;
+                    float kt = material.kt_ior.x;
+                    float ior = material.kt_ior.y;
                     if (kt > 0.0) {
                         bool entering = dot(N, ray.dir) < 0.0;
                         vec3 n = entering ? N : -N;
@@ -773,43 +798,53 @@ vec3 trace_sample(vec3 dir, bool live) {
 }
 
 void main() {
-    // Workgroups take the 8x8 tiles in the host's order (`tile_order`), a
+    // Workgroups take the 16x16 tiles in the host's order (`tile_order`), a
     // permutation that spreads every contiguous run of workgroups over the
     // whole image: lavapipe hands each thread one contiguous run (in the
     // order x, then y), and in image order one thread would get the sky and
-    // the other the scene.
+    // the other the scene. A tile is given as its column and row (16 bits
+    // each): integer division is a scalar loop over the lanes on lavapipe.
     uint tile = tile_order[gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x];
-    uint tiles_across = frame.grid.z;
+    uvec2 origin = uvec2(tile & 0xffffu, tile >> 16) * 16u;
+    // Each invocation traces 4 pixels, one in each 8x8 quarter of the
+    // tile: every subgroup has a fixed cost on lavapipe (its state set up
+    // and torn down), paid once for 4 packets. A subgroup's 8 lanes are a
+    // 4x2 block of a quarter.
     uint lane = gl_LocalInvocationIndex;
     uint block = lane >> 3;
-    uvec2 pixel = uvec2((tile % tiles_across) * 8u + (block & 1u) * 4u + (lane & 3u),
-                        (tile / tiles_across) * 8u + (block >> 1) * 2u + ((lane >> 2) & 1u));
+    uvec2 in_quarter = uvec2((block & 1u) * 4u + (lane & 3u), (block >> 1) * 2u + ((lane >> 2) & 1u));
     uint width = frame.image.x;
     uint height = frame.image.y;
-    // No early return: the lanes of a pixel off the image still take part
-    // in their subgroup's packets, with nothing to trace.
-    bool on_image = pixel.x < width && pixel.y < height;
     for (int k = 0; k < 5; ++k) {
         local_counts[k] = 0u;
     }
     uint samples = frame.image.z;
-    uint kx = frame.grid.x;
-    uint ky = frame.grid.y;
-    vec3 sum = vec3(0.0);
-    for (uint i = 0u; i < samples; ++i) {
-        float sx = (float(i % kx) + 0.5) / float(kx);
-        float sy = (float(i / kx) + 0.5) / float(ky);
-        float ndc_x = 2.0 * (float(pixel.x) + sx) / float(width) - 1.0;
-        float ndc_y = 2.0 * (float(pixel.y) + sy) / float(height) - 1.0;
-        float focal = frame.right_focal.w;
-        vec3 dir = frame.forward_cutoff.xyz + frame.right_focal.xyz * (ndc_x * frame.up_aspect.w / focal)
-                   - frame.up_aspect.xyz * (ndc_y / focal);
-        sum += trace_sample(normalize(dir), on_image);
+    float kx = float(frame.grid.x);
+    float ky = float(frame.grid.y);
+    float focal = frame.right_focal.w;
+    for (uint quarter = 0u; quarter < 4u; ++quarter) {
+        uvec2 pixel = origin + uvec2((quarter & 1u) * 8u, (quarter >> 1) * 8u) + in_quarter;
+        // No early return: the lanes of a pixel off the image still take
+        // part in their subgroup's packets, with nothing to trace.
+        bool on_image = pixel.x < width && pixel.y < height;
+        vec3 sum = vec3(0.0);
+        for (uint i = 0u; i < samples; ++i) {
+            // Sample i's cell: row i / kx and column i % kx, in floats
+            // (exact for any sample count the host allows).
+            float row = floor((float(i) + 0.5) / kx);
+            float column = float(i) - row * kx;
+            float sx = (column + 0.5) / kx;
+            float sy = (row + 0.5) / ky;
+            float ndc_x = 2.0 * (float(pixel.x) + sx) / float(width) - 1.0;
+            float ndc_y = 2.0 * (float(pixel.y) + sy) / float(height) - 1.0;
+            vec3 dir = frame.forward_cutoff.xyz + frame.right_focal.xyz * (ndc_x * frame.up_aspect.w / focal)
+                       - frame.up_aspect.xyz * (ndc_y / focal);
+            sum += trace_sample(dir * inversesqrt(dot(dir, dir)), on_image);
+        }
+        if (on_image) {
+            pixels[pixel.y * width + pixel.x] = vec4(sum / float(samples), 1.0);
+        }
     }
-    if (!on_image) {
-        return;
-    }
-    pixels[pixel.y * width + pixel.x] = vec4(sum / float(samples), 1.0);
     if (COUNT_RAYS) {
         for (int k = 0; k < 5; ++k) {
             if (local_counts[k] > 0u) {

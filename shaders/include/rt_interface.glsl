@@ -33,6 +33,10 @@ layout(constant_id = 10) const bool COUNT_RAYS = false;
 // Object lists too long to unroll: their records are read a subgroup at a
 // time (raytrace.comp.glsl, `sphere_geometry`).
 layout(constant_id = 11) const bool SHARED_OBJECT_READS = false;
+// Few materials: each hit selects its own from all of them, read at
+// constant indices (raytrace.comp.glsl, `material_record`).
+layout(constant_id = 12) const int MATERIAL_COUNT = 1;
+layout(constant_id = 13) const bool SELECT_MATERIALS = false;
 
 layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     vec4 ambient_k;       // rgb: Ia, w: k
@@ -41,7 +45,7 @@ layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     vec4 up_aspect;       // xyz: camera up, w: width / height
     vec4 forward_cutoff;  // xyz: camera forward, w: the cut-off weight
     uvec4 image;          // x: width, y: height, z: samples, w: maximum depth
-    uvec4 grid;           // x, y: the sample grid kx, ky; z: tiles across; w: the BVH's root link
+    uvec4 grid;           // x, y: the sample grid kx, ky; w: the BVH's root link
 } frame;
 
 // Object records, read as word pairs (like nodes and triangles below):

@@ -60,6 +60,8 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (9, "HAS_MESHES"),
     (10, "COUNT_RAYS"),
     (11, "SHARED_OBJECT_READS"),
+    (12, "MATERIAL_COUNT"),
+    (13, "SELECT_MATERIALS"),
 ];
 
 #[repr(C)]
@@ -72,8 +74,7 @@ pub struct TraceUniforms {
     pub forward_cutoff: [f32; 4],
     /// width, height, samples, maximum depth.
     pub image: [u32; 4],
-    /// The sample grid kx, ky; tiles across the image; the BVH's root
-    /// link (`GpuBvhNode`).
+    /// The sample grid kx, ky; unused; the BVH's root link (`GpuBvhNode`).
     pub grid: [u32; 4],
 }
 
@@ -186,6 +187,8 @@ pub struct TraceSpecialization {
     pub has_meshes: u32,
     pub count_rays: u32,
     pub shared_object_reads: u32,
+    pub material_count: i32,
+    pub select_materials: u32,
 }
 
 impl TraceSpecialization {

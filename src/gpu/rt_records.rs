@@ -187,11 +187,21 @@ fn bvh_nodes(tree: &[Bvh2Node]) -> Result<(Vec<GpuBvhNode>, u32), GpuError> {
     Ok((nodes, 0))
 }
 
-/// The order in which workgroups take the image's tiles: tile `k * step mod
-/// count` for workgroup `k`, with `step` coprime to `count` near
-/// `0.618 count`, so that every contiguous run of workgroups (lavapipe gives
-/// each thread one) is spread evenly over the image.
-pub fn tile_order(count: u32) -> Vec<u32> {
+/// The order in which workgroups take the image's tiles, `across` by
+/// `down`: tile `k * step mod count` (row by row) for workgroup `k`, with
+/// `step` coprime to `count` near `0.618 count`, so that every contiguous
+/// run of workgroups (lavapipe gives each thread one) is spread evenly over
+/// the image. Each tile is given as `column | row << 16`.
+pub fn tile_order(across: u32, down: u32) -> Vec<u32> {
+    debug_assert!(across <= 1 << 16 && down <= 1 << 16);
+    let across = across.max(1);
+    tile_permutation(across * down.max(1))
+        .into_iter()
+        .map(|t| t % across | (t / across) << 16)
+        .collect()
+}
+
+fn tile_permutation(count: u32) -> Vec<u32> {
     let n = u64::from(count.max(1));
     let gcd = |mut a: u64, mut b: u64| {
         while b != 0 {
@@ -213,7 +223,7 @@ mod tests {
     #[test]
     fn the_tile_order_is_a_permutation_that_spreads_halves() {
         for count in [1u32, 2, 3, 64, 128 * 128, 97 * 61] {
-            let order = tile_order(count);
+            let order = tile_permutation(count);
             let mut seen = vec![false; count as usize];
             for &t in &order {
                 assert!(!seen[t as usize], "tile {t} twice of {count}");
@@ -229,5 +239,13 @@ mod tests {
                 assert!((0.4..0.6).contains(&share), "{count}: {share}");
             }
         }
+        let (across, down) = (97, 61);
+        let mut seen = vec![false; 97 * 61];
+        for t in tile_order(across, down) {
+            let (column, row) = (t & 0xffff, t >> 16);
+            assert!(column < across && row < down);
+            seen[(row * across + column) as usize] = true;
+        }
+        assert!(seen.iter().all(|&s| s));
     }
 }
