@@ -197,7 +197,7 @@ pub fn tile_order(across: u32, down: u32) -> Vec<u32> {
     let across = across.max(1);
     tile_permutation(across * down.max(1))
         .into_iter()
-        .map(|t| t % across | (t / across) << 16)
+        .map(|t| (t % across) | ((t / across) << 16))
         .collect()
 }
 
