@@ -148,6 +148,83 @@ fn info_lists_the_device_in_use() {
     assert!(json["devices"][selected]["name"].is_string());
 }
 
+/// Reports name the driver and its version beside the device: `render
+/// --json` and `bench --json` give what `info` lists for the device in use.
+#[test]
+fn render_and_bench_name_the_driver() {
+    let dir = tempfile::tempdir().unwrap();
+    let info = shadelab(dir.path(), &["info", "--json"]);
+    let info: serde_json::Value = serde_json::from_str(info.stdout.trim()).unwrap();
+    let selected = info["selected"].as_u64().unwrap() as usize;
+    let driver = info["devices"][selected]["driver"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    assert!(!driver.is_empty());
+    let size = ["--width", "32", "--height", "24"];
+    let render = shadelab(
+        dir.path(),
+        &[&["render", "--out", "x.png", "--json"][..], &size].concat(),
+    );
+    assert_eq!(render.code, 0, "{}", render.stderr);
+    let render: serde_json::Value = serde_json::from_str(render.stdout.trim()).unwrap();
+    assert_eq!(render["driver"], driver.as_str());
+    let bench = shadelab(
+        dir.path(),
+        &[
+            &["bench", "--shading", "raytrace", "--runs", "1", "--json"][..],
+            &size,
+        ]
+        .concat(),
+    );
+    assert_eq!(bench.code, 0, "{}", bench.stderr);
+    let bench: serde_json::Value = serde_json::from_str(bench.stdout.trim()).unwrap();
+    assert_eq!(bench["driver"], driver.as_str());
+}
+
+/// `bench --cpu` times the CPU reference on the same work and `bench
+/// --every-feature` the uber-shader build; each ratio is the quotient of the
+/// figures it is printed beside.
+#[test]
+fn bench_compares_with_the_cpu_and_the_uber_shader() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = shadelab(
+        dir.path(),
+        &[
+            "bench",
+            "--shading",
+            "phong,raytrace",
+            "--runs",
+            "1",
+            "--width",
+            "48",
+            "--height",
+            "32",
+            "--cpu",
+            "--every-feature",
+            "--json",
+        ],
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let json: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    let results = json["results"].as_array().unwrap();
+    assert_eq!(results.len(), 2);
+    for row in results {
+        let gpu = row["gpu_ms"].as_f64().unwrap();
+        let cpu = row["cpu_ms"].as_f64().expect("--cpu times every mode");
+        assert!(gpu > 0.0 && cpu > 0.0, "{row}");
+        let speedup = row["gpu_speedup_over_cpu"].as_f64().unwrap();
+        assert!((speedup - cpu / gpu).abs() <= 1e-9 * speedup, "{row}");
+        let traced = row["shading"] == "raytrace";
+        assert_eq!(row["every_feature_gpu_ms"].is_f64(), traced, "{row}");
+        if traced {
+            let uber = row["every_feature_gpu_ms"].as_f64().unwrap();
+            let ratio = row["every_feature_ratio"].as_f64().unwrap();
+            assert!((ratio - uber / gpu).abs() <= 1e-9 * ratio, "{row}");
+        }
+    }
+}
+
 #[test]
 fn unknown_device_is_bad_input() {
     let dir = tempfile::tempdir().unwrap();

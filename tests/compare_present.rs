@@ -103,6 +103,7 @@ fn fixture(dir: &Path) -> Report {
         width: IMAGE_W,
         height: IMAGE_H,
         device: "llvmpipe \"test\" <device>".into(),
+        driver: "Mesa <test> 25".into(),
         runs: 5,
         reference: "CPU ray tracer, depth 8, 16 samples".into(),
         reference_image: "reference.png".into(),
@@ -340,7 +341,7 @@ fn the_html_is_self_contained_and_holds_every_image() {
     );
     // Text is escaped.
     assert!(html.contains("spheres &lt;b&gt;&amp;amp;&lt;/b&gt;"));
-    assert!(html.contains("llvmpipe &quot;test&quot; &lt;device&gt;"));
+    assert!(html.contains("llvmpipe &quot;test&quot; &lt;device&gt; (Mesa &lt;test&gt; 25)"));
     assert!(!html.contains("<b>") && !html.contains("<device>"));
     // Pareto rows are marked, and only they.
     assert_eq!(html.matches("<tr class=\"pareto\">").count(), 4);

@@ -363,3 +363,41 @@ fn long_object_lists_read_a_subgroup_at_a_time_agree_with_the_cpu() {
     let o = check(&gpu(), &s, &s, Shading::Raytrace, &limits).unwrap();
     assert!(o.passed(), "{:?}", o.failures);
 }
+
+/// The uber-shader build (`bench --every-feature`: reflection, refraction,
+/// the specular term and the BVH walk compiled in whether used or not)
+/// traces the same image as the pipeline specialised to the scene, on
+/// scenes that leave each of those features out: what it measures is the
+/// cost of the features, not a different picture.
+#[test]
+fn every_feature_build_traces_the_same_image() {
+    use raytrace::TraceOptions;
+    let context = gpu();
+    let mut plain = scene(64, 48, 45.0);
+    plain.objects.push(Object {
+        shape: Shape::Sphere {
+            center: DVec3::ZERO,
+            radius: 1.0,
+            segments: 16,
+        },
+        material: 0,
+    });
+    plain.materials[0].ks = 0.0;
+    let mut default = shadelab::scene::default_scene();
+    default.image.width = 64;
+    default.image.height = 48;
+    for s in [plain, default] {
+        let trace = |every_feature| {
+            let options = TraceOptions {
+                count_rays: false,
+                every_feature,
+            };
+            raytrace::render_with(&context, &s, options)
+                .unwrap_or_else(|e| panic!("{e}"))
+                .image
+        };
+        let worst = worst_difference(&trace(false), &trace(true));
+        // Only the compiled code differs, not the arithmetic of any pixel.
+        assert!(worst <= 1e-6, "worst difference {worst}");
+    }
+}

@@ -1,13 +1,18 @@
 //! `shadelab bench`: render times per mode, medians over several runs after
 //! a warm-up, as ratios against a baseline measured in the same run (the
 //! flat raster render of the same scene), and rays per second for the ray
-//! tracer. Shared machines are noisy: compare ratios, not milliseconds.
+//! tracer. With `--cpu`, the CPU reference's time for the same work beside
+//! each mode; with `--every-feature`, the ray tracer compiled with every
+//! optional feature in, against the one specialised to the scene. Shared
+//! machines are noisy: compare ratios, not milliseconds.
 
 use std::path::PathBuf;
 use std::sync::Arc;
+use std::time::Instant;
 
 use clap::Args;
 use shadelab::compare::run::median_and_spread;
+use shadelab::gpu::raytrace::TraceOptions;
 use shadelab::gpu::{raster, raytrace, GpuContext, GpuOptions, GpuTimings};
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
@@ -35,16 +40,49 @@ pub struct BenchArgs {
     /// Ray tracing: maximum depth (overrides the scene).
     #[arg(long)]
     depth: Option<u32>,
+    /// Also time the CPU reference on the same work (the ray tracer's
+    /// tracing alone, as the GPU's dispatch; the raster modes' whole
+    /// render), and print the GPU's speed-up over it.
+    #[arg(long)]
+    cpu: bool,
+    /// Also time the ray tracer compiled with every optional feature in
+    /// (reflection, refraction, the specular term, the BVH walk), as an
+    /// uber-shader would, against the pipeline specialised to the scene.
+    #[arg(long)]
+    every_feature: bool,
     /// Print one JSON object on stdout.
     #[arg(long)]
     json: bool,
 }
 
-fn once(context: &Arc<GpuContext>, scene: &Scene, shading: Shading) -> Result<GpuTimings, Failure> {
+fn once(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    shading: Shading,
+    every_feature: bool,
+) -> Result<GpuTimings, Failure> {
     Ok(match shading.raster_mode() {
         Some(mode) => raster::render(context, scene, mode)?.timings,
-        None => raytrace::render(context, scene, false)?.timings,
+        None => {
+            let options = TraceOptions {
+                count_rays: false,
+                every_feature,
+            };
+            raytrace::render_with(context, scene, options)?.timings
+        }
     })
+}
+
+/// One timed render of the CPU reference, in milliseconds: the ray
+/// tracer's tracing (its BVH built beforehand, as the GPU's is before its
+/// dispatch), or a raster mode's whole render.
+fn cpu_once(scene: &Scene, shading: Shading) -> Result<f64, Failure> {
+    if shading.raster_mode().is_none() {
+        return Ok(shadelab::cpu::raytrace::render(scene).trace_ms);
+    }
+    let started = Instant::now();
+    shadelab::render::render_cpu(scene, shading)?;
+    Ok(started.elapsed().as_secs_f64() * 1e3)
 }
 
 #[derive(serde::Serialize)]
@@ -59,6 +97,15 @@ struct Row {
     ratio_to_baseline: f64,
     rays: Option<u64>,
     rays_per_second: Option<f64>,
+    /// `--cpu`: the CPU reference's median time for the same work.
+    cpu_ms: Option<f64>,
+    /// `--cpu`: `cpu_ms / gpu_ms`.
+    gpu_speedup_over_cpu: Option<f64>,
+    /// `--every-feature`: the ray tracer with every optional feature in.
+    every_feature_gpu_ms: Option<f64>,
+    /// `--every-feature`: `every_feature_gpu_ms / gpu_ms`, what
+    /// specialising to the scene saves.
+    every_feature_ratio: Option<f64>,
 }
 
 pub fn run(args: BenchArgs, options: &GpuOptions) -> Result<(), Failure> {
@@ -69,12 +116,12 @@ pub fn run(args: BenchArgs, options: &GpuOptions) -> Result<(), Failure> {
         scene.render.depth = check_depth(d)?;
     }
     let context = GpuContext::new(options)?;
-    let time = |shading: Shading| -> Result<(f64, f64, f64), Failure> {
-        once(&context, &scene, shading)?; // warm-up
+    let time = |shading: Shading, every_feature: bool| -> Result<(f64, f64, f64), Failure> {
+        once(&context, &scene, shading, every_feature)?; // warm-up
         let mut totals = Vec::new();
         let mut gpus = Vec::new();
         for _ in 0..args.runs {
-            let t = once(&context, &scene, shading)?;
+            let t = once(&context, &scene, shading, every_feature)?;
             totals.push(t.total_ms);
             // Submission to completion: robust where timestamps are not
             // (see GpuTimings::submit_ms).
@@ -84,20 +131,34 @@ pub fn run(args: BenchArgs, options: &GpuOptions) -> Result<(), Failure> {
         Ok((total, median_and_spread(gpus).0, spread))
     };
     // Flat is the baseline; timed once, and reused if it is in the list.
-    let flat = time(Shading::Flat)?;
+    let flat = time(Shading::Flat, false)?;
     let baseline = flat.0;
     let mut rows = Vec::new();
     for &shading in &args.shading {
+        let traced = shading.raster_mode().is_none();
         let (total_ms, gpu_ms, total_spread_ms) = if shading == Shading::Flat {
             flat
         } else {
-            time(shading)?
+            time(shading, false)?
         };
         // Rays are counted in a separate run: counting costs atomics.
-        let rays = if shading.raster_mode().is_none() {
+        let rays = if traced {
             raytrace::render(&context, &scene, true)?
                 .stats
                 .map(|s| s.total())
+        } else {
+            None
+        };
+        let cpu_ms = if args.cpu {
+            let runs = (0..args.runs)
+                .map(|_| cpu_once(&scene, shading))
+                .collect::<Result<Vec<_>, _>>()?;
+            Some(median_and_spread(runs).0)
+        } else {
+            None
+        };
+        let every_feature_gpu_ms = if args.every_feature && traced {
+            Some(time(shading, true)?.1)
         } else {
             None
         };
@@ -109,15 +170,21 @@ pub fn run(args: BenchArgs, options: &GpuOptions) -> Result<(), Failure> {
             ratio_to_baseline: total_ms / baseline,
             rays,
             rays_per_second: rays.map(|r| r as f64 / (gpu_ms / 1e3)),
+            cpu_ms,
+            gpu_speedup_over_cpu: cpu_ms.map(|c| c / gpu_ms),
+            every_feature_gpu_ms,
+            every_feature_ratio: every_feature_gpu_ms.map(|e| e / gpu_ms),
         });
     }
     let (w, h) = (scene.image.width, scene.image.height);
+    let info = &context.info;
     if args.json {
         let value = serde_json::json!({
             "scene": name,
             "width": w,
             "height": h,
-            "device": context.info.name,
+            "device": info.name,
+            "driver": info.driver,
             "runs": args.runs,
             "baseline": { "shading": "flat", "total_ms": baseline },
             "results": rows,
@@ -126,27 +193,49 @@ pub fn run(args: BenchArgs, options: &GpuOptions) -> Result<(), Failure> {
         return Ok(());
     }
     println!(
-        "{name} at {w}x{h} on {}, median of {} runs after a warm-up; baseline: flat raster, {baseline:.1} ms",
-        context.info.name, args.runs
+        "{name} at {w}x{h} on {} ({}), median of {} runs after a warm-up; baseline: flat raster, {baseline:.1} ms",
+        info.name, info.driver, args.runs
     );
-    println!(
-        "{:<10} {:>10} {:>10} {:>10} {:>8} {:>14}",
+    let mut header = format!(
+        "{:<10} {:>10} {:>10} {:>10} {:>8} {:>10}",
         "mode", "total_ms", "gpu_ms", "spread_ms", "ratio", "Mrays/s"
     );
+    if args.cpu {
+        header += &format!(" {:>10} {:>8}", "cpu_ms", "gpu_x");
+    }
+    if args.every_feature {
+        header += &format!(" {:>12} {:>8}", "uber_gpu_ms", "uber_x");
+    }
+    println!("{header}");
+    let figure = |v: Option<f64>, width: usize, digits: usize| match v {
+        Some(v) => format!("{v:>width$.digits$}"),
+        None => format!("{:>width$}", "-"),
+    };
     for r in &rows {
-        let mrays = r
-            .rays_per_second
-            .map(|v| format!("{:.2}", v / 1e6))
-            .unwrap_or_else(|| "-".into());
-        println!(
-            "{:<10} {:>10.1} {:>10.1} {:>10.1} {:>8.2} {:>14}",
+        let mut line = format!(
+            "{:<10} {:>10.1} {:>10.1} {:>10.1} {:>8.2} {}",
             r.shading.to_string(),
             r.total_ms,
             r.gpu_ms,
             r.total_spread_ms,
             r.ratio_to_baseline,
-            mrays
+            figure(r.rays_per_second.map(|v| v / 1e6), 10, 2)
         );
+        if args.cpu {
+            line += &format!(
+                " {} {}",
+                figure(r.cpu_ms, 10, 1),
+                figure(r.gpu_speedup_over_cpu, 8, 2)
+            );
+        }
+        if args.every_feature {
+            line += &format!(
+                " {} {}",
+                figure(r.every_feature_gpu_ms, 12, 1),
+                figure(r.every_feature_ratio, 8, 2)
+            );
+        }
+        println!("{line}");
     }
     Ok(())
 }

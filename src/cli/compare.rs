@@ -179,7 +179,12 @@ fn merge_folders(args: &CompareArgs) -> Result<Report, Failure> {
 fn print_table(report: &Report, dir: &Path) {
     println!(
         "{} at {}x{} on {}, median of {} runs; model error against: {}",
-        report.scene, report.width, report.height, report.device, report.runs, report.reference
+        report.scene,
+        report.width,
+        report.height,
+        report.device_and_driver(),
+        report.runs,
+        report.reference
     );
     println!(
         "{:<40} {:>9} {:>9} {:>11} {:>11} {:>10} {:>7}",

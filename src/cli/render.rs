@@ -104,14 +104,15 @@ pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
         .unwrap_or_else(|| PathBuf::from(format!("{stem}-{}.png", args.shading)));
     // Check the output name before spending time on the render.
     shadelab::output::ImageFormat::from_path(&out)?;
-    let (rendered, device) = if args.backend == "cpu" {
+    let (rendered, device, driver) = if args.backend == "cpu" {
         let (rendered, _) = shadelab::render::render_cpu(&scene, args.shading)?;
-        (rendered, "CPU reference (f64)".to_string())
+        (rendered, "CPU reference (f64)".to_string(), None)
     } else {
         let context = GpuContext::new(options)?;
         let rendered =
             shadelab::render::render_gpu_counting(&context, &scene, args.shading, args.stats)?;
-        (rendered, context.info.name.clone())
+        let info = &context.info;
+        (rendered, info.name.clone(), Some(info.driver.clone()))
     };
     shadelab::output::write_image(&rendered.image, &out)?;
     if args.json {
@@ -122,6 +123,7 @@ pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
             "width": rendered.image.width,
             "height": rendered.image.height,
             "device": device,
+            "driver": driver,
             "timings_ms": rendered.timings,
         });
         let mut value = value;

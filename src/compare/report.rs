@@ -59,6 +59,10 @@ pub struct Report {
     pub width: u32,
     pub height: u32,
     pub device: String,
+    /// The device's driver and its version (`shadelab info`); empty in
+    /// reports written before it was recorded.
+    #[serde(default)]
+    pub driver: String,
     /// Timed runs per variant (after one warm-up).
     pub runs: usize,
     /// How the reference image was made.
@@ -67,6 +71,17 @@ pub struct Report {
     /// `Some((i, n))` for the i-th of n shards (1-based), `None` when whole.
     pub shard: Option<(usize, usize)>,
     pub variants: Vec<VariantResult>,
+}
+
+impl Report {
+    /// The device, with its driver and version where recorded.
+    pub fn device_and_driver(&self) -> String {
+        if self.driver.is_empty() {
+            self.device.clone()
+        } else {
+            format!("{} ({})", self.device, self.driver)
+        }
+    }
 }
 
 /// A file name for a variant: `raytrace:depth=3,cutoff=0.01` becomes

@@ -141,6 +141,7 @@ pub fn run(
         width: scene.image.width,
         height: scene.image.height,
         device: context.info.name.clone(),
+        driver: context.info.driver.clone(),
         runs: options.runs.max(1),
         reference: REFERENCE_DESCRIPTION.to_string(),
         reference_image: "reference.png".to_string(),

@@ -28,6 +28,9 @@ pub struct RayTraced {
     /// (`PathSignature`): neighbours with the same signature see the same
     /// surfaces and shadows.
     pub path_signatures: Vec<u64>,
+    /// Wall time of the tracing alone, after the scene and its BVH are
+    /// built (what the GPU's dispatch time compares with).
+    pub trace_ms: f64,
 }
 
 /// What one ray is in the tree.
@@ -321,6 +324,7 @@ pub fn render(scene: &Scene) -> RayTraced {
     let (width, height) = (scene.image.width, scene.image.height);
     let rt = RtScene::new(scene);
     let tracer = Tracer::new(&rt, View::new(scene, width, height));
+    let started = std::time::Instant::now();
     let rows: Vec<(Vec<PixelTrace>, RayStats)> = (0..height)
         .into_par_iter()
         .map(|y| {
@@ -329,6 +333,7 @@ pub fn render(scene: &Scene) -> RayTraced {
             (row, stats)
         })
         .collect();
+    let trace_ms = started.elapsed().as_secs_f64() * 1e3;
     let count = width as usize * height as usize;
     let mut out = RayTraced {
         image: LinearImage {
@@ -339,6 +344,7 @@ pub fn render(scene: &Scene) -> RayTraced {
         stats: RayStats::default(),
         primary_object_ids: Vec::with_capacity(count),
         path_signatures: Vec::with_capacity(count),
+        trace_ms,
     };
     for (row, stats) in rows {
         out.stats = add_stats(out.stats, stats);

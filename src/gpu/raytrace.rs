@@ -93,23 +93,38 @@ const UNROLLED_BOXES: usize = 6;
 /// its own: 8 reads shared by a subgroup cost about what one per lane does.
 const SELECTED_MATERIALS: usize = 8;
 
+/// How to trace: what `render` does beyond the image.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct TraceOptions {
+    /// Count rays by kind (`--stats`): atomics, so a little slower.
+    pub count_rays: bool,
+    /// Compile every optional feature in (reflection, refraction, the
+    /// specular term, the BVH walk) whether the scene uses it or not, as an
+    /// uber-shader would: what specialising saves (`bench
+    /// --every-feature`). The image is the same. Switches that change the
+    /// image (shadows, attenuation) stay as the scene sets them.
+    pub every_feature: bool,
+}
+
 /// Only what the scene uses: the lighting constants of the raster pipelines
 /// (`raster_scene::specialization`), shadows if on, reflection and
-/// refraction if some material has them, and the primitive kinds present.
-fn specialization(scene: &Scene, rt: &RtScene, count_rays: bool) -> TraceSpecialization {
+/// refraction if some material has them, and the primitive kinds present;
+/// or every feature on (`TraceOptions::every_feature`).
+fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSpecialization {
     let lighting = raster_scene::specialization(scene);
+    let on = |used: bool| u32::from(used || options.every_feature);
     TraceSpecialization {
         light_count: lighting.light_count,
-        use_specular: lighting.use_specular,
+        use_specular: on(lighting.use_specular != 0),
         use_attenuation: lighting.use_attenuation,
         shadows: u32::from(rt.render.shadows && !rt.lights.is_empty()),
-        has_reflection: u32::from(rt.has_reflection() && rt.render.depth > 0),
-        has_transmission: u32::from(rt.has_transmission() && rt.render.depth > 0),
+        has_reflection: on(rt.has_reflection() && rt.render.depth > 0),
+        has_transmission: on(rt.has_transmission() && rt.render.depth > 0),
         sphere_count: rt.spheres.len() as i32,
         plane_count: rt.planes.len() as i32,
         box_count: rt.boxes.len() as i32,
-        has_meshes: u32::from(!rt.triangles.is_empty()),
-        count_rays: u32::from(count_rays),
+        has_meshes: on(!rt.triangles.is_empty()),
+        count_rays: u32::from(options.count_rays),
         shared_object_reads: u32::from(shares_object_reads(rt)),
         material_count: rt.materials.len() as i32,
         select_materials: u32::from(rt.materials.len() <= SELECTED_MATERIALS),
@@ -130,6 +145,20 @@ pub fn render(
     scene: &Scene,
     count_rays: bool,
 ) -> Result<TraceOutput, GpuError> {
+    let options = TraceOptions {
+        count_rays,
+        every_feature: false,
+    };
+    render_with(context, scene, options)
+}
+
+/// Ray traces `scene` at its `image` size as `options` say.
+pub fn render_with(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    options: TraceOptions,
+) -> Result<TraceOutput, GpuError> {
+    let count_rays = options.count_rays;
     let started = Instant::now();
     let (width, height) = (scene.image.width, scene.image.height);
     check_image_size(context, width, height)?;
@@ -143,12 +172,17 @@ pub fn render(
             limit: BVH_STACK_SIZE - 1,
         });
     }
-    let spec = specialization(scene, &rt, count_rays);
+    let spec = specialization(scene, &rt, options);
     let pipeline_started = Instant::now();
     let pipeline = create_pipeline(context, &spec)?;
     let pipeline_ms = pipeline_started.elapsed().as_secs_f64() * 1e3;
 
-    let r = records(&rt)?;
+    let mut r = records(&rt)?;
+    if spec.has_meshes != 0 && rt.triangles.is_empty() {
+        // The BVH walk compiled in for a scene without triangles: a leaf
+        // of one degenerate triangle, which no ray hits.
+        r.add_unhittable_triangle();
+    }
     let (kx, ky) = sample_grid(rt.render.samples);
     let (tiles_across, tiles_down) = (width.div_ceil(GROUP), height.div_ceil(GROUP));
     let uniforms = TraceUniforms {

@@ -5,6 +5,7 @@
 //! the intersection test reads and what the nearest hit's shading reads.
 //! `docs/raytracing.md` ("Why the shader is shaped this way") says why.
 
+use bytemuck::Zeroable;
 use glam::DVec3;
 use obvhs::bvh2::node::Bvh2Node;
 
@@ -24,6 +25,18 @@ pub struct SceneRecords {
     /// tree is one (unused without triangles).
     pub root: u32,
     pub materials: Vec<GpuMaterial>,
+}
+
+impl SceneRecords {
+    /// Makes the BVH one leaf of one triangle whose corners coincide (a
+    /// zero determinant in the watertight test: never hit), for a scene
+    /// without triangles traced with the BVH walk compiled in.
+    pub fn add_unhittable_triangle(&mut self) {
+        self.triangles.push(GpuTriangleGeometry::zeroed());
+        self.triangle_shading.push(GpuTriangleShading::zeroed());
+        self.nodes.clear();
+        self.root = leaf_link(0, 1);
+    }
 }
 
 fn v3(v: DVec3) -> [f32; 3] {

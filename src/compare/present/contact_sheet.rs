@@ -90,7 +90,10 @@ pub(crate) fn draw(report: &Report, images: &[VariantImages]) -> Result<Vec<u8>,
         let e = |e: DrawingAreaErrorKind<_>| err(e.to_string());
         let title = format!(
             "{}, {} x {}, {}: figures are the model error against the reference",
-            report.scene, report.width, report.height, report.device
+            report.scene,
+            report.width,
+            report.height,
+            report.device_and_driver()
         );
         root.draw_text(
             &title,

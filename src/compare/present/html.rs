@@ -88,7 +88,7 @@ pub(crate) fn page(
         "<p class=\"meta\">{} x {} pixels; device {}; {} timed runs per variant after a warm-up; reference: {}{}; {} variants, {} on the Pareto front.</p>",
         report.width,
         report.height,
-        escape(&report.device),
+        escape(&report.device_and_driver()),
         report.runs,
         escape(&report.reference),
         escape(&shard),
