@@ -15,3 +15,6 @@ cargo test --release
 ./target/release/shadelab check --out target/check --junit target/check/default.xml
 ./target/release/shadelab check assets/*.toml --out target/check --junit target/check/assets.xml
 ./target/release/shadelab check assets/hard/*.toml --out target/check --junit target/check/hard.xml
+# The peer benchmark's shadelab side at 64x64 with no peers, so that the
+# script and its report cannot rot (the full run is ci/bench-peers.sh).
+bash ci/bench-peers.sh --smoke >/dev/null
