@@ -36,7 +36,9 @@ esac
 missing=()
 have_file() { compgen -G "$1" >/dev/null; }
 
-ldconfig -p 2>/dev/null | grep -q 'libvulkan\.so\.1' || missing+=(libvulkan1)
+# Not grep -q: it would stop reading early, ldconfig would die of SIGPIPE, and
+# pipefail would take that for a missing loader.
+ldconfig -p 2>/dev/null | grep 'libvulkan\.so\.1' >/dev/null || missing+=(libvulkan1)
 have_file '/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json' || missing+=(vulkan-validationlayers)
 command -v cmake >/dev/null || missing+=(cmake)
 command -v c++ >/dev/null || missing+=(g++)
