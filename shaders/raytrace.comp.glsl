@@ -621,26 +621,10 @@ struct MaterialRecord {
     vec2 kt_ior;
 };
 
+// Each lane reads its own. (Picking it by selects from every material,
+// read at constant indices, was tried for scenes with few: no faster.)
 MaterialRecord material_at(uint index) {
     return MaterialRecord(materials[index].color_ka, materials[index].kd_ks_p_kr, materials[index].kt_ior.xy);
-}
-
-// Material `index` of each lane. With few materials (SELECT_MATERIALS)
-// every one is read at a constant index, one load for the subgroup, and
-// each lane keeps its own: cheaper than each lane reading its own.
-MaterialRecord material_record(uint index) {
-    if (SELECT_MATERIALS) {
-        MaterialRecord m = material_at(0u);
-        for (int k = 1; k < MATERIAL_COUNT; ++k) {
-            MaterialRecord c = material_at(uint(k));
-            bool mine = uint(k) == index;
-            m.color_ka = mine ? c.color_ka : m.color_ka;
-            m.kd_ks_p_kr = mine ? c.kd_ks_p_kr : m.kd_ks_p_kr;
-            m.kt_ior = mine ? c.kt_ior : m.kt_ior;
-        }
-        return m;
-    }
-    return material_at(index);
 }
 
 Surface surface_of(MaterialRecord m) {
@@ -717,7 +701,7 @@ vec3 trace_sample(vec3 dir, bool live) {
             if (hits) {
                 s = resolve(ray.origin, ray.dir, hit);
             }
-            material = material_record(s.material);
+            material = material_at(s.material);
             local = local_shading(s, surface_of(material), ray.dir, hits);
         }
         live = false;

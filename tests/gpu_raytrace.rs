@@ -293,7 +293,7 @@ fn gpu_and_cpu_trace_the_same_tree_at_every_depth() {
 
 /// Long object lists (more spheres, planes and boxes than lavapipe unrolls a
 /// loop over) are read a subgroup at a time, with every word shuffled from
-/// the lane that read it; and with many materials each lane reads its own. A word taken from the wrong offset or lane moves
+/// the lane that read it. A word taken from the wrong offset or lane moves
 /// or loses objects; `check` against the CPU twin, which shares none of
 /// that code, catches it (reflections at depth 2 read every object from
 /// scattered rays, and the mesh puts the BVH in the same walks).
@@ -305,8 +305,6 @@ fn long_object_lists_read_a_subgroup_at_a_time_agree_with_the_cpu() {
     s.camera.position = DVec3::new(0.0, 6.0, 14.0);
     s.camera.look_at = DVec3::ZERO;
     s.render.depth = 2;
-    // More materials than are picked by selects (SELECT_MATERIALS): each
-    // lane reads its own, here.
     for k in 1..10 {
         let mut m = s.materials[0].clone();
         m.color = DVec3::new(0.1 * f64::from(k), 0.5, 1.0 - 0.1 * f64::from(k));

@@ -166,14 +166,6 @@ fn specialization_constants_match_by_id_and_name() {
             "SHARED_OBJECT_READS",
             offset_of!(TraceSpecialization, shared_object_reads),
         ),
-        (
-            "MATERIAL_COUNT",
-            offset_of!(TraceSpecialization, material_count),
-        ),
-        (
-            "SELECT_MATERIALS",
-            offset_of!(TraceSpecialization, select_materials),
-        ),
     ];
     assert_eq!(fields.len(), rt_layout::SPEC_CONSTANTS.len());
     for (name, offset) in fields {

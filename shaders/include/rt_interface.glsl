@@ -33,10 +33,6 @@ layout(constant_id = 10) const bool COUNT_RAYS = false;
 // Object lists too long to unroll: their records are read a subgroup at a
 // time (raytrace.comp.glsl, `sphere_geometry`).
 layout(constant_id = 11) const bool SHARED_OBJECT_READS = false;
-// Few materials: each hit selects its own from all of them, read at
-// constant indices (raytrace.comp.glsl, `material_record`).
-layout(constant_id = 12) const int MATERIAL_COUNT = 1;
-layout(constant_id = 13) const bool SELECT_MATERIALS = false;
 
 layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     vec4 ambient_k;       // rgb: Ia, w: k

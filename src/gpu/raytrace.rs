@@ -88,11 +88,6 @@ const UNROLLED_SPHERES: usize = 16;
 const UNROLLED_PLANES: usize = 12;
 const UNROLLED_BOXES: usize = 6;
 
-/// Material counts up to which each hit picks its material from all of
-/// them, read at constant indices (`SELECT_MATERIALS`), rather than reading
-/// its own: 8 reads shared by a subgroup cost about what one per lane does.
-const SELECTED_MATERIALS: usize = 8;
-
 /// How to trace: what `render` does beyond the image.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct TraceOptions {
@@ -126,8 +121,6 @@ fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSp
         has_meshes: on(!rt.triangles.is_empty()),
         count_rays: u32::from(options.count_rays),
         shared_object_reads: u32::from(shares_object_reads(rt)),
-        material_count: rt.materials.len() as i32,
-        select_materials: u32::from(rt.materials.len() <= SELECTED_MATERIALS),
     }
 }
 

@@ -60,8 +60,6 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (9, "HAS_MESHES"),
     (10, "COUNT_RAYS"),
     (11, "SHARED_OBJECT_READS"),
-    (12, "MATERIAL_COUNT"),
-    (13, "SELECT_MATERIALS"),
 ];
 
 #[repr(C)]
@@ -187,8 +185,6 @@ pub struct TraceSpecialization {
     pub has_meshes: u32,
     pub count_rays: u32,
     pub shared_object_reads: u32,
-    pub material_count: i32,
-    pub select_materials: u32,
 }
 
 impl TraceSpecialization {

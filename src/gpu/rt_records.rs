@@ -201,20 +201,24 @@ fn bvh_nodes(tree: &[Bvh2Node]) -> Result<(Vec<GpuBvhNode>, u32), GpuError> {
 }
 
 /// The order in which workgroups take the image's tiles, `across` by
-/// `down`: tile `k * step mod count` (row by row) for workgroup `k`, with
-/// `step` coprime to `count` near `0.618 count`, so that every contiguous
-/// run of workgroups (lavapipe gives each thread one) is spread evenly over
-/// the image. Each tile is given as `column | row << 16`.
+/// `down`, each given as `column | row << 16`. Workgroups go along a row of
+/// tiles as in image order (neighbours share the BVH nodes they read), but
+/// the rows come in the order `k * step mod down` with `step` coprime to
+/// `down` near `0.618 down`: every contiguous run of workgroups (lavapipe
+/// gives each thread one) then covers the whole height of the image, not
+/// only its sky or only its ground.
 pub fn tile_order(across: u32, down: u32) -> Vec<u32> {
     debug_assert!(across <= 1 << 16 && down <= 1 << 16);
-    let across = across.max(1);
-    tile_permutation(across * down.max(1))
+    let (across, down) = (across.max(1), down.max(1));
+    row_permutation(down)
         .into_iter()
-        .map(|t| (t % across) | ((t / across) << 16))
+        .flat_map(|row| (0..across).map(move |column| column | (row << 16)))
         .collect()
 }
 
-fn tile_permutation(count: u32) -> Vec<u32> {
+/// `k * step mod count` for k in 0..count, `step` coprime to `count` and
+/// near the golden section of it.
+fn row_permutation(count: u32) -> Vec<u32> {
     let n = u64::from(count.max(1));
     let gcd = |mut a: u64, mut b: u64| {
         while b != 0 {
@@ -234,31 +238,29 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_tile_order_is_a_permutation_that_spreads_halves() {
-        for count in [1u32, 2, 3, 64, 128 * 128, 97 * 61] {
-            let order = tile_permutation(count);
-            let mut seen = vec![false; count as usize];
+    fn the_tile_order_covers_every_tile_once_and_spreads_each_half() {
+        for (across, down) in [(1u32, 1u32), (2, 3), (64, 64), (97, 61), (5, 128)] {
+            let order = tile_order(across, down);
+            let mut seen = vec![false; (across * down) as usize];
             for &t in &order {
-                assert!(!seen[t as usize], "tile {t} twice of {count}");
-                seen[t as usize] = true;
+                let (column, row) = (t & 0xffff, t >> 16);
+                assert!(column < across && row < down, "{t:x} in {across}x{down}");
+                let i = (row * across + column) as usize;
+                assert!(!seen[i], "tile {column},{row} twice");
+                seen[i] = true;
             }
             assert!(seen.iter().all(|&s| s));
-            if count >= 64 {
+            if down >= 16 {
                 // The first half of the workgroups takes about half of the
                 // image's top half, not all of it.
-                let half = count as usize / 2;
-                let top = order[..half].iter().filter(|&&t| t < count / 2).count();
+                let half = order.len() / 2;
+                let top = order[..half]
+                    .iter()
+                    .filter(|&&t| (t >> 16) < down / 2)
+                    .count();
                 let share = top as f64 / half as f64;
-                assert!((0.4..0.6).contains(&share), "{count}: {share}");
+                assert!((0.4..0.6).contains(&share), "{across}x{down}: {share}");
             }
         }
-        let (across, down) = (97, 61);
-        let mut seen = vec![false; 97 * 61];
-        for t in tile_order(across, down) {
-            let (column, row) = (t & 0xffff, t >> 16);
-            assert!(column < across && row < down);
-            seen[(row * across + column) as usize] = true;
-        }
-        assert!(seen.iter().all(|&s| s));
     }
 }
