@@ -22,7 +22,7 @@
 // ended, a light behind the surface) takes part with a negative distance
 // limit, which no box or primitive passes.
 
-// 64 invocations for a 16x16 tile (see main).
+// 64 invocations for a TILE x TILE tile (see main).
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
 #include "rt_interface.glsl"
@@ -31,6 +31,8 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 // Depth is at most 64 (checked on the host). Only a ray that both reflects
 // and refracts leaves a ray waiting, one per level.
 const int STACK_SIZE = 64;
+// The edge of a workgroup's tile (rt_layout::TILE).
+const uint TILE = 32u;
 const int BVH_STACK_SIZE = 64;
 const float NO_HIT = 3.0e38;
 
@@ -782,21 +784,21 @@ vec3 trace_sample(vec3 dir, bool live) {
 }
 
 void main() {
-    // Workgroups take the 16x16 tiles in the host's order (`tile_order`), a
+    // Workgroups take the TILE x TILE tiles in the host's order (`tile_order`), a
     // permutation that spreads every contiguous run of workgroups over the
     // whole image: lavapipe hands each thread one contiguous run (in the
     // order x, then y), and in image order one thread would get the sky and
     // the other the scene. A tile is given as its column and row (16 bits
     // each): integer division is a scalar loop over the lanes on lavapipe.
     uint tile = tile_order[gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x];
-    uvec2 origin = uvec2(tile & 0xffffu, tile >> 16) * 16u;
-    // Each invocation traces 4 pixels, one in each 8x8 quarter of the
-    // tile: every subgroup has a fixed cost on lavapipe (its state set up
-    // and torn down), paid once for 4 packets. A subgroup's 8 lanes are a
-    // 4x2 block of a quarter.
+    uvec2 origin = uvec2(tile & 0xffffu, tile >> 16) * TILE;
+    // Each invocation traces 16 pixels, one in each 8x8 block of the tile:
+    // every subgroup has a fixed cost on lavapipe (its state set up and
+    // torn down), paid once for 16 packets. A subgroup's 8 lanes are a 4x2
+    // patch of a block.
     uint lane = gl_LocalInvocationIndex;
     uint block = lane >> 3;
-    uvec2 in_quarter = uvec2((block & 1u) * 4u + (lane & 3u), (block >> 1) * 2u + ((lane >> 2) & 1u));
+    uvec2 in_block = uvec2((block & 1u) * 4u + (lane & 3u), (block >> 1) * 2u + ((lane >> 2) & 1u));
     uint width = frame.image.x;
     uint height = frame.image.y;
     for (int k = 0; k < 5; ++k) {
@@ -806,8 +808,8 @@ void main() {
     float kx = float(frame.grid.x);
     float ky = float(frame.grid.y);
     float focal = frame.right_focal.w;
-    for (uint quarter = 0u; quarter < 4u; ++quarter) {
-        uvec2 pixel = origin + uvec2((quarter & 1u) * 8u, (quarter >> 1) * 8u) + in_quarter;
+    for (uint b = 0u; b < (TILE / 8u) * (TILE / 8u); ++b) {
+        uvec2 pixel = origin + uvec2(b % (TILE / 8u), b / (TILE / 8u)) * 8u + in_block;
         // No early return: the lanes of a pixel off the image still take
         // part in their subgroup's packets, with nothing to trace.
         bool on_image = pixel.x < width && pixel.y < height;

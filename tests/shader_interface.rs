@@ -203,16 +203,21 @@ fn every_stage_is_present() {
     }
 }
 
-/// The host refuses a BVH deeper than the shader's traversal stack; the two
-/// constants must agree (the shader's is a plain `const`, not reflected).
+/// The host refuses a BVH deeper than the shader's traversal stack, and
+/// dispatches a workgroup per tile of the shader's size; the constants must
+/// agree (the shader's are plain `const`s, not reflected).
 #[test]
-fn the_bvh_stack_size_is_the_shaders() {
+fn the_bvh_stack_size_and_tile_are_the_shaders() {
     let source = include_str!("../shaders/raytrace.comp.glsl");
-    let declared = format!("const int BVH_STACK_SIZE = {};", rt_layout::BVH_STACK_SIZE);
-    assert!(
-        source.contains(&declared),
-        "raytrace.comp.glsl lacks `{declared}`"
-    );
+    for declared in [
+        format!("const int BVH_STACK_SIZE = {};", rt_layout::BVH_STACK_SIZE),
+        format!("const uint TILE = {}u;", rt_layout::TILE),
+    ] {
+        assert!(
+            source.contains(&declared),
+            "raytrace.comp.glsl lacks `{declared}`"
+        );
+    }
 }
 
 /// Spheres, planes, boxes, triangles and BVH nodes are read as word pairs

@@ -27,10 +27,6 @@ use crate::linear_image::LinearImage;
 use crate::rt_scene::{sample_grid, RayStats, RtScene};
 use crate::scene::Scene;
 
-/// The edge of the square tile one workgroup traces (64 invocations, 4
-/// pixels each).
-const GROUP: u32 = 16;
-
 pub struct TraceOutput {
     pub image: LinearImage,
     pub timings: GpuTimings,
@@ -177,7 +173,7 @@ pub fn render_with(
         r.add_unhittable_triangle();
     }
     let (kx, ky) = sample_grid(rt.render.samples);
-    let (tiles_across, tiles_down) = (width.div_ceil(GROUP), height.div_ceil(GROUP));
+    let (tiles_across, tiles_down) = (width.div_ceil(TILE), height.div_ceil(TILE));
     let uniforms = TraceUniforms {
         ambient_k: v4(rt.lighting.ambient, rt.lighting.k as f32),
         background: v4(rt.background, 0.0),

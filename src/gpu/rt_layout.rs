@@ -45,6 +45,11 @@ pub const BINDINGS: &[(u32, vk::DescriptorType)] = &[
 /// nodes deep needs fewer than `d` entries.
 pub const BVH_STACK_SIZE: usize = 64;
 
+/// The edge of the square tile one workgroup traces: 64 invocations of 16
+/// pixels each (the shader's `TILE`; tests/shader_interface.rs holds the
+/// two equal).
+pub const TILE: u32 = 32;
+
 /// Specialization constants: (constant_id, name in GLSL). Ids 0 to 2 mean
 /// the same as in the raster pipelines.
 pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
