@@ -1,13 +1,13 @@
-//! The ray tracer: `shaders/raytrace.comp.glsl` dispatched once per pixel
-//! over the scene's `RtScene` (exact primitives, triangles and BVH uploaded
-//! as storage buffers), writing linear float pixels to a buffer the host
-//! reads back. The algorithm is docs/raytracing.md.
+//! The ray tracer: `shaders/raytrace.comp.glsl` dispatched once per 32x32
+//! tile over the scene's `RtScene` (exact primitives, triangles and BVH
+//! uploaded as storage buffers in the layouts of `rt_records`), writing
+//! linear float pixels to a buffer the host reads back. The algorithm is
+//! docs/raytracing.md.
 
 use std::sync::Arc;
 use std::time::Instant;
 
 use ash::vk;
-use glam::DVec3;
 use gpu_allocator::MemoryLocation;
 
 use super::buffer::Buffer;
@@ -19,7 +19,7 @@ use super::pipeline::{single_pipeline, PipelineObjects};
 use super::raster::check_image_size;
 use super::raster_scene;
 use super::rt_layout::*;
-use super::rt_records::{records, tile_order};
+use super::rt_records::{records, tile_order, v4};
 use super::shader_catalog::RAYTRACE_COMP;
 use super::timestamps::{GpuTimings, Timestamps};
 use crate::camera::View;
@@ -32,11 +32,6 @@ pub struct TraceOutput {
     pub timings: GpuTimings,
     /// Present when rays were counted.
     pub stats: Option<RayStats>,
-}
-
-fn v4(v: DVec3, w: f32) -> [f32; 4] {
-    let v = v.as_vec3();
-    [v.x, v.y, v.z, w]
 }
 
 fn create_pipeline(

@@ -43,7 +43,8 @@ fn v3(v: DVec3) -> [f32; 3] {
     v.as_vec3().to_array()
 }
 
-fn v4(v: DVec3, w: f32) -> [f32; 4] {
+/// A vector rounded to f32, with `w` as its fourth component.
+pub(super) fn v4(v: DVec3, w: f32) -> [f32; 4] {
     let v = v.as_vec3();
     [v.x, v.y, v.z, w]
 }
