@@ -15,6 +15,10 @@ cargo test --release
 ./target/release/shadelab check --out target/check --junit target/check/default.xml
 ./target/release/shadelab check assets/*.toml --out target/check --junit target/check/assets.xml
 ./target/release/shadelab check assets/hard/*.toml --out target/check --junit target/check/hard.xml
+# The ray tracer's packets at another subgroup size: lavapipe on 128-bit
+# vectors (as on a CPU without AVX) runs subgroups of 4 lanes, not 8.
+LP_NATIVE_VECTOR_WIDTH=128 ./target/release/shadelab check assets/*.toml --shading raytrace \
+    --out target/check-4-lanes --junit target/check-4-lanes/assets.xml
 # The peer benchmark's shadelab side at 64x64 with no peers, so that the
 # script and its report cannot rot (the full run is ci/bench-peers.sh).
 bash ci/bench-peers.sh --smoke >/dev/null
