@@ -29,11 +29,11 @@ pub fn run(args: InfoArgs, options: &GpuOptions) -> Result<(), Failure> {
             } else {
                 " "
             };
-            let note = d
-                .unusable_because
-                .as_deref()
-                .map(|w| format!(" (unusable: {w})"))
-                .unwrap_or_default();
+            let note = match (&d.unusable_because, &d.no_ray_tracer_because) {
+                (Some(w), _) => format!(" (unusable: {w})"),
+                (None, Some(w)) => format!(" (no GPU ray tracer: {w})"),
+                (None, None) => String::new(),
+            };
             println!(
                 "{mark} {}: {} [{}] Vulkan {} - {}{note}",
                 d.index, d.name, d.device_type, d.api_version, d.driver

@@ -48,6 +48,9 @@ pub struct DeviceInfo {
     pub is_lavapipe: bool,
     /// `None` when shadelab can use the device, else why not.
     pub unusable_because: Option<String>,
+    /// `None` when the GPU ray tracer runs on the device, else why not
+    /// (the raster modes may still run).
+    pub no_ray_tracer_because: Option<String>,
 }
 
 /// An open device. Shared (`Arc`) by every resource made on it, so it is
@@ -168,8 +171,6 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
             Some("geometryShader (for gl_PrimitiveID in flat shading)".to_string())
         } else if queue_family.is_none() {
             Some("a graphics and compute queue".to_string())
-        } else if !packet_tracing_supported(&subgroup) {
-            Some("subgroup shuffles in compute shaders, 4 or more invocations wide (for the ray tracer's packets)".to_string())
         } else {
             None
         };
@@ -187,6 +188,10 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
                 ),
                 is_lavapipe: driver.driver_id == vk::DriverId::MESA_LLVMPIPE,
                 unusable_because: missing.map(|m| format!("lacks {m}")),
+                no_ray_tracer_because: (!packet_tracing_supported(&subgroup)).then(|| {
+                    "lacks subgroup shuffles in compute shaders, 4 or more invocations wide"
+                        .to_string()
+                }),
             },
             physical,
             queue_family,
@@ -482,5 +487,39 @@ impl Drop for GpuContext {
             }
             self.instance.destroy_instance(None);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn subgroup(
+        size: u32,
+        stages: vk::ShaderStageFlags,
+        operations: vk::SubgroupFeatureFlags,
+    ) -> vk::PhysicalDeviceSubgroupProperties<'static> {
+        vk::PhysicalDeviceSubgroupProperties {
+            subgroup_size: size,
+            supported_stages: stages,
+            supported_operations: operations,
+            ..Default::default()
+        }
+    }
+
+    /// What the ray tracer's packets need: shuffles in compute shaders, and
+    /// 4 lanes or more (a node's 8 word pairs in two registers).
+    #[test]
+    fn packet_tracing_needs_compute_shuffles_four_lanes_wide() {
+        let compute = vk::ShaderStageFlags::COMPUTE;
+        let ops = vk::SubgroupFeatureFlags::BASIC | vk::SubgroupFeatureFlags::SHUFFLE;
+        assert!(packet_tracing_supported(&subgroup(8, compute, ops)));
+        assert!(packet_tracing_supported(&subgroup(4, compute, ops)));
+        assert!(packet_tracing_supported(&subgroup(64, compute, ops)));
+        assert!(!packet_tracing_supported(&subgroup(2, compute, ops)));
+        let fragment = vk::ShaderStageFlags::FRAGMENT;
+        assert!(!packet_tracing_supported(&subgroup(8, fragment, ops)));
+        let basic = vk::SubgroupFeatureFlags::BASIC | vk::SubgroupFeatureFlags::BALLOT;
+        assert!(!packet_tracing_supported(&subgroup(8, compute, basic)));
     }
 }

@@ -21,6 +21,8 @@ pub enum GpuError {
     ImageTooLarge { width: u32, height: u32, limit: u32 },
     #[error("the meshes' BVH is {depth} levels deep, more than the GPU ray tracer's {limit}; render this scene with --backend cpu")]
     BvhTooDeep { depth: usize, limit: usize },
+    #[error("the GPU ray tracer cannot run on `{device}`: it {why}; render with --backend cpu")]
+    NoRayTracer { device: String, why: String },
     #[error("the scene holds {0}; render it with --backend cpu")]
     SceneTooLarge(String),
     #[error("Vulkan call {call} failed: {result}")]

@@ -144,6 +144,12 @@ pub fn render_with(
 ) -> Result<TraceOutput, GpuError> {
     let count_rays = options.count_rays;
     let started = Instant::now();
+    if let Some(why) = &context.info.no_ray_tracer_because {
+        return Err(GpuError::NoRayTracer {
+            device: context.info.name.clone(),
+            why: why.clone(),
+        });
+    }
     let (width, height) = (scene.image.width, scene.image.height);
     check_image_size(context, width, height)?;
     let view = View::new(scene, width, height);
