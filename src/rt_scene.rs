@@ -52,6 +52,16 @@ pub struct RtTriangle {
     pub object: u32,
 }
 
+impl RtTriangle {
+    /// `normalize((b - a) x (c - a))`, or zero for a degenerate triangle:
+    /// what both tracers offset secondary rays along (the GPU receives it
+    /// rounded to f32).
+    pub fn geometric_normal(&self) -> DVec3 {
+        let [a, b, c] = self.positions;
+        (b - a).cross(c - a).normalize_or_zero()
+    }
+}
+
 /// Every position is relative to the eye (`scene.camera.position`).
 pub struct RtScene {
     pub spheres: Vec<RtSphere>,

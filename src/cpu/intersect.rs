@@ -215,12 +215,6 @@ pub fn triangle_normal(tri: &RtTriangle, u: f64, v: f64) -> DVec3 {
     ((1.0 - u - v) * n0 + u * n1 + v * n2).normalize_or_zero()
 }
 
-/// `normalize((b - a) x (c - a))`.
-pub fn triangle_geometric_normal(tri: &RtTriangle) -> DVec3 {
-    let [a, b, c] = tri.positions;
-    (b - a).cross(c - a).normalize_or_zero()
-}
-
 /// A BVH node with its f32 bounds widened in f64, so that no f64 triangle
 /// (whose f32 rounding the bounds were built from) pokes out of it.
 #[derive(Debug, Clone, Copy)]
@@ -411,7 +405,7 @@ impl<'a> Accel<'a> {
                         material: tri.material,
                         primitive: Primitive::Triangle(k),
                         normal: triangle_normal(tri, u, v),
-                        geometric_normal: triangle_geometric_normal(tri),
+                        geometric_normal: tri.geometric_normal(),
                     });
                     *t_max = t;
                 }
@@ -667,7 +661,7 @@ mod tests {
         assert_eq!((d, u, v), (2.0, 0.25, 0.5));
         let n = triangle_normal(&t, u, v);
         assert!((n - DVec3::new(0.25, 0.5, 0.25).normalize()).length() < 1e-15);
-        assert_eq!(triangle_geometric_normal(&t), DVec3::Z);
+        assert_eq!(t.geometric_normal(), DVec3::Z);
         // From behind: no culling.
         let (d, _, _) = triangle(&ray(DVec3::new(1.0, 2.0, -5.0), DVec3::Z), &t).unwrap();
         assert_eq!(d, 3.0);

@@ -118,7 +118,6 @@ pub fn records(rt: &RtScene) -> Result<SceneRecords, GpuError> {
             .iter()
             .map(|&i| {
                 let t = &rt.triangles[i as usize];
-                let [a, b, c] = t.positions;
                 GpuTriangleShading {
                     n0: v3(t.normals[0]),
                     material: t.material,
@@ -126,7 +125,7 @@ pub fn records(rt: &RtScene) -> Result<SceneRecords, GpuError> {
                     unused1: 0,
                     n2: v3(t.normals[2]),
                     unused2: 0,
-                    geometric: v3((b - a).cross(c - a).normalize_or_zero()),
+                    geometric: v3(t.geometric_normal()),
                     unused3: 0,
                 }
             })
