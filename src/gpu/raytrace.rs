@@ -296,3 +296,49 @@ pub fn render_with(
         stats,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{default_scene, Shape};
+
+    /// `every_feature` turns on every switch that leaves the image alone and
+    /// none that would change it; without it, only what the scene uses.
+    #[test]
+    fn every_feature_turns_on_what_the_scene_leaves_out_and_no_more() {
+        let mut scene = default_scene();
+        scene
+            .objects
+            .retain(|o| matches!(o.shape, Shape::Sphere { .. }));
+        for m in &mut scene.materials {
+            (m.ks, m.kr, m.kt) = (0.0, 0.0, 0.0);
+        }
+        scene.lighting.attenuation = false;
+        scene.render.depth = 3;
+        let rt = RtScene::new(&scene);
+        let plain = specialization(&scene, &rt, TraceOptions::default());
+        let every = specialization(
+            &scene,
+            &rt,
+            TraceOptions {
+                count_rays: false,
+                every_feature: true,
+            },
+        );
+        let switches = |s: &TraceSpecialization| {
+            [
+                s.use_specular,
+                s.has_reflection,
+                s.has_transmission,
+                s.has_meshes,
+            ]
+        };
+        assert_eq!(switches(&plain), [0, 0, 0, 0], "the scene uses none");
+        assert_eq!(switches(&every), [1, 1, 1, 1]);
+        // Shadows and attenuation change the image: they stay the scene's.
+        assert_eq!(every.shadows, plain.shadows);
+        assert_eq!(plain.shadows, 1);
+        assert_eq!(every.use_attenuation, 0);
+        assert_eq!(every.sphere_count, plain.sphere_count);
+    }
+}
