@@ -225,8 +225,8 @@ SphereGeometry sphere_geometry(int i) {
         return SphereGeometry(vec3_at(r, SPHERE_CENTER), float_at(r, SPHERE_RADIUS), word(r, SPHERE_MATERIAL));
     }
     // Whole pairs at the offsets SPHERE_CENTER (0), SPHERE_RADIUS (3) and
-    // SPHERE_MATERIAL (4): each read once (word-by-word reads measured 20 %
-    // slower on the four spheres).
+    // SPHERE_MATERIAL (4), each read once (reading word by word, which
+    // reads some pairs twice, measured slower on the four spheres).
     uint at = uint(i) * SPHERE_PAIRS;
     uvec2 w01 = sphere_pairs[at];
     uvec2 w23 = sphere_pairs[at + 1u];
@@ -252,13 +252,12 @@ PlaneGeometry plane_geometry(int i) {
     // PLANE_NORMAL 4, PLANE_U 8, PLANE_V 12, PLANE_MATERIAL 16.
     uint at = uint(i) * PLANE_PAIRS;
     vec3 v[4];
-    float half_size = 0.0;
     for (uint k = 0u; k < 4u; ++k) {
         uvec2 a = plane_pairs[at + 2u * k];
         uvec2 b = plane_pairs[at + 2u * k + 1u];
         v[k] = uintBitsToFloat(uvec3(a, b.x));
-        half_size = k == 0u ? uintBitsToFloat(b.y) : half_size;
     }
+    float half_size = uintBitsToFloat(plane_pairs[at + 1u].y);
     return PlaneGeometry(v[0], half_size, v[1], v[2], v[3], plane_pairs[at + 8u].x);
 }
 
@@ -763,11 +762,12 @@ vec3 trace_sample(vec3 dir, bool live) {
 }
 
 void main() {
-    // Workgroups take the TILE x TILE tiles in the host's order (`tile_order`), a
-    // permutation that spreads every contiguous run of workgroups over the
-    // whole image: lavapipe hands each thread one contiguous run (in the
-    // order x, then y), and in image order one thread would get the sky and
-    // the other the scene. A tile is given as its column and row (16 bits
+    // Workgroups take the TILE x TILE tiles in the host's order
+    // (`tile_order`): along rows of tiles, with the rows in a spread order,
+    // so that every contiguous run of workgroups covers the whole height of
+    // the image. Lavapipe hands each thread one contiguous run (in the order
+    // x, then y), and in image order one thread would get the sky and the
+    // other the scene. A tile is given as its column and row (16 bits
     // each): integer division is a scalar loop over the lanes on lavapipe.
     uint tile = tile_order[gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x];
     uvec2 origin = uvec2(tile & 0xffffu, tile >> 16) * TILE;

@@ -11,8 +11,9 @@
 // way"): the BVH stores both children's boxes in their parent, so one read
 // of a node tests both; triangles are stored in BVH leaf order with only
 // what the intersection test needs, and what shading needs sits in a
-// second record read once per ray, for the nearest hit. Nodes and
-// triangles are read as word pairs, a subgroup at a time.
+// second record read once per ray, for the nearest hit. Nodes, triangles
+// and object records are read as word pairs, so that a subgroup can share
+// them.
 
 // Shared with the raster pipelines (same ids, same meaning).
 #include "lights.glsl"
@@ -127,5 +128,5 @@ layout(std430, set = 0, binding = 8) readonly buffer MaterialBuffer { RtMaterial
 layout(std430, set = 0, binding = 9) buffer OutputBuffer { vec4 pixels[]; };
 // primary, shadow, reflected, refracted, pruned, deepest level, 2 unused.
 layout(std430, set = 0, binding = 10) buffer StatsBuffer { uint counters[8]; };
-// The order in which workgroups take the image's 8x8 tiles (see main).
+// The order in which workgroups take the image's tiles (see main).
 layout(std430, set = 0, binding = 11) readonly buffer TileOrderBuffer { uint tile_order[]; };
