@@ -162,12 +162,13 @@ pub fn render_with(
             limit: BVH_STACK_SIZE - 1,
         });
     }
+    // Refuses what the records cannot hold before building the pipeline.
+    let mut r = records(&rt)?;
     let spec = specialization(scene, &rt, options);
     let pipeline_started = Instant::now();
     let pipeline = create_pipeline(context, &spec)?;
     let pipeline_ms = pipeline_started.elapsed().as_secs_f64() * 1e3;
 
-    let mut r = records(&rt)?;
     if spec.has_meshes != 0 && rt.triangles.is_empty() {
         // The BVH walk compiled in for a scene without triangles: a leaf
         // of one degenerate triangle, which no ray hits.
