@@ -52,9 +52,15 @@ struct Hit {
     uint shape;  // KIND_* | index, or NO_SHAPE
     vec2 uv;     // triangle: barycentrics of p1 and p2
     // An analytic object's normal and material, known (at constant-index
-    // reads) when it is hit; a triangle's are read after the search.
+    // reads) when it is hit; a triangle's are read after the search. A
+    // sphere's normal is computed once the search is over: until then
+    // `normal` holds its centre and `radius` its radius (0 for others).
     vec3 normal;
+    float radius;
     uint material;
+    // An analytic object's scene object, for the tie rule (a triangle's is
+    // read only when a tie needs it, in wins_tie).
+    uint object;
 };
 
 struct Ray {
@@ -201,10 +207,21 @@ bool wins_tie(uint shape, Hit best) {
     return object < best_object || (object == best_object && order_of(shape) < order_of(best.shape));
 }
 
-// Makes a hit at t the nearest if it is (t > 0, then the tie rule).
-void consider(float t, uint shape, vec2 uv, vec3 normal, uint material, inout Hit best) {
+// Makes a triangle's hit at t the nearest if it is (t > 0, then the tie
+// rule).
+void consider_triangle(float t, uint shape, vec2 uv, inout Hit best) {
     if (t > 0.0 && t <= best.t && (t < best.t || wins_tie(shape, best))) {
-        best = Hit(t, shape, uv, normal, material);
+        best = Hit(t, shape, uv, vec3(0.0), 0.0, 0u, 0u);
+    }
+}
+
+// The same for an analytic object, whose scene object is at hand: the tie
+// rule is then a comparison, not a branch to per-lane reads. Analytic
+// objects are searched before the meshes, so `best` is one of them or
+// none (object NO_SHAPE, above every object).
+void consider_object(float t, uint shape, vec3 normal, float radius, uint material, uint object, inout Hit best) {
+    if (t > 0.0 && (t < best.t || (t == best.t && object < best.object))) {
+        best = Hit(t, shape, vec2(0.0), normal, radius, material, object);
     }
 }
 
@@ -217,20 +234,24 @@ struct SphereGeometry {
     vec3 center;
     float radius;
     uint material;
+    uint object;
 };
 
 SphereGeometry sphere_geometry(int i) {
     if (SHARED_OBJECT_READS) {
         Shared r = read_sphere(uint(i));
-        return SphereGeometry(vec3_at(r, SPHERE_CENTER), float_at(r, SPHERE_RADIUS), word(r, SPHERE_MATERIAL));
+        return SphereGeometry(vec3_at(r, SPHERE_CENTER), float_at(r, SPHERE_RADIUS), word(r, SPHERE_MATERIAL),
+                              word(r, SPHERE_OBJECT));
     }
-    // Whole pairs at the offsets SPHERE_CENTER (0), SPHERE_RADIUS (3) and
-    // SPHERE_MATERIAL (4), each read once (reading word by word, which
-    // reads some pairs twice, measured slower on the four spheres).
+    // Whole pairs at the offsets SPHERE_CENTER (0), SPHERE_RADIUS (3),
+    // SPHERE_MATERIAL (4) and SPHERE_OBJECT (5), each read once (reading
+    // word by word, which reads some pairs twice, measured slower on the
+    // four spheres).
     uint at = uint(i) * SPHERE_PAIRS;
     uvec2 w01 = sphere_pairs[at];
     uvec2 w23 = sphere_pairs[at + 1u];
-    return SphereGeometry(uintBitsToFloat(uvec3(w01, w23.x)), uintBitsToFloat(w23.y), sphere_pairs[at + 2u].x);
+    uvec2 w45 = sphere_pairs[at + 2u];
+    return SphereGeometry(uintBitsToFloat(uvec3(w01, w23.x)), uintBitsToFloat(w23.y), w45.x, w45.y);
 }
 
 struct PlaneGeometry {
@@ -240,16 +261,18 @@ struct PlaneGeometry {
     vec3 u;
     vec3 v;
     uint material;
+    uint object;
 };
 
 PlaneGeometry plane_geometry(int i) {
     if (SHARED_OBJECT_READS) {
         Shared r = read_plane(uint(i));
         return PlaneGeometry(vec3_at(r, PLANE_CENTER), float_at(r, PLANE_HALF), vec3_at(r, PLANE_NORMAL),
-                             vec3_at(r, PLANE_U), vec3_at(r, PLANE_V), word(r, PLANE_MATERIAL));
+                             vec3_at(r, PLANE_U), vec3_at(r, PLANE_V), word(r, PLANE_MATERIAL),
+                             word(r, PLANE_OBJECT));
     }
     // Whole pairs, as for spheres: PLANE_CENTER 0, PLANE_HALF 3,
-    // PLANE_NORMAL 4, PLANE_U 8, PLANE_V 12, PLANE_MATERIAL 16.
+    // PLANE_NORMAL 4, PLANE_U 8, PLANE_V 12, PLANE_MATERIAL 16, PLANE_OBJECT 17.
     uint at = uint(i) * PLANE_PAIRS;
     vec3 v[4];
     for (uint k = 0u; k < 4u; ++k) {
@@ -258,7 +281,8 @@ PlaneGeometry plane_geometry(int i) {
         v[k] = uintBitsToFloat(uvec3(a, b.x));
     }
     float half_size = uintBitsToFloat(plane_pairs[at + 1u].y);
-    return PlaneGeometry(v[0], half_size, v[1], v[2], v[3], plane_pairs[at + 8u].x);
+    uvec2 material_object = plane_pairs[at + 8u];
+    return PlaneGeometry(v[0], half_size, v[1], v[2], v[3], material_object.x, material_object.y);
 }
 
 struct BoxGeometry {
@@ -266,6 +290,7 @@ struct BoxGeometry {
     vec3 half_extents;
     mat3 rotation;  // box-local axes to world axes
     uint material;
+    uint object;
 };
 
 BoxGeometry box_geometry(int i) {
@@ -273,10 +298,10 @@ BoxGeometry box_geometry(int i) {
         Shared r = read_box(uint(i));
         return BoxGeometry(vec3_at(r, BOX_CENTER), vec3_at(r, BOX_HALF),
                            mat3(vec3_at(r, BOX_AXIS_X), vec3_at(r, BOX_AXIS_Y), vec3_at(r, BOX_AXIS_Z)),
-                           word(r, BOX_MATERIAL));
+                           word(r, BOX_MATERIAL), word(r, BOX_OBJECT));
     }
     // Whole pairs, as for spheres: BOX_CENTER 0, BOX_HALF 4, BOX_AXIS_X 8,
-    // BOX_AXIS_Y 12, BOX_AXIS_Z 16, BOX_MATERIAL 20.
+    // BOX_AXIS_Y 12, BOX_AXIS_Z 16, BOX_MATERIAL 20, BOX_OBJECT 21.
     uint at = uint(i) * BOX_PAIRS;
     vec3 v[5];
     for (uint k = 0u; k < 5u; ++k) {
@@ -284,7 +309,8 @@ BoxGeometry box_geometry(int i) {
         uvec2 b = box_pairs[at + 2u * k + 1u];
         v[k] = uintBitsToFloat(uvec3(a, b.x));
     }
-    return BoxGeometry(v[0], v[1], mat3(v[2], v[3], v[4]), box_pairs[at + 10u].x);
+    uvec2 material_object = box_pairs[at + 10u];
+    return BoxGeometry(v[0], v[1], mat3(v[2], v[3], v[4]), material_object.x, material_object.y);
 }
 
 // Distance to a sphere along the ray, or 0 for none (the stable form).
@@ -478,10 +504,10 @@ void hit_meshes(vec3 o, vec3 d, inout Hit best, bool any_hit) {
                 float t = triangle_t(o, shear, tri, uv);
                 if (any_hit) {
                     if (t > 0.0 && t < best.t) {
-                        best = Hit(-1.0, KIND_TRIANGLE | i, uv, vec3(0.0), 0u);
+                        best = Hit(-1.0, KIND_TRIANGLE | i, uv, vec3(0.0), 0.0, 0u, 0u);
                     }
                 } else {
-                    consider(t, KIND_TRIANGLE | i, uv, vec3(0.0), 0u, best);
+                    consider_triangle(t, KIND_TRIANGLE | i, uv, best);
                 }
             }
             link = NO_SHAPE;
@@ -504,16 +530,14 @@ void hit_meshes(vec3 o, vec3 d, inout Hit best, bool any_hit) {
 // object, then the lower triangle. Call in uniform control flow; a lane
 // with no ray to trace passes `traces` false and gets no hit.
 Hit nearest(vec3 o, vec3 d, bool traces) {
-    Hit best = Hit(traces ? NO_HIT : -1.0, NO_SHAPE, vec2(0.0), vec3(0.0), 0u);
+    Hit best = Hit(traces ? NO_HIT : -1.0, NO_SHAPE, vec2(0.0), vec3(0.0), 0.0, 0u, NO_SHAPE);
     for (int i = 0; i < SPHERE_COUNT; ++i) {
         SphereGeometry g = sphere_geometry(i);
-        float t = sphere_t(o, d, g);
-        vec3 n = (o + t * d - g.center) / g.radius;
-        consider(t, KIND_SPHERE | uint(i), vec2(0.0), n, g.material, best);
+        consider_object(sphere_t(o, d, g), KIND_SPHERE | uint(i), g.center, g.radius, g.material, g.object, best);
     }
     for (int i = 0; i < PLANE_COUNT; ++i) {
         PlaneGeometry g = plane_geometry(i);
-        consider(plane_t(o, d, g), KIND_PLANE | uint(i), vec2(0.0), g.normal, g.material, best);
+        consider_object(plane_t(o, d, g), KIND_PLANE | uint(i), g.normal, 0.0, g.material, g.object, best);
     }
     for (int i = 0; i < BOX_COUNT; ++i) {
         BoxGeometry g = box_geometry(i);
@@ -522,7 +546,11 @@ Hit nearest(vec3 o, vec3 d, bool traces) {
         // The outward normal of the face hit: a column of the rotation.
         vec3 axis = face.x == 0.0 ? g.rotation[0] : (face.x == 1.0 ? g.rotation[1] : g.rotation[2]);
         vec3 n = axis * face.y;
-        consider(t, KIND_BOX | uint(i), vec2(0.0), n, g.material, best);
+        consider_object(t, KIND_BOX | uint(i), n, 0.0, g.material, g.object, best);
+    }
+    if ((best.shape & KIND_MASK) == KIND_SPHERE) {
+        // Once, for the nearest hit: a division per sphere tested cost more.
+        best.normal = (o + best.t * d - best.normal) / best.radius;
     }
     if (HAS_MESHES) {
         hit_meshes(o, d, best, false);
@@ -550,7 +578,7 @@ bool occluded(vec3 o, vec3 d, float t_max) {
         blocked = blocked || (t > 0.0 && t < t_max);
     }
     if (HAS_MESHES) {
-        Hit best = Hit(blocked ? -1.0 : t_max, NO_SHAPE, vec2(0.0), vec3(0.0), 0u);
+        Hit best = Hit(blocked ? -1.0 : t_max, NO_SHAPE, vec2(0.0), vec3(0.0), 0.0, 0u, 0u);
         hit_meshes(o, d, best, true);
         blocked = blocked || best.shape != NO_SHAPE;
     }

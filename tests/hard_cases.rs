@@ -145,6 +145,43 @@ fn coincident_surfaces_have_a_deterministic_winner() {
     }
 }
 
+/// The tie rule across kinds of object, against the order the ray tracer
+/// tests them in (spheres, planes, boxes, meshes): a box listed first and a
+/// smaller plane lying on its top face, both at exactly representable
+/// heights so that the two distances are equal in f32 and f64 alike. The
+/// box, the lower object, wins everywhere: the image equals the box alone,
+/// on the GPU and the CPU. (A tracer that kept the first hit found at an
+/// equal distance would show the plane, which it tests first.)
+#[test]
+fn equal_distances_go_to_the_lower_object_whatever_its_kind() {
+    let mut both = hard("coincident-planes.toml");
+    both.objects[0].shape = Shape::Box {
+        center: DVec3::new(0.0, -0.5, 0.0),
+        half_extents: DVec3::new(1.5, 0.5, 1.5),
+        rotation: glam::DMat3::IDENTITY,
+    };
+    both.objects[1].shape = Shape::Plane {
+        center: DVec3::ZERO,
+        normal: DVec3::Y,
+        size: 2.0,
+        segments: 1,
+    };
+    let mut box_only = both.clone();
+    box_only.objects.truncate(1);
+    let context = gpu();
+    let (a, b) = (
+        render(&context, &both, Shading::Raytrace),
+        render(&context, &box_only, Shading::Raytrace),
+    );
+    assert_eq!(a, b, "the plane shows through the box's face on the GPU");
+    let (ca, _) = shadelab::render::render_cpu(&both, Shading::Raytrace).unwrap();
+    let (cb, _) = shadelab::render::render_cpu(&box_only, Shading::Raytrace).unwrap();
+    assert_eq!(
+        ca.image, cb.image,
+        "the plane shows through the box's face on the CPU"
+    );
+}
+
 /// Pixels less than half as bright as the median of their 5x5
 /// neighbourhood, among those whose whole neighbourhood sees the same one of
 /// `surfaces`: the speckles and streaks of shadow acne and of rays that
