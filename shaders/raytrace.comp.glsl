@@ -225,11 +225,11 @@ void consider_object(float t, uint shape, vec3 normal, float radius, uint materi
     }
 }
 
-// The analytic objects' geometry, read in the loops over every object.
-// With short lists the loops unroll and each read is at a constant index,
-// one load for the subgroup; with long ones (SHARED_OBJECT_READS) a loop
-// index would make every lane read every word on its own, and the subgroup
-// shares the reads instead (the loops run in uniform control flow).
+// The analytic objects' geometry. In the loops over the objects tested one
+// by one (which unroll) `X_geometry(i)` reads each record at a constant
+// index, one load for the subgroup. In the BVH's leaves the index is a
+// variable, which would make every lane read every word on its own: there
+// the subgroup shares the reads (`shared_X`).
 struct SphereGeometry {
     vec3 center;
     float radius;
@@ -237,12 +237,13 @@ struct SphereGeometry {
     uint object;
 };
 
+SphereGeometry shared_sphere(uint i) {
+    Shared r = read_sphere(i);
+    return SphereGeometry(vec3_at(r, SPHERE_CENTER), float_at(r, SPHERE_RADIUS), word(r, SPHERE_MATERIAL),
+                          word(r, SPHERE_OBJECT));
+}
+
 SphereGeometry sphere_geometry(int i) {
-    if (SHARED_OBJECT_READS) {
-        Shared r = read_sphere(uint(i));
-        return SphereGeometry(vec3_at(r, SPHERE_CENTER), float_at(r, SPHERE_RADIUS), word(r, SPHERE_MATERIAL),
-                              word(r, SPHERE_OBJECT));
-    }
     // Whole pairs at the offsets SPHERE_CENTER (0), SPHERE_RADIUS (3),
     // SPHERE_MATERIAL (4) and SPHERE_OBJECT (5), each read once (reading
     // word by word, which reads some pairs twice, measured slower on the
@@ -264,13 +265,13 @@ struct PlaneGeometry {
     uint object;
 };
 
+PlaneGeometry shared_plane(uint i) {
+    Shared r = read_plane(i);
+    return PlaneGeometry(vec3_at(r, PLANE_CENTER), float_at(r, PLANE_HALF), vec3_at(r, PLANE_NORMAL),
+                         vec3_at(r, PLANE_U), vec3_at(r, PLANE_V), word(r, PLANE_MATERIAL), word(r, PLANE_OBJECT));
+}
+
 PlaneGeometry plane_geometry(int i) {
-    if (SHARED_OBJECT_READS) {
-        Shared r = read_plane(uint(i));
-        return PlaneGeometry(vec3_at(r, PLANE_CENTER), float_at(r, PLANE_HALF), vec3_at(r, PLANE_NORMAL),
-                             vec3_at(r, PLANE_U), vec3_at(r, PLANE_V), word(r, PLANE_MATERIAL),
-                             word(r, PLANE_OBJECT));
-    }
     // Whole pairs, as for spheres: PLANE_CENTER 0, PLANE_HALF 3,
     // PLANE_NORMAL 4, PLANE_U 8, PLANE_V 12, PLANE_MATERIAL 16, PLANE_OBJECT 17.
     uint at = uint(i) * PLANE_PAIRS;
@@ -293,13 +294,14 @@ struct BoxGeometry {
     uint object;
 };
 
+BoxGeometry shared_box(uint i) {
+    Shared r = read_box(i);
+    return BoxGeometry(vec3_at(r, BOX_CENTER), vec3_at(r, BOX_HALF),
+                       mat3(vec3_at(r, BOX_AXIS_X), vec3_at(r, BOX_AXIS_Y), vec3_at(r, BOX_AXIS_Z)),
+                       word(r, BOX_MATERIAL), word(r, BOX_OBJECT));
+}
+
 BoxGeometry box_geometry(int i) {
-    if (SHARED_OBJECT_READS) {
-        Shared r = read_box(uint(i));
-        return BoxGeometry(vec3_at(r, BOX_CENTER), vec3_at(r, BOX_HALF),
-                           mat3(vec3_at(r, BOX_AXIS_X), vec3_at(r, BOX_AXIS_Y), vec3_at(r, BOX_AXIS_Z)),
-                           word(r, BOX_MATERIAL), word(r, BOX_OBJECT));
-    }
     // Whole pairs, as for spheres: BOX_CENTER 0, BOX_HALF 4, BOX_AXIS_X 8,
     // BOX_AXIS_Y 12, BOX_AXIS_Z 16, BOX_MATERIAL 20, BOX_OBJECT 21.
     uint at = uint(i) * BOX_PAIRS;
@@ -384,6 +386,12 @@ float box_t(vec3 o, vec3 d, BoxGeometry box, out vec2 face) {
     return t;
 }
 
+// The outward normal of the face `box_t` hit: a column of the rotation.
+vec3 box_normal(BoxGeometry box, vec2 face) {
+    vec3 axis = face.x == 0.0 ? box.rotation[0] : (face.x == 1.0 ? box.rotation[1] : box.rotation[2]);
+    return axis * face.y;
+}
+
 // The watertight test of Woop, Benthin and Wald (JCGT 2013), no culling:
 // the twin of cpu::intersect::triangle, whose comment says why no ray slips
 // between two triangles. `frame` is the ray's shear (ray_frame below).
@@ -443,8 +451,23 @@ float box_entry(vec3 o, vec3 inv_d, vec3 lo, vec3 hi, float t_max) {
     return enter <= leave ? enter : NO_HIT;
 }
 
-// The meshes' triangles through the BVH, the subgroup's rays as one packet
-// (call in uniform control flow). Each lane's ray takes part up to best.t
+// A hit on an analytic object in a BVH leaf: like `consider_object`, but
+// `best` may be a triangle or an object found in another leaf, so a tie
+// takes the general rule. For the shadow query (`any_hit`), any hit nearer
+// than best.t ends the lane's search, as for triangles.
+void consider_in_leaf(float t, uint shape, vec3 normal, float radius, uint material, uint object, bool any_hit,
+                      inout Hit best) {
+    if (any_hit) {
+        if (t > 0.0 && t < best.t) {
+            best = Hit(-1.0, shape, vec2(0.0), vec3(0.0), 0.0, 0u, 0u);
+        }
+    } else if (t > 0.0 && t <= best.t && (t < best.t || wins_tie(shape, best))) {
+        best = Hit(t, shape, vec2(0.0), normal, radius, material, object);
+    }
+}
+
+// The BVH's primitives (triangles, and the objects of long lists), the
+// subgroup's rays as one packet (call in uniform control flow). Each lane's ray takes part up to best.t
 // (negative: not at all). A node is visited when any lane's ray enters its
 // box within that lane's limit; of two children both entered, the one lane 0
 // enters first goes first and the other waits on the stack with every
@@ -456,7 +479,7 @@ float box_entry(vec3 o, vec3 inv_d, vec3 lo, vec3 hi, float t_max) {
 // Nearest hit (`any_hit` false): best is the nearest hit. Shadow query
 // (`any_hit`): a lane that finds a hit nearer than best.t stops there, its
 // best.shape set and best.t made negative.
-void hit_meshes(vec3 o, vec3 d, inout Hit best, bool any_hit) {
+void walk_bvh(vec3 o, vec3 d, inout Hit best, bool any_hit) {
     uint link = frame.grid.w;  // the root: node 0, or a leaf
     vec3 inv_d = vec3(1.0) / d;
     RayFrame shear = ray_frame(d);
@@ -496,18 +519,41 @@ void hit_meshes(vec3 o, vec3 d, inout Hit best, bool any_hit) {
                 link = NO_SHAPE;  // pop below
             }
         } else {
+            // A leaf: a run of one kind's records, the kind given by the
+            // range its first index is in (uniform: the whole packet is here).
             uint first = link & 0x03ffffffu;
             uint end = first + ((link >> 26) & 31u) + 1u;
-            for (uint i = first; i < end; ++i) {
-                Shared tri = read_triangle(i);
-                vec2 uv;
-                float t = triangle_t(o, shear, tri, uv);
-                if (any_hit) {
-                    if (t > 0.0 && t < best.t) {
-                        best = Hit(-1.0, KIND_TRIANGLE | i, uv, vec3(0.0), 0.0, 0u, 0u);
+            if (first < frame.leaf_bases.x) {
+                for (uint i = first; i < end; ++i) {
+                    Shared tri = read_triangle(i);
+                    vec2 uv;
+                    float t = triangle_t(o, shear, tri, uv);
+                    if (any_hit) {
+                        if (t > 0.0 && t < best.t) {
+                            best = Hit(-1.0, KIND_TRIANGLE | i, uv, vec3(0.0), 0.0, 0u, 0u);
+                        }
+                    } else {
+                        consider_triangle(t, KIND_TRIANGLE | i, uv, best);
                     }
-                } else {
-                    consider_triangle(t, KIND_TRIANGLE | i, uv, best);
+                }
+            } else if (BVH_SPHERES && first < frame.leaf_bases.y) {
+                for (uint i = first - frame.leaf_bases.x; i < end - frame.leaf_bases.x; ++i) {
+                    SphereGeometry g = shared_sphere(i);
+                    consider_in_leaf(sphere_t(o, d, g), KIND_SPHERE | i, g.center, g.radius, g.material, g.object,
+                                     any_hit, best);
+                }
+            } else if (BVH_PLANES && first < frame.leaf_bases.z) {
+                for (uint i = first - frame.leaf_bases.y; i < end - frame.leaf_bases.y; ++i) {
+                    PlaneGeometry g = shared_plane(i);
+                    consider_in_leaf(plane_t(o, d, g), KIND_PLANE | i, g.normal, 0.0, g.material, g.object, any_hit,
+                                     best);
+                }
+            } else if (BVH_BOXES) {
+                for (uint i = first - frame.leaf_bases.z; i < end - frame.leaf_bases.z; ++i) {
+                    BoxGeometry g = shared_box(i);
+                    vec2 face;
+                    float t = box_t(o, d, g, face);
+                    consider_in_leaf(t, KIND_BOX | i, box_normal(g, face), 0.0, g.material, g.object, any_hit, best);
                 }
             }
             link = NO_SHAPE;
@@ -543,17 +589,14 @@ Hit nearest(vec3 o, vec3 d, bool traces) {
         BoxGeometry g = box_geometry(i);
         vec2 face;
         float t = box_t(o, d, g, face);
-        // The outward normal of the face hit: a column of the rotation.
-        vec3 axis = face.x == 0.0 ? g.rotation[0] : (face.x == 1.0 ? g.rotation[1] : g.rotation[2]);
-        vec3 n = axis * face.y;
-        consider_object(t, KIND_BOX | uint(i), n, 0.0, g.material, g.object, best);
+        consider_object(t, KIND_BOX | uint(i), box_normal(g, face), 0.0, g.material, g.object, best);
+    }
+    if (HAS_BVH) {
+        walk_bvh(o, d, best, false);
     }
     if ((best.shape & KIND_MASK) == KIND_SPHERE) {
         // Once, for the nearest hit: a division per sphere tested cost more.
         best.normal = (o + best.t * d - best.normal) / best.radius;
-    }
-    if (HAS_MESHES) {
-        hit_meshes(o, d, best, false);
     }
     return best;
 }
@@ -577,9 +620,9 @@ bool occluded(vec3 o, vec3 d, float t_max) {
         float t = box_t(o, d, box_geometry(i), face);
         blocked = blocked || (t > 0.0 && t < t_max);
     }
-    if (HAS_MESHES) {
+    if (HAS_BVH) {
         Hit best = Hit(blocked ? -1.0 : t_max, NO_SHAPE, vec2(0.0), vec3(0.0), 0.0, 0u, 0u);
-        hit_meshes(o, d, best, true);
+        walk_bvh(o, d, best, true);
         blocked = blocked || best.shape != NO_SHAPE;
     }
     return blocked;
@@ -600,7 +643,7 @@ Surfel resolve(vec3 o, vec3 d, Hit hit) {
     vec3 p = o + hit.t * d;
     uint index = hit.shape & ~KIND_MASK;
     uint kind = hit.shape & KIND_MASK;
-    if (HAS_MESHES && kind == KIND_TRIANGLE) {
+    if (HAS_BVH && kind == KIND_TRIANGLE) {
         float bu = hit.uv.x;
         float bv = hit.uv.y;
         vec3 shading = (1.0 - bu - bv) * triangle_shading[index].n0 + bu * triangle_shading[index].n1

@@ -43,6 +43,32 @@ pub struct RtBox {
     pub object: u32,
 }
 
+impl RtSphere {
+    /// The smallest axis-aligned box around the sphere (min, max).
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        (self.center - self.radius, self.center + self.radius)
+    }
+}
+
+impl RtPlane {
+    /// The smallest axis-aligned box around the square (min, max).
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        let reach = self.half_size * (self.u.abs() + self.v.abs());
+        (self.center - reach, self.center + reach)
+    }
+}
+
+impl RtBox {
+    /// The smallest axis-aligned box around the oriented box (min, max).
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        let r = self.rotation;
+        let reach = r.x_axis.abs() * self.half_extents.x
+            + r.y_axis.abs() * self.half_extents.y
+            + r.z_axis.abs() * self.half_extents.z;
+        (self.center - reach, self.center + reach)
+    }
+}
+
 #[derive(Debug, Clone, Copy)]
 pub struct RtTriangle {
     pub positions: [DVec3; 3],
@@ -160,26 +186,6 @@ impl RtScene {
         self.materials.iter().any(|m| m.kt > 0.0)
     }
 
-    /// Nodes on the longest root-to-leaf path of the BVH (0 without
-    /// triangles). A depth-first walk needs a stack of that many entries.
-    pub fn bvh_depth(&self) -> usize {
-        let nodes = &self.bvh.nodes;
-        if nodes.is_empty() {
-            return 0;
-        }
-        let mut deepest = 0;
-        let mut stack = vec![(0u32, 1usize)];
-        while let Some((index, depth)) = stack.pop() {
-            deepest = deepest.max(depth);
-            let node = &nodes[index as usize];
-            if node.prim_count == 0 {
-                stack.push((node.first_index, depth + 1));
-                stack.push((node.first_index + 1, depth + 1));
-            }
-        }
-        deepest
-    }
-
     /// Whether any material reflects (reflection rays can exist).
     pub fn has_reflection(&self) -> bool {
         self.materials.iter().any(|m| m.kr > 0.0 || m.kt > 0.0)
@@ -246,41 +252,4 @@ pub const BOX_WIDENING: f64 = 1e-5;
 pub fn widened_box(min: DVec3, max: DVec3) -> (DVec3, DVec3) {
     let margin = |x: DVec3| BOX_WIDENING * x.abs().max(DVec3::ONE);
     (min - margin(min), max + margin(max))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::scene::{default_scene, tessellate};
-
-    /// `bvh_depth` bounds the stack of the GPU's walk: pop one node, push
-    /// both children of an inner node, second child on top.
-    #[test]
-    fn bvh_depth_bounds_a_depth_first_walk() {
-        let mut scene = default_scene();
-        let sphere = Shape::Sphere {
-            center: DVec3::ZERO,
-            radius: 1.0,
-            segments: 64,
-        };
-        scene.objects[0].shape = Shape::Mesh(tessellate(&sphere));
-        let rt = RtScene::new(&scene);
-        let depth = rt.bvh_depth();
-        // 64 segments make thousands of triangles: more than one level.
-        assert!(depth > 3, "depth {depth}");
-        let mut stack = vec![0u32];
-        let mut most = 1;
-        while let Some(index) = stack.pop() {
-            let node = &rt.bvh.nodes[index as usize];
-            if node.prim_count == 0 {
-                stack.push(node.first_index + 1);
-                stack.push(node.first_index);
-                most = most.max(stack.len());
-            }
-        }
-        assert!(most <= depth, "walk needed {most} entries, depth {depth}");
-
-        scene.objects.retain(|o| !matches!(o.shape, Shape::Mesh(_)));
-        assert_eq!(RtScene::new(&scene).bvh_depth(), 0);
-    }
 }

@@ -292,14 +292,18 @@ fn gpu_and_cpu_trace_the_same_tree_at_every_depth() {
 }
 
 /// Long object lists (more spheres, planes and boxes than lavapipe unrolls a
-/// loop over) are read a subgroup at a time, with every word shuffled from
-/// the lane that read it. A word taken from the wrong offset or lane moves
-/// or loses objects; `check` against the CPU twin, which shares none of
-/// that code, catches it (reflections at depth 2 read every object from
-/// scattered rays, and the mesh puts the BVH in the same walks).
+/// loop over) go into the BVH beside the mesh's triangles, in leaves of
+/// their own kind, their records read a subgroup at a time with every word
+/// shuffled from the lane that read it. A leaf taken for the wrong kind, a
+/// record in the wrong order or a word from the wrong offset or lane moves
+/// or loses objects; `check` against the CPU twin, which tests objects one
+/// by one and shares none of that code, catches it (reflections at depth 2
+/// reach every object from scattered rays, shadow rays take the BVH's
+/// any-hit path).
 #[test]
-fn long_object_lists_read_a_subgroup_at_a_time_agree_with_the_cpu() {
+fn long_object_lists_in_the_bvh_agree_with_the_cpu() {
     use shadelab::check::{check, CheckThresholds};
+    use shadelab::gpu::rt_bvh::BvhKinds;
     use shadelab::rt_scene::RtScene;
     let mut s = scene(96, 80, 50.0);
     s.camera.position = DVec3::new(0.0, 6.0, 14.0);
@@ -353,9 +357,10 @@ fn long_object_lists_read_a_subgroup_at_a_time_agree_with_the_cpu() {
         })),
         material: 1,
     });
+    let kinds = BvhKinds::of(&RtScene::new(&s));
     assert!(
-        raytrace::shares_object_reads(&RtScene::new(&s)),
-        "the scene must be long enough to take the shared path"
+        kinds.spheres && kinds.planes && kinds.boxes,
+        "every list must be long enough to go into the BVH: {kinds:?}"
     );
     let limits = CheckThresholds::for_shading(Shading::Raytrace);
     let o = check(&gpu(), &s, &s, Shading::Raytrace, &limits).unwrap();

@@ -160,12 +160,11 @@ fn specialization_constants_match_by_id_and_name() {
         ),
         ("PLANE_COUNT", offset_of!(TraceSpecialization, plane_count)),
         ("BOX_COUNT", offset_of!(TraceSpecialization, box_count)),
-        ("HAS_MESHES", offset_of!(TraceSpecialization, has_meshes)),
+        ("HAS_BVH", offset_of!(TraceSpecialization, has_bvh)),
         ("COUNT_RAYS", offset_of!(TraceSpecialization, count_rays)),
-        (
-            "SHARED_OBJECT_READS",
-            offset_of!(TraceSpecialization, shared_object_reads),
-        ),
+        ("BVH_SPHERES", offset_of!(TraceSpecialization, bvh_spheres)),
+        ("BVH_PLANES", offset_of!(TraceSpecialization, bvh_planes)),
+        ("BVH_BOXES", offset_of!(TraceSpecialization, bvh_boxes)),
     ];
     assert_eq!(fields.len(), rt_layout::SPEC_CONSTANTS.len());
     for (name, offset) in fields {

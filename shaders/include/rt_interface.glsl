@@ -22,18 +22,22 @@
 layout(constant_id = 3) const bool SHADOWS = true;
 layout(constant_id = 4) const bool HAS_REFLECTION = true;    // kr > 0 or kt > 0 somewhere
 layout(constant_id = 5) const bool HAS_TRANSMISSION = true;  // kt > 0 somewhere
-// Object counts by kind: loops over them have a trip count known when the
-// pipeline is built, so the driver unrolls short ones and every record is
-// then read at a constant index (one load for all invocations).
+// Counts of the objects tested one by one, by kind: loops over them have a
+// trip count known when the pipeline is built, so the driver unrolls them
+// and every record is read at a constant index (one load for all
+// invocations). A list too long to unroll goes into the BVH instead
+// (rt_bvh::BvhKinds), and its count here is 0.
 layout(constant_id = 6) const int SPHERE_COUNT = 0;
 layout(constant_id = 7) const int PLANE_COUNT = 0;
 layout(constant_id = 8) const int BOX_COUNT = 0;
-layout(constant_id = 9) const bool HAS_MESHES = true;
+// Whether there is a BVH to walk (mesh triangles, long object lists).
+layout(constant_id = 9) const bool HAS_BVH = true;
 // Ray statistics with atomics, only when asked for (--stats).
 layout(constant_id = 10) const bool COUNT_RAYS = false;
-// Object lists too long to unroll: their records are read a subgroup at a
-// time (raytrace.comp.glsl, `sphere_geometry`).
-layout(constant_id = 11) const bool SHARED_OBJECT_READS = false;
+// The kinds of analytic object the BVH holds.
+layout(constant_id = 11) const bool BVH_SPHERES = false;
+layout(constant_id = 12) const bool BVH_PLANES = false;
+layout(constant_id = 13) const bool BVH_BOXES = false;
 
 layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     vec4 ambient_k;       // rgb: Ia, w: k
@@ -43,6 +47,9 @@ layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     vec4 forward_cutoff;  // xyz: camera forward, w: the cut-off weight
     uvec4 image;          // x: width, y: height, z: samples, w: maximum depth
     uvec4 grid;           // x, y: the sample grid kx, ky; w: the BVH's root link
+    // x, y, z: the BVH leaf index of its first sphere, plane and box (its
+    // triangles start at 0; a leaf's kind is the range its first index is in)
+    uvec4 leaf_bases;
 } frame;
 
 // Object records, read as word pairs (like nodes and triangles below):
@@ -98,9 +105,9 @@ struct TriangleShading {
 
 // An inner node of the BVH with both children's boxes: 8 word pairs
 // (rt_layout::GpuBvhNode), read like triangles. A child link is a node
-// index, or for a leaf LEAF_BIT | its triangle count less one in bits 26
-// to 30 and its first triangle below. The root's link is in the uniforms
-// (a mesh of a few triangles is one leaf).
+// index, or for a leaf LEAF_BIT | its primitive count less one in bits 26
+// to 30 and its first leaf index below (`frame.leaf_bases`). The root's
+// link is in the uniforms (a mesh of a few triangles is one leaf).
 const uint NODE_PAIRS = 8u;
 const uint NODE_LEFT_LO = 0u;
 const uint NODE_LEFT = 3u;

@@ -13,6 +13,7 @@ pub mod raster;
 pub mod raster_layout;
 mod raster_scene;
 pub mod raytrace;
+pub mod rt_bvh;
 pub mod rt_layout;
 mod rt_records;
 pub mod shader_catalog;

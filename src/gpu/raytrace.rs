@@ -18,6 +18,7 @@ use super::error::{GpuError, VkContext};
 use super::pipeline::{single_pipeline, PipelineObjects};
 use super::raster::check_image_size;
 use super::raster_scene;
+use super::rt_bvh::BvhKinds;
 use super::rt_layout::*;
 use super::rt_records::{records, tile_order, v4};
 use super::shader_catalog::RAYTRACE_COMP;
@@ -71,14 +72,6 @@ fn create_pipeline(
     Ok(p)
 }
 
-/// Object counts up to which lavapipe unrolls the shader's loops over
-/// them (a trip count of at most 32 and a body of at most 832 instructions
-/// in all), so that each record is read at a constant index. Past them the
-/// records are read a subgroup at a time (`SHARED_OBJECT_READS`).
-const UNROLLED_SPHERES: usize = 16;
-const UNROLLED_PLANES: usize = 12;
-const UNROLLED_BOXES: usize = 6;
-
 /// How to trace: what `render` does beyond the image.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct TraceOptions {
@@ -94,11 +87,14 @@ pub struct TraceOptions {
 
 /// Only what the scene uses: the lighting constants of the raster pipelines
 /// (`raster_scene::specialization`), shadows if on, reflection and
-/// refraction if some material has them, and the primitive kinds present;
-/// or every feature on (`TraceOptions::every_feature`).
+/// refraction if some material has them, the objects tested one by one and
+/// the kinds the BVH holds (`BvhKinds`); or every feature on
+/// (`TraceOptions::every_feature`).
 fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSpecialization {
     let lighting = raster_scene::specialization(scene);
     let on = |used: bool| u32::from(used || options.every_feature);
+    let in_bvh = BvhKinds::of(rt);
+    let listed = |in_bvh: bool, count: usize| if in_bvh { 0 } else { count as i32 };
     TraceSpecialization {
         light_count: lighting.light_count,
         use_specular: on(lighting.use_specular != 0),
@@ -106,21 +102,15 @@ fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSp
         shadows: u32::from(rt.render.shadows && !rt.lights.is_empty()),
         has_reflection: on(rt.has_reflection() && rt.render.depth > 0),
         has_transmission: on(rt.has_transmission() && rt.render.depth > 0),
-        sphere_count: rt.spheres.len() as i32,
-        plane_count: rt.planes.len() as i32,
-        box_count: rt.boxes.len() as i32,
-        has_meshes: on(!rt.triangles.is_empty()),
+        sphere_count: listed(in_bvh.spheres, rt.spheres.len()),
+        plane_count: listed(in_bvh.planes, rt.planes.len()),
+        box_count: listed(in_bvh.boxes, rt.boxes.len()),
+        has_bvh: on(!rt.triangles.is_empty() || in_bvh != BvhKinds::default()),
         count_rays: u32::from(options.count_rays),
-        shared_object_reads: u32::from(shares_object_reads(rt)),
+        bvh_spheres: on(in_bvh.spheres),
+        bvh_planes: on(in_bvh.planes),
+        bvh_boxes: on(in_bvh.boxes),
     }
-}
-
-/// Whether some object list is too long for lavapipe to unroll the loop
-/// over it, so the shader reads its records a subgroup at a time.
-pub fn shares_object_reads(rt: &RtScene) -> bool {
-    rt.spheres.len() > UNROLLED_SPHERES
-        || rt.planes.len() > UNROLLED_PLANES
-        || rt.boxes.len() > UNROLLED_BOXES
 }
 
 /// Ray traces `scene` at its `image` size; counts rays if `count_rays`.
@@ -154,14 +144,6 @@ pub fn render_with(
     check_image_size(context, width, height)?;
     let view = View::new(scene, width, height);
     let rt = RtScene::new(scene);
-    // The shader's traversal stack would drop nodes (rays would miss).
-    let depth = rt.bvh_depth();
-    if depth >= BVH_STACK_SIZE {
-        return Err(GpuError::BvhTooDeep {
-            depth,
-            limit: BVH_STACK_SIZE - 1,
-        });
-    }
     // Refuses what the records cannot hold before building the pipeline.
     let mut r = records(&rt)?;
     let spec = specialization(scene, &rt, options);
@@ -169,9 +151,9 @@ pub fn render_with(
     let pipeline = create_pipeline(context, &spec)?;
     let pipeline_ms = pipeline_started.elapsed().as_secs_f64() * 1e3;
 
-    if spec.has_meshes != 0 && rt.triangles.is_empty() {
-        // The BVH walk compiled in for a scene without triangles: a leaf
-        // of one degenerate triangle, which no ray hits.
+    if spec.has_bvh != 0 && r.bvh.root.is_none() {
+        // The BVH walk compiled in for a scene with nothing in its BVH: a
+        // leaf of one degenerate triangle, which no ray hits.
         r.add_unhittable_triangle();
     }
     let (kx, ky) = sample_grid(rt.render.samples);
@@ -183,7 +165,13 @@ pub fn render_with(
         up_aspect: v4(view.up, view.aspect as f32),
         forward_cutoff: v4(view.forward, rt.render.cutoff as f32),
         image: [width, height, rt.render.samples, rt.render.depth],
-        grid: [kx, ky, 0, r.root],
+        grid: [kx, ky, 0, r.bvh.root.unwrap_or(0)],
+        leaf_bases: [
+            r.bvh.bases.spheres,
+            r.bvh.bases.planes,
+            r.bvh.bases.boxes,
+            0,
+        ],
     };
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let upload = |name: &str, bytes: &[u8]| Buffer::with_data(context, name, bytes, storage);
@@ -195,7 +183,7 @@ pub fn render_with(
     let planes = upload("planes", bytemuck::cast_slice(&r.planes))?;
     let boxes = upload("boxes", bytemuck::cast_slice(&r.boxes))?;
     let triangles = upload("triangles", bytemuck::cast_slice(&r.triangles))?;
-    let nodes = upload("bvh nodes", bytemuck::cast_slice(&r.nodes))?;
+    let nodes = upload("bvh nodes", bytemuck::cast_slice(&r.bvh.nodes))?;
     let triangle_shading = upload(
         "triangle shading",
         bytemuck::cast_slice(&r.triangle_shading),
@@ -331,11 +319,14 @@ mod tests {
                 s.use_specular,
                 s.has_reflection,
                 s.has_transmission,
-                s.has_meshes,
+                s.has_bvh,
+                s.bvh_spheres,
+                s.bvh_planes,
+                s.bvh_boxes,
             ]
         };
-        assert_eq!(switches(&plain), [0, 0, 0, 0], "the scene uses none");
-        assert_eq!(switches(&every), [1, 1, 1, 1]);
+        assert_eq!(switches(&plain), [0; 7], "the scene uses none");
+        assert_eq!(switches(&every), [1; 7]);
         // Shadows and attenuation change the image: they stay the scene's.
         assert_eq!(every.shadows, plain.shadows);
         assert_eq!(plain.shadows, 1);

@@ -62,9 +62,11 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (6, "SPHERE_COUNT"),
     (7, "PLANE_COUNT"),
     (8, "BOX_COUNT"),
-    (9, "HAS_MESHES"),
+    (9, "HAS_BVH"),
     (10, "COUNT_RAYS"),
-    (11, "SHARED_OBJECT_READS"),
+    (11, "BVH_SPHERES"),
+    (12, "BVH_PLANES"),
+    (13, "BVH_BOXES"),
 ];
 
 #[repr(C)]
@@ -79,6 +81,9 @@ pub struct TraceUniforms {
     pub image: [u32; 4],
     /// The sample grid kx, ky; unused; the BVH's root link (`GpuBvhNode`).
     pub grid: [u32; 4],
+    /// Where the BVH's spheres, planes and boxes start in its leaf index
+    /// space (`rt_bvh::LeafBases`); unused.
+    pub leaf_bases: [u32; 4],
 }
 
 #[repr(C)]
@@ -153,16 +158,18 @@ pub struct GpuBvhNode {
 
 /// A link's leaf flag (the shader's `LEAF_BIT`).
 pub const LEAF_BIT: u32 = 1 << 31;
-/// Triangles a leaf may hold: its count less one fills bits 26 to 30.
-pub const MAX_LEAF_TRIANGLES: u32 = 32;
-/// Triangles a scene may hold: a leaf's first triangle fills bits 0 to 25.
-pub const MAX_TRIANGLES: usize = 1 << 26;
+/// Primitives a leaf may hold: its count less one fills bits 26 to 30.
+pub const MAX_LEAF_PRIMITIVES: u32 = 32;
+/// Primitives the BVH may hold (triangles and the objects it takes, in the
+/// leaf index space of `rt_bvh::LeafBases`): a leaf's first index fills
+/// bits 0 to 25.
+pub const MAX_BVH_PRIMITIVES: usize = (1 << 26) - 1;
 
-/// The link to a leaf of `count` triangles (1 to `MAX_LEAF_TRIANGLES`)
-/// starting at `first` (below `MAX_TRIANGLES`).
+/// The link to a leaf of `count` primitives (1 to `MAX_LEAF_PRIMITIVES`)
+/// starting at leaf index `first` (at most `MAX_BVH_PRIMITIVES`).
 pub fn leaf_link(first: u32, count: u32) -> u32 {
-    debug_assert!((1..=MAX_LEAF_TRIANGLES).contains(&count));
-    debug_assert!((first as usize) < MAX_TRIANGLES);
+    debug_assert!((1..=MAX_LEAF_PRIMITIVES).contains(&count));
+    debug_assert!((first as usize) < MAX_BVH_PRIMITIVES);
     LEAF_BIT | (count - 1) << 26 | first
 }
 
@@ -187,9 +194,11 @@ pub struct TraceSpecialization {
     pub sphere_count: i32,
     pub plane_count: i32,
     pub box_count: i32,
-    pub has_meshes: u32,
+    pub has_bvh: u32,
     pub count_rays: u32,
-    pub shared_object_reads: u32,
+    pub bvh_spheres: u32,
+    pub bvh_planes: u32,
+    pub bvh_boxes: u32,
 }
 
 impl TraceSpecialization {

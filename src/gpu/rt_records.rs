@@ -1,17 +1,17 @@
 //! The ray tracer's buffers, built from the scene both tracers read
 //! (`rt_scene::RtScene`) in the layouts of `rt_layout`: f64 positions
-//! rounded to f32, the BVH re-linked so that each inner node holds both
-//! children's boxes, and the triangles in BVH leaf order, split into what
-//! the intersection test reads and what the nearest hit's shading reads.
+//! rounded to f32, the BVH of `rt_bvh`, and the triangles (and the objects
+//! the BVH holds) in BVH leaf order, triangles split into what the
+//! intersection test reads and what the nearest hit's shading reads.
 //! `docs/raytracing.md` ("Why the shader is shaped this way") says why.
 
 use bytemuck::Zeroable;
 use glam::DVec3;
-use obvhs::bvh2::node::Bvh2Node;
 
 use super::error::GpuError;
+use super::rt_bvh::{gpu_bvh, BvhKinds, GpuBvh, LeafBases};
 use super::rt_layout::*;
-use crate::rt_scene::{widened_box, RtScene};
+use crate::rt_scene::RtScene;
 
 /// The storage buffers' contents.
 pub struct SceneRecords {
@@ -20,22 +20,25 @@ pub struct SceneRecords {
     pub boxes: Vec<GpuBox>,
     pub triangles: Vec<GpuTriangleGeometry>,
     pub triangle_shading: Vec<GpuTriangleShading>,
-    pub nodes: Vec<GpuBvhNode>,
-    /// The link the BVH walk starts from: node 0, or a leaf when the whole
-    /// tree is one (unused without triangles).
-    pub root: u32,
+    pub bvh: GpuBvh,
     pub materials: Vec<GpuMaterial>,
 }
 
 impl SceneRecords {
     /// Makes the BVH one leaf of one triangle whose corners coincide (a
     /// zero determinant in the watertight test: never hit), for a scene
-    /// without triangles traced with the BVH walk compiled in.
+    /// with nothing in its BVH traced with the BVH walk compiled in.
     pub fn add_unhittable_triangle(&mut self) {
+        debug_assert!(self.bvh.root.is_none() && self.triangles.is_empty());
         self.triangles.push(GpuTriangleGeometry::zeroed());
         self.triangle_shading.push(GpuTriangleShading::zeroed());
-        self.nodes.clear();
-        self.root = leaf_link(0, 1);
+        self.bvh.root = Some(leaf_link(0, 1));
+        self.bvh.bases = LeafBases {
+            spheres: 1,
+            planes: 1,
+            boxes: 1,
+            end: 1,
+        };
     }
 }
 
@@ -53,15 +56,18 @@ fn ids(material: u32, object: u32) -> [u32; 4] {
     [material, object, 0, 0]
 }
 
-pub fn records(rt: &RtScene) -> Result<SceneRecords, GpuError> {
-    let (nodes, root) = bvh_nodes(&rt.bvh.nodes)?;
-    if rt.triangles.len() >= MAX_TRIANGLES {
-        return Err(GpuError::SceneTooLarge(format!(
-            "{} triangles, more than the GPU ray tracer's {}",
-            rt.triangles.len(),
-            MAX_TRIANGLES - 1
-        )));
+/// `list` in the BVH's leaf order when it holds the kind (`order` not
+/// empty), else as it is.
+fn in_order<T: Copy>(list: &[T], order: &[u32]) -> Vec<T> {
+    if order.is_empty() {
+        list.to_vec()
+    } else {
+        order.iter().map(|&i| list[i as usize]).collect()
     }
+}
+
+pub fn records(rt: &RtScene) -> Result<SceneRecords, GpuError> {
+    let bvh = gpu_bvh(rt, BvhKinds::of(rt))?;
     // Leaf order: a leaf's triangles are the run its link names.
     let order = if rt.triangles.is_empty() {
         &[][..]
@@ -69,16 +75,14 @@ pub fn records(rt: &RtScene) -> Result<SceneRecords, GpuError> {
         &rt.bvh.primitive_indices[..]
     };
     Ok(SceneRecords {
-        spheres: rt
-            .spheres
+        spheres: in_order(&rt.spheres, &bvh.sphere_order)
             .iter()
             .map(|s| GpuSphere {
                 center_radius: v4(s.center, s.radius as f32),
                 material_object: ids(s.material, s.object),
             })
             .collect(),
-        planes: rt
-            .planes
+        planes: in_order(&rt.planes, &bvh.plane_order)
             .iter()
             .map(|p| GpuPlane {
                 center_half: v4(p.center, p.half_size as f32),
@@ -88,8 +92,7 @@ pub fn records(rt: &RtScene) -> Result<SceneRecords, GpuError> {
                 material_object: ids(p.material, p.object),
             })
             .collect(),
-        boxes: rt
-            .boxes
+        boxes: in_order(&rt.boxes, &bvh.box_order)
             .iter()
             .map(|b| GpuBox {
                 center: v4(b.center, 0.0),
@@ -130,8 +133,7 @@ pub fn records(rt: &RtScene) -> Result<SceneRecords, GpuError> {
                 }
             })
             .collect(),
-        nodes,
-        root,
+        bvh,
         materials: rt
             .materials
             .iter()
@@ -142,62 +144,6 @@ pub fn records(rt: &RtScene) -> Result<SceneRecords, GpuError> {
             })
             .collect(),
     })
-}
-
-/// The inner nodes of a binary BVH (children at `first_index` and the one
-/// after it; node 0 the root), each re-linked to hold its children's boxes,
-/// widened as both tracers widen them (`rt_scene::widened_box`). Returns
-/// them with the root's link.
-fn bvh_nodes(tree: &[Bvh2Node]) -> Result<(Vec<GpuBvhNode>, u32), GpuError> {
-    let Some(root) = tree.first() else {
-        return Ok((Vec::new(), 0));
-    };
-    // Inner nodes keep their relative order; `slot[i]` is node i's new index.
-    let mut slot = vec![u32::MAX; tree.len()];
-    let mut inner = 0u32;
-    for (i, node) in tree.iter().enumerate() {
-        if node.prim_count == 0 {
-            slot[i] = inner;
-            inner += 1;
-        }
-    }
-    let link = |i: usize| -> Result<u32, GpuError> {
-        let node = &tree[i];
-        if node.prim_count == 0 {
-            return Ok(slot[i]);
-        }
-        if node.prim_count > MAX_LEAF_TRIANGLES {
-            return Err(GpuError::SceneTooLarge(format!(
-                "a BVH leaf of {} triangles, more than the GPU ray tracer's {MAX_LEAF_TRIANGLES}",
-                node.prim_count
-            )));
-        }
-        Ok(leaf_link(node.first_index, node.prim_count))
-    };
-    if root.prim_count > 0 {
-        return Ok((Vec::new(), link(0)?));
-    }
-    let bounds = |i: usize| {
-        let aabb = tree[i].aabb();
-        let (lo, hi) = widened_box(aabb.min.as_dvec3(), aabb.max.as_dvec3());
-        (v3(lo), v3(hi))
-    };
-    let mut nodes = Vec::with_capacity(inner as usize);
-    for node in tree.iter().filter(|n| n.prim_count == 0) {
-        let (l, r) = (node.first_index as usize, node.first_index as usize + 1);
-        let ((left_lo, left_hi), (right_lo, right_hi)) = (bounds(l), bounds(r));
-        nodes.push(GpuBvhNode {
-            left_lo,
-            left: link(l)?,
-            left_hi,
-            unused1: 0,
-            right_lo,
-            right: link(r)?,
-            right_hi,
-            unused2: 0,
-        });
-    }
-    Ok((nodes, 0))
 }
 
 /// The order in which workgroups take the image's tiles, `across` by

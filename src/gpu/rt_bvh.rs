@@ -1,0 +1,433 @@
+//! The GPU ray tracer's one BVH: the mesh triangles' tree (the one the CPU
+//! twin walks too) and, beside it, a tree over each kind of analytic object
+//! whose list is too long for the shader to test one by one, joined under
+//! a few nodes on top. Inner nodes hold both children's boxes (widened as
+//! both tracers widen them, `rt_scene::widened_box`); a leaf is a run of one
+//! kind's records, named by its index in the leaf index space of
+//! `LeafBases`. `docs/raytracing.md` says why.
+
+use glam::{DVec3, Vec3A};
+use obvhs::aabb::Aabb;
+use obvhs::bvh2::Bvh2;
+
+use super::error::GpuError;
+use super::rt_layout::*;
+use crate::rt_scene::{widened_box, RtScene};
+
+/// Object counts up to which lavapipe unrolls the shader's loops over
+/// them (a trip count of at most 32 and a body of at most 832 instructions
+/// in all), so that each record is read at a constant index, once for the
+/// whole subgroup. A longer list goes into the BVH, where a ray tests only
+/// the objects whose boxes it enters.
+const UNROLLED_SPHERES: usize = 16;
+const UNROLLED_PLANES: usize = 12;
+const UNROLLED_BOXES: usize = 6;
+
+/// Which kinds of analytic object the BVH holds (the others are tested one
+/// by one, in the shader's loops).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct BvhKinds {
+    pub spheres: bool,
+    pub planes: bool,
+    pub boxes: bool,
+}
+
+impl BvhKinds {
+    /// The kinds whose lists are too long to unroll the loop over.
+    pub fn of(rt: &RtScene) -> Self {
+        BvhKinds {
+            spheres: rt.spheres.len() > UNROLLED_SPHERES,
+            planes: rt.planes.len() > UNROLLED_PLANES,
+            boxes: rt.boxes.len() > UNROLLED_BOXES,
+        }
+    }
+}
+
+/// The leaf index space: triangles from 0, then the BVH's spheres, planes
+/// and boxes from these indices on (a leaf's kind is the range its first
+/// index falls in; the shader's `frame.leaf_bases`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct LeafBases {
+    pub spheres: u32,
+    pub planes: u32,
+    pub boxes: u32,
+    /// One past the last index.
+    pub end: u32,
+}
+
+/// The BVH as the shader walks it.
+#[derive(Debug, Clone, Default)]
+pub struct GpuBvh {
+    pub nodes: Vec<GpuBvhNode>,
+    /// The link the walk starts from: an inner node, or a leaf when the
+    /// whole tree is one. None for an empty tree.
+    pub root: Option<u32>,
+    pub bases: LeafBases,
+    /// Each BVH kind's records in leaf order: record i is object
+    /// `order[i]` of its list (empty for a kind the BVH does not hold).
+    pub sphere_order: Vec<u32>,
+    pub plane_order: Vec<u32>,
+    pub box_order: Vec<u32>,
+}
+
+impl GpuBvh {
+    /// Nodes on the longest path from the root to a leaf, the leaf
+    /// counted (0 for an empty tree). The walk stacks at most one link per
+    /// inner node on its path, so it needs fewer entries than this.
+    pub fn depth(&self) -> usize {
+        let Some(root) = self.root else { return 0 };
+        let mut deepest = 0;
+        let mut stack = vec![(root, 1usize)];
+        while let Some((link, depth)) = stack.pop() {
+            deepest = deepest.max(depth);
+            if link & LEAF_BIT == 0 {
+                let node = &self.nodes[link as usize];
+                stack.push((node.left, depth + 1));
+                stack.push((node.right, depth + 1));
+            }
+        }
+        deepest
+    }
+}
+
+/// One tree in the node layout, its links not yet placed among the others'.
+struct Subtree {
+    nodes: Vec<GpuBvhNode>,
+    root: u32,
+    lo: [f32; 3],
+    hi: [f32; 3],
+}
+
+/// Builds the BVH of `rt` for the kinds `kinds` says, or says why the
+/// shader cannot walk it.
+pub fn gpu_bvh(rt: &RtScene, kinds: BvhKinds) -> Result<GpuBvh, GpuError> {
+    let objects = |on: bool, bounds: Vec<(DVec3, DVec3)>| on.then(|| object_tree(&bounds));
+    let sphere_tree = objects(
+        kinds.spheres,
+        rt.spheres.iter().map(|s| s.bounds()).collect(),
+    );
+    let plane_tree = objects(kinds.planes, rt.planes.iter().map(|p| p.bounds()).collect());
+    let box_tree = objects(kinds.boxes, rt.boxes.iter().map(|b| b.bounds()).collect());
+    let count = |on: bool, n: usize| if on { n } else { 0 };
+    let total = rt.triangles.len()
+        + count(kinds.spheres, rt.spheres.len())
+        + count(kinds.planes, rt.planes.len())
+        + count(kinds.boxes, rt.boxes.len());
+    if total > MAX_BVH_PRIMITIVES {
+        return Err(GpuError::SceneTooLarge(format!(
+            "{total} triangles and listed objects, more than the GPU ray tracer's {MAX_BVH_PRIMITIVES}"
+        )));
+    }
+    let triangles = rt.triangles.len() as u32;
+    let bases = LeafBases {
+        spheres: triangles,
+        planes: triangles + count(kinds.spheres, rt.spheres.len()) as u32,
+        boxes: triangles
+            + count(kinds.spheres, rt.spheres.len()) as u32
+            + count(kinds.planes, rt.planes.len()) as u32,
+        end: total as u32,
+    };
+    let mut parts = Vec::new();
+    if !rt.triangles.is_empty() {
+        parts.push(subtree(&rt.bvh, 0)?);
+    }
+    let order = |tree: &Option<Bvh2>| {
+        tree.as_ref()
+            .map_or(Vec::new(), |t| t.primitive_indices.clone())
+    };
+    for (tree, base) in [
+        (&sphere_tree, bases.spheres),
+        (&plane_tree, bases.planes),
+        (&box_tree, bases.boxes),
+    ] {
+        if let Some(tree) = tree {
+            parts.push(subtree(tree, base)?);
+        }
+    }
+    let (nodes, root) = join(parts);
+    let bvh = GpuBvh {
+        nodes,
+        root,
+        bases,
+        sphere_order: order(&sphere_tree),
+        plane_order: order(&plane_tree),
+        box_order: order(&box_tree),
+    };
+    // The shader's stack would drop nodes (rays would miss).
+    let depth = bvh.depth();
+    if depth >= BVH_STACK_SIZE {
+        return Err(GpuError::BvhTooDeep {
+            depth,
+            limit: BVH_STACK_SIZE - 1,
+        });
+    }
+    Ok(bvh)
+}
+
+/// A tree over objects' boxes (min, max), rounded outward to f32.
+fn object_tree(bounds: &[(DVec3, DVec3)]) -> Bvh2 {
+    let aabbs: Vec<Aabb> = bounds
+        .iter()
+        .map(|&(lo, hi)| {
+            let (lo, hi) = widened_box(lo, hi);
+            Aabb {
+                min: Vec3A::from(lo.as_vec3()),
+                max: Vec3A::from(hi.as_vec3()),
+            }
+        })
+        .collect();
+    let mut build_time = std::time::Duration::default();
+    obvhs::bvh2::builder::build_bvh2(
+        &aabbs,
+        obvhs::BvhBuildParams::medium_build(),
+        &mut build_time,
+    )
+}
+
+/// A binary tree (children at `first_index` and the one after it; node 0
+/// the root) re-linked so that each inner node holds its children's boxes,
+/// its leaves' runs moved to start at `base` in the leaf index space.
+fn subtree(tree: &Bvh2, base: u32) -> Result<Subtree, GpuError> {
+    let nodes = &tree.nodes;
+    // Inner nodes keep their relative order; `slot[i]` is node i's new index.
+    let mut slot = vec![u32::MAX; nodes.len()];
+    let mut inner = 0u32;
+    for (i, node) in nodes.iter().enumerate() {
+        if node.prim_count == 0 {
+            slot[i] = inner;
+            inner += 1;
+        }
+    }
+    let link = |i: usize| -> Result<u32, GpuError> {
+        let node = &nodes[i];
+        if node.prim_count == 0 {
+            return Ok(slot[i]);
+        }
+        if node.prim_count > MAX_LEAF_PRIMITIVES {
+            return Err(GpuError::SceneTooLarge(format!(
+                "a BVH leaf of {} primitives, more than the GPU ray tracer's {MAX_LEAF_PRIMITIVES}",
+                node.prim_count
+            )));
+        }
+        Ok(leaf_link(base + node.first_index, node.prim_count))
+    };
+    let bounds = |i: usize| {
+        let aabb = nodes[i].aabb();
+        let (lo, hi) = widened_box(aabb.min.as_dvec3(), aabb.max.as_dvec3());
+        (v3(lo), v3(hi))
+    };
+    let (lo, hi) = bounds(0);
+    let mut linked = Vec::with_capacity(inner as usize);
+    for node in nodes.iter().filter(|n| n.prim_count == 0) {
+        let (l, r) = (node.first_index as usize, node.first_index as usize + 1);
+        let ((left_lo, left_hi), (right_lo, right_hi)) = (bounds(l), bounds(r));
+        linked.push(GpuBvhNode {
+            left_lo,
+            left: link(l)?,
+            left_hi,
+            unused1: 0,
+            right_lo,
+            right: link(r)?,
+            right_hi,
+            unused2: 0,
+        });
+    }
+    Ok(Subtree {
+        nodes: linked,
+        root: link(0)?,
+        lo,
+        hi,
+    })
+}
+
+/// The subtrees' nodes in one array, under new nodes that pair their roots
+/// up; returns the nodes and the root's link.
+fn join(parts: Vec<Subtree>) -> (Vec<GpuBvhNode>, Option<u32>) {
+    let mut nodes = Vec::new();
+    let mut roots = Vec::new();
+    for part in parts {
+        let offset = nodes.len() as u32;
+        let place = |link: u32| {
+            if link & LEAF_BIT == 0 {
+                link + offset
+            } else {
+                link
+            }
+        };
+        nodes.extend(part.nodes.iter().map(|n| GpuBvhNode {
+            left: place(n.left),
+            right: place(n.right),
+            ..*n
+        }));
+        roots.push((place(part.root), part.lo, part.hi));
+    }
+    while roots.len() > 1 {
+        let (right, right_lo, right_hi) = roots.pop().unwrap_or_default();
+        let (left, left_lo, left_hi) = roots.pop().unwrap_or_default();
+        nodes.push(GpuBvhNode {
+            left_lo,
+            left,
+            left_hi,
+            unused1: 0,
+            right_lo,
+            right,
+            right_hi,
+            unused2: 0,
+        });
+        let lo = std::array::from_fn(|k| left_lo[k].min(right_lo[k]));
+        let hi = std::array::from_fn(|k| left_hi[k].max(right_hi[k]));
+        roots.push((nodes.len() as u32 - 1, lo, hi));
+    }
+    (nodes, roots.first().map(|r| r.0))
+}
+
+fn v3(v: DVec3) -> [f32; 3] {
+    v.as_vec3().to_array()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{default_scene, tessellate, Object, Shape};
+    use glam::DMat3;
+
+    /// The default scene with a tessellated sphere and lists of every kind
+    /// long enough to go into the BVH.
+    fn crowded() -> RtScene {
+        let mut scene = default_scene();
+        let sphere = |center: DVec3, radius: f64| Shape::Sphere {
+            center,
+            radius,
+            segments: 24,
+        };
+        scene.objects.push(Object {
+            shape: Shape::Mesh(tessellate(&sphere(DVec3::new(0.0, 3.0, 0.0), 1.0))),
+            material: 0,
+        });
+        for i in 0..20 {
+            let x = f64::from(i);
+            scene.objects.push(Object {
+                shape: sphere(DVec3::new(x - 10.0, 0.5, -4.0), 0.3 + 0.01 * x),
+                material: 0,
+            });
+            if i < 14 {
+                scene.objects.push(Object {
+                    shape: Shape::Plane {
+                        center: DVec3::new(x - 7.0, -1.0, 3.0),
+                        normal: DVec3::new(0.2, 1.0, 0.1 * x).normalize(),
+                        size: 0.8,
+                        segments: 1,
+                    },
+                    material: 0,
+                });
+            }
+            if i < 9 {
+                scene.objects.push(Object {
+                    shape: Shape::Box {
+                        center: DVec3::new(x - 4.0, 1.0, 5.0),
+                        half_extents: DVec3::new(0.3, 0.5, 0.2),
+                        rotation: DMat3::from_rotation_y(0.4 * x) * DMat3::from_rotation_x(0.3),
+                    },
+                    material: 0,
+                });
+            }
+        }
+        RtScene::new(&scene)
+    }
+
+    /// Every triangle and every object of a kind the BVH holds sits in
+    /// exactly one leaf, in its kind's range of the leaf index space, and
+    /// inside every box on its way from the root: a ray that reaches it
+    /// through no box would miss it. The walk's stack stays within
+    /// `depth`, which `gpu_bvh` holds under the shader's stack size.
+    #[test]
+    fn every_primitive_is_in_one_leaf_of_its_kind_inside_the_boxes_above_it() {
+        let rt = crowded();
+        let kinds = BvhKinds::of(&rt);
+        assert_eq!(
+            kinds,
+            BvhKinds {
+                spheres: true,
+                planes: true,
+                boxes: true
+            }
+        );
+        let bvh = gpu_bvh(&rt, kinds).unwrap();
+        let b = bvh.bases;
+        let triangles = rt.triangles.len() as u32;
+        assert_eq!(b.spheres, triangles);
+        assert_eq!(b.planes, b.spheres + rt.spheres.len() as u32);
+        assert_eq!(b.boxes, b.planes + rt.planes.len() as u32);
+        assert_eq!(b.end, b.boxes + rt.boxes.len() as u32);
+        // The f64 bounds of the primitive at leaf index j.
+        let bounds = |j: u32| -> (DVec3, DVec3) {
+            if j < b.spheres {
+                let t = &rt.triangles[rt.bvh.primitive_indices[j as usize] as usize];
+                let [p, q, r] = t.positions;
+                (p.min(q).min(r), p.max(q).max(r))
+            } else if j < b.planes {
+                rt.spheres[bvh.sphere_order[(j - b.spheres) as usize] as usize].bounds()
+            } else if j < b.boxes {
+                rt.planes[bvh.plane_order[(j - b.planes) as usize] as usize].bounds()
+            } else {
+                rt.boxes[bvh.box_order[(j - b.boxes) as usize] as usize].bounds()
+            }
+        };
+        let inside = |(lo, hi): (DVec3, DVec3), (box_lo, box_hi): ([f32; 3], [f32; 3])| {
+            let (box_lo, box_hi) = (
+                glam::Vec3::from(box_lo).as_dvec3(),
+                glam::Vec3::from(box_hi).as_dvec3(),
+            );
+            box_lo.cmple(lo).all() && hi.cmple(box_hi).all()
+        };
+        let mut seen = vec![0u32; b.end as usize];
+        let mut most = 0;
+        // (link, the boxes on its way from the root)
+        let mut stack = vec![(bvh.root.unwrap(), Vec::new())];
+        while let Some((link, boxes)) = stack.pop() {
+            if link & LEAF_BIT != 0 {
+                let first = link & 0x03ff_ffff;
+                let count = ((link >> 26) & 31) + 1;
+                let kind = |j: u32| {
+                    [b.spheres, b.planes, b.boxes]
+                        .iter()
+                        .filter(|&&s| j >= s)
+                        .count()
+                };
+                for j in first..first + count {
+                    assert_eq!(kind(j), kind(first), "a leaf mixes kinds at {j}");
+                    seen[j as usize] += 1;
+                    for &bx in &boxes {
+                        assert!(inside(bounds(j), bx), "primitive {j} pokes out of {bx:?}");
+                    }
+                }
+                continue;
+            }
+            let node = &bvh.nodes[link as usize];
+            let mut left = boxes.clone();
+            left.push((node.left_lo, node.left_hi));
+            let mut right = boxes;
+            right.push((node.right_lo, node.right_hi));
+            stack.push((node.right, right));
+            stack.push((node.left, left));
+            most = most.max(stack.len());
+        }
+        assert!(seen.iter().all(|&n| n == 1), "{seen:?}");
+        let depth = bvh.depth();
+        assert!(
+            most < depth,
+            "the walk needed {most} entries, depth {depth}"
+        );
+        assert!(depth < BVH_STACK_SIZE);
+    }
+
+    /// Short lists stay out of the BVH, and a scene of them alone has none.
+    #[test]
+    fn short_lists_are_tested_one_by_one() {
+        let rt = RtScene::new(&default_scene());
+        let kinds = BvhKinds::of(&rt);
+        assert_eq!(kinds, BvhKinds::default());
+        let bvh = gpu_bvh(&rt, kinds).unwrap();
+        assert!(bvh.root.is_none() && bvh.nodes.is_empty() && bvh.depth() == 0);
+    }
+}
