@@ -21,6 +21,7 @@ pub mod render;
 pub mod rt_scene;
 pub mod scene;
 pub mod shading;
+pub mod srgb;
 
 pub use error::Error;
 pub use linear_image::LinearImage;

@@ -33,6 +33,22 @@ impl LinearImage {
         }
     }
 
+    /// An image from tightly packed 8-bit sRGB RGBA texels (the raster
+    /// modes' 8-bit target), decoded to linear; alpha is dropped. Encoding
+    /// it as PNG gives back the same bytes.
+    pub fn from_srgba8_bytes(width: u32, height: u32, bytes: &[u8]) -> Self {
+        let table: Vec<f32> = (0..=255).map(crate::srgb::srgb8_to_linear).collect();
+        let pixels = bytes[..width as usize * height as usize * 4]
+            .chunks_exact(4)
+            .map(|t| [t[0], t[1], t[2]].map(|v| table[usize::from(v)]))
+            .collect();
+        Self {
+            width,
+            height,
+            pixels,
+        }
+    }
+
     pub fn get(&self, x: u32, y: u32) -> [f32; 3] {
         self.pixels[y as usize * self.width as usize + x as usize]
     }

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use crate::cpu;
 use crate::error::Error;
+use crate::gpu::raster::ColorTarget;
 use crate::gpu::{raster, raytrace, GpuContext};
 use crate::linear_image::LinearImage;
 use crate::rt_scene::RayStats;
@@ -69,9 +70,21 @@ pub fn render_gpu_counting(
     shading: Shading,
     count_rays: bool,
 ) -> Result<Rendered, Error> {
+    render_gpu_to(context, scene, shading, count_rays, ColorTarget::Float32)
+}
+
+/// As `render_gpu_counting`, the raster modes rendering into `target` (the
+/// ray tracer always writes 32-bit floats).
+pub fn render_gpu_to(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    shading: Shading,
+    count_rays: bool,
+    target: ColorTarget,
+) -> Result<Rendered, Error> {
     let (image, timings, ray_stats) = match shading.raster_mode() {
         Some(mode) => {
-            let out = raster::render(context, scene, mode)?;
+            let out = raster::render_to(context, scene, mode, target)?;
             (out.image, out.timings, None)
         }
         None => {

@@ -28,7 +28,8 @@ NOTES = [
     "queue submission to the fence (for the raster modes this includes copying the image into "
     "host-visible memory; for the ray tracer the image is written to host-visible memory "
     "directly); it excludes pipeline creation, BVH building and uploads. `total_ms`, the whole "
-    "render with pipeline creation, is in the JSON.",
+    "render with pipeline creation, is in the JSON. The raster modes are timed on the path of "
+    "`render --out x.png`, into an 8-bit sRGB target (the wgpu peer's is rgba8).",
     "wgpu peers: submit + work + read-back per frame, pipeline creation and uploads excluded, "
     "so they match `gpu_ms` plus mapping the image. Embree: tracing only (BVH build apart), "
     "rays / median time. shadelab Mrays/s: bench's rays_per_second (counted rays / gpu_ms).",
@@ -267,6 +268,11 @@ class Report:
                      sl_job, sl_job, unit="ms", peer_value=uber, shadelab_value=gpu)
 
     def raster(self, seg):
+        def target_note(r):
+            # shadelab names the colour target it timed (rgba8-srgb: the PNG path); older
+            # binaries rendered into rgba32f and did not say.
+            return f"{r['color_target']} target, " if r.get("color_target") else ""
+
         size = self.args.size
         sl_job, p_job = f"raster-sphere{seg}.shadelab", f"raster-sphere{seg}.wgpu"
         if not (self.res.ran(sl_job) or self.res.ran(p_job)):
@@ -283,7 +289,8 @@ class Report:
                     else f"wgpu {p_mode}")
             self.add("Raster: the peers' UV sphere", f"{tris}-triangle sphere, {what}, {size}x{size}", peer,
                      fmt_range(pm) if pm else self.missing(p_job),
-                     f"{fmt_ms(gpu)} gpu_ms ({fmt_ms(r.get('total_ms'))} total)" if gpu else self.missing(sl_job),
+                     (f"{fmt_ms(gpu)} gpu_ms ({target_note(r)}{fmt_ms(r.get('total_ms'))} total)" if gpu
+                      else self.missing(sl_job)),
                      pm["median_ms"] / gpu if pm and gpu else None, p_job, sl_job, unit="ms",
                      peer_value=pm and pm["median_ms"], shadelab_value=gpu,
                      shadelab_total_ms=r and r.get("total_ms"), shadelab_mode=sl_mode, peer_mode=p_mode)

@@ -15,7 +15,8 @@ layout(std140, set = 0, binding = 1) uniform FrameUniforms {
     vec4 ambient_k;  // rgb: Ia, w: the constant k of Il / (d + k)
 } frame;
 
-// Flat shading: one record per triangle, computed on the host.
+// Flat shading: one record per triangle, computed on the host, in draw
+// order (flat.vert.glsl finds its triangle's by the vertex index).
 struct Face {
     vec4 center;     // xyz: camera-relative centroid
     vec4 normal;     // xyz: unit geometric normal
@@ -29,5 +30,4 @@ layout(push_constant) uniform DrawConstants {
     mat4 clip_from_relative;  // projection * view rotation
     vec4 color_ka;            // rgb: material colour C, a: ka
     vec4 kd_ks_p;             // x: kd, y: ks, z: p
-    uint face_offset;         // first record of this draw in `faces`
 } draw;

@@ -12,6 +12,7 @@ use std::time::Instant;
 
 use clap::Args;
 use shadelab::compare::run::median_and_spread;
+use shadelab::gpu::raster::ColorTarget;
 use shadelab::gpu::raytrace::TraceOptions;
 use shadelab::gpu::{raster, raytrace, GpuContext, GpuOptions, GpuTimings};
 use shadelab::scene::Scene;
@@ -50,9 +51,30 @@ pub struct BenchArgs {
     /// uber-shader would, against the pipeline specialised to the scene.
     #[arg(long)]
     every_feature: bool,
+    /// The output the raster modes are timed for: `png` renders into an
+    /// 8-bit sRGB target, as `render --out x.png` does; `exr` into the
+    /// 32-bit float target of `render --out x.exr`, `check` and `compare`.
+    /// (The ray tracer always writes floats.)
+    #[arg(long, value_enum, default_value = "png")]
+    target: TargetFor,
     /// Print one JSON object on stdout.
     #[arg(long)]
     json: bool,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum TargetFor {
+    Png,
+    Exr,
+}
+
+impl TargetFor {
+    fn color_target(self) -> ColorTarget {
+        match self {
+            TargetFor::Png => ColorTarget::Srgb8,
+            TargetFor::Exr => ColorTarget::Float32,
+        }
+    }
 }
 
 fn once(
@@ -60,9 +82,10 @@ fn once(
     scene: &Scene,
     shading: Shading,
     every_feature: bool,
+    target: ColorTarget,
 ) -> Result<GpuTimings, Failure> {
     Ok(match shading.raster_mode() {
-        Some(mode) => raster::render(context, scene, mode)?.timings,
+        Some(mode) => raster::render_to(context, scene, mode, target)?.timings,
         None => {
             let options = TraceOptions {
                 count_rays: false,
@@ -88,6 +111,8 @@ fn cpu_once(scene: &Scene, shading: Shading) -> Result<f64, Failure> {
 #[derive(serde::Serialize)]
 struct Row {
     shading: Shading,
+    /// The colour target timed (`ColorTarget::name`).
+    color_target: &'static str,
     total_ms: f64,
     /// Median wall time from queue submission to completion.
     gpu_ms: f64,
@@ -116,12 +141,21 @@ pub fn run(args: BenchArgs, options: &GpuOptions) -> Result<(), Failure> {
         scene.render.depth = check_depth(d)?;
     }
     let context = GpuContext::new(options)?;
+    let raster_target = args.target.color_target();
+    let target_of = |shading: Shading| {
+        if shading.raster_mode().is_some() {
+            raster_target
+        } else {
+            ColorTarget::Float32
+        }
+    };
     let time = |shading: Shading, every_feature: bool| -> Result<(f64, f64, f64), Failure> {
-        once(&context, &scene, shading, every_feature)?; // warm-up
+        let target = target_of(shading);
+        once(&context, &scene, shading, every_feature, target)?; // warm-up
         let mut totals = Vec::new();
         let mut gpus = Vec::new();
         for _ in 0..args.runs {
-            let t = once(&context, &scene, shading, every_feature)?;
+            let t = once(&context, &scene, shading, every_feature, target)?;
             totals.push(t.total_ms);
             // Submission to completion: robust where timestamps are not
             // (see GpuTimings::submit_ms).
@@ -164,6 +198,7 @@ pub fn run(args: BenchArgs, options: &GpuOptions) -> Result<(), Failure> {
         };
         rows.push(Row {
             shading,
+            color_target: target_of(shading).name(),
             total_ms,
             gpu_ms,
             total_spread_ms,
@@ -187,6 +222,7 @@ pub fn run(args: BenchArgs, options: &GpuOptions) -> Result<(), Failure> {
             "driver": info.driver,
             "runs": args.runs,
             "baseline": { "shading": "flat", "total_ms": baseline },
+            "raster_target": raster_target.name(),
             "results": rows,
         });
         println!("{value}");
@@ -195,6 +231,11 @@ pub fn run(args: BenchArgs, options: &GpuOptions) -> Result<(), Failure> {
     println!(
         "{name} at {w}x{h} on {} ({}), median of {} runs after a warm-up; baseline: flat raster, {baseline:.1} ms",
         info.name, info.driver, args.runs
+    );
+    println!(
+        "raster modes timed into the {} target (the path of render --out x.{}); the ray tracer writes rgba32f",
+        raster_target.name(),
+        if raster_target == ColorTarget::Srgb8 { "png" } else { "exr" }
     );
     let mut header = format!(
         "{:<10} {:>10} {:>10} {:>10} {:>8} {:>10}",

@@ -3,6 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
+use shadelab::gpu::raster::ColorTarget;
 use shadelab::gpu::{GpuContext, GpuOptions};
 use shadelab::render::Timings;
 use shadelab::rt_scene::RayStats;
@@ -103,14 +104,16 @@ pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("{stem}-{}.png", args.shading)));
     // Check the output name before spending time on the render.
-    shadelab::output::ImageFormat::from_path(&out)?;
+    let format = shadelab::output::ImageFormat::from_path(&out)?;
+    // A PNG holds 8-bit sRGB: the raster modes render straight into it.
+    let target = ColorTarget::for_output(format);
     let (rendered, device, driver) = if args.backend == "cpu" {
         let (rendered, _) = shadelab::render::render_cpu(&scene, args.shading)?;
         (rendered, "CPU reference (f64)".to_string(), None)
     } else {
         let context = GpuContext::new(options)?;
         let rendered =
-            shadelab::render::render_gpu_counting(&context, &scene, args.shading, args.stats)?;
+            shadelab::render::render_gpu_to(&context, &scene, args.shading, args.stats, target)?;
         let info = &context.info;
         (rendered, info.name.clone(), Some(info.driver.clone()))
     };
@@ -124,6 +127,8 @@ pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
             "height": rendered.image.height,
             "device": device,
             "driver": driver,
+            "color_target": (args.backend != "cpu" && args.shading.raster_mode().is_some())
+                .then(|| target.name()),
             "timings_ms": rendered.timings,
         });
         let mut value = value;

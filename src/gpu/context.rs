@@ -144,7 +144,6 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
             instance.get_physical_device_queue_family_properties(physical)
         };
         let props = props2.properties;
-        let features = f2.features;
         let name = props
             .device_name_as_c_str()
             .map(|s| s.to_string_lossy().into_owned())
@@ -167,8 +166,6 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
             Some("dynamic rendering".to_string())
         } else if f13.synchronization2 == vk::FALSE {
             Some("synchronization2".to_string())
-        } else if features.geometry_shader == vk::FALSE {
-            Some("geometryShader (for gl_PrimitiveID in flat shading)".to_string())
         } else if queue_family.is_none() {
             Some("a graphics and compute queue".to_string())
         } else {
@@ -354,14 +351,11 @@ impl GpuContext {
         let queues = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(queue_family)
             .queue_priorities(&priorities)];
-        let base = vk::PhysicalDeviceFeatures::default().geometry_shader(true);
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
             .synchronization2(true);
-        let mut f2 = vk::PhysicalDeviceFeatures2::default().features(base);
         let create = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
-            .push_next(&mut f2)
             .push_next(&mut f13);
         // SAFETY: the create info refers to locals that outlive the call and
         // the features were checked as supported in describe_devices.

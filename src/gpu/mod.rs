@@ -10,6 +10,7 @@ mod error;
 mod image;
 mod pipeline;
 pub mod raster;
+mod raster_cull;
 pub mod raster_layout;
 mod raster_scene;
 pub mod raytrace;

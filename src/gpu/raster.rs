@@ -1,7 +1,7 @@
 //! The raster renderer: flat, Gouraud and Phong through one Vulkan graphics
 //! pipeline per (mode, interpolation, specialization), dynamic rendering into
-//! a 32-bit float colour target with a reversed-Z depth buffer, then a copy
-//! back to the host.
+//! a colour target (32-bit float, or 8-bit sRGB for PNG output) with a
+//! reversed-Z depth buffer, then a copy back to the host.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -25,8 +25,52 @@ use crate::linear_image::LinearImage;
 use crate::scene::{Interpolation, Scene};
 use crate::shading::RasterMode;
 
-pub const COLOR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// The colour target a raster render writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ColorTarget {
+    /// 32-bit float RGBA, linear and unclamped: EXR output, `check`,
+    /// `diff`, `compare`.
+    #[default]
+    Float32,
+    /// 8-bit sRGB RGBA: the hardware encodes `clamp(I, 0, 1)` as a PNG
+    /// holds it. A quarter of the bytes to write and read back; the same
+    /// PNG as the float target within 1 in 255 (tests/raster_modes.rs).
+    Srgb8,
+}
+
+impl ColorTarget {
+    /// The target whose image `format` stores without loss: 8-bit for PNG.
+    pub fn for_output(format: crate::output::ImageFormat) -> Self {
+        match format {
+            crate::output::ImageFormat::Png => ColorTarget::Srgb8,
+            crate::output::ImageFormat::Exr => ColorTarget::Float32,
+        }
+    }
+
+    pub fn format(self) -> vk::Format {
+        match self {
+            ColorTarget::Float32 => vk::Format::R32G32B32A32_SFLOAT,
+            ColorTarget::Srgb8 => vk::Format::R8G8B8A8_SRGB,
+        }
+    }
+
+    fn bytes_per_pixel(self) -> u64 {
+        match self {
+            ColorTarget::Float32 => 16,
+            ColorTarget::Srgb8 => 4,
+        }
+    }
+
+    /// How reports name it.
+    pub fn name(self) -> &'static str {
+        match self {
+            ColorTarget::Float32 => "rgba32f",
+            ColorTarget::Srgb8 => "rgba8-srgb",
+        }
+    }
+}
 /// A cap on pixels per image (8192 x 8192): the float target and its
 /// read-back copy take 16 bytes per pixel each.
 pub const MAX_PIXELS: u64 = 8192 * 8192;
@@ -57,6 +101,7 @@ fn create_pipeline(
     mode: RasterMode,
     interpolation: Interpolation,
     spec: &Specialization,
+    target: ColorTarget,
 ) -> Result<PipelineObjects, GpuError> {
     let device = &context.device;
     let mut p = PipelineObjects::new(context);
@@ -98,9 +143,16 @@ fn create_pipeline(
             .name(c"main")
             .specialization_info(&spec_info),
     ];
+    // Flat draws read positions alone, three of its own per triangle
+    // (`RasterGeometry::flat_positions`).
+    let stride = if mode == RasterMode::Flat {
+        std::mem::size_of::<[f32; 3]>()
+    } else {
+        std::mem::size_of::<Vertex>()
+    };
     let vertex_bindings = [vk::VertexInputBindingDescription::default()
         .binding(0)
-        .stride(std::mem::size_of::<Vertex>() as u32)
+        .stride(stride as u32)
         .input_rate(vk::VertexInputRate::VERTEX)];
     let all_attributes = [
         vk::VertexInputAttributeDescription::default()
@@ -126,8 +178,9 @@ fn create_pipeline(
     let viewport = vk::PipelineViewportStateCreateInfo::default()
         .viewport_count(1)
         .scissor_count(1);
-    // No culling: planes and open meshes are visible from both sides, as in
-    // the ray tracer; closed meshes lose nothing but a little speed.
+    // Culling is set per draw (dynamic state): only where back faces cannot
+    // show (raster_cull); planes and open meshes keep both sides, as in the
+    // ray tracer.
     let raster = vk::PipelineRasterizationStateCreateInfo::default()
         .polygon_mode(vk::PolygonMode::FILL)
         .cull_mode(vk::CullModeFlags::NONE)
@@ -144,9 +197,13 @@ fn create_pipeline(
     let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
         .color_write_mask(vk::ColorComponentFlags::RGBA)];
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
-    let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+    let dynamic_states = [
+        vk::DynamicState::VIEWPORT,
+        vk::DynamicState::SCISSOR,
+        vk::DynamicState::CULL_MODE,
+    ];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-    let color_formats = [COLOR_FORMAT];
+    let color_formats = [target.format()];
     let mut rendering = vk::PipelineRenderingCreateInfo::default()
         .color_attachment_formats(&color_formats)
         .depth_attachment_format(DEPTH_FORMAT);
@@ -209,30 +266,50 @@ pub(crate) fn check_image_size(
     Ok(())
 }
 
-/// Renders `scene` at its `image` size in `mode`.
+/// Renders `scene` at its `image` size in `mode`, into the float target.
 pub fn render(
     context: &Arc<GpuContext>,
     scene: &Scene,
     mode: RasterMode,
+) -> Result<RasterOutput, GpuError> {
+    render_to(context, scene, mode, ColorTarget::Float32)
+}
+
+/// Renders `scene` at its `image` size in `mode`, into `target`.
+pub fn render_to(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    mode: RasterMode,
+    target: ColorTarget,
 ) -> Result<RasterOutput, GpuError> {
     let started = Instant::now();
     let (width, height) = (scene.image.width, scene.image.height);
     check_image_size(context, width, height)?;
     let device = &context.device;
     let view = View::new(scene, width, height);
-    let geometry = build_geometry(scene, view.eye);
+    let geometry = build_geometry(scene, &view);
     let spec = specialization(scene);
 
     let pipeline_started = Instant::now();
-    let pipeline = create_pipeline(context, mode, scene.lighting.interpolation, &spec)?;
+    let pipeline = create_pipeline(context, mode, scene.lighting.interpolation, &spec, target)?;
     let pipeline_ms = pipeline_started.elapsed().as_secs_f64() * 1e3;
 
-    let usage = vk::BufferUsageFlags::empty();
+    let flat = mode == RasterMode::Flat;
+    let flat_positions = if flat {
+        geometry.flat_positions()
+    } else {
+        Vec::new()
+    };
+    let vertex_bytes: &[u8] = if flat {
+        bytemuck::cast_slice(&flat_positions)
+    } else {
+        bytemuck::cast_slice(&geometry.vertices)
+    };
     let vertex_buffer = Buffer::with_data(
         context,
         "vertices",
-        bytemuck::cast_slice(&geometry.vertices),
-        usage | vk::BufferUsageFlags::VERTEX_BUFFER,
+        vertex_bytes,
+        vk::BufferUsageFlags::VERTEX_BUFFER,
     )?;
     let index_buffer = Buffer::with_data(
         context,
@@ -274,7 +351,7 @@ pub fn render(
         context,
         "color",
         extent,
-        COLOR_FORMAT,
+        target.format(),
         vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
         vk::ImageAspectFlags::COLOR,
     )?;
@@ -286,7 +363,7 @@ pub fn render(
         vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
         vk::ImageAspectFlags::DEPTH,
     )?;
-    let pixel_bytes = 16u64;
+    let pixel_bytes = target.bytes_per_pixel();
     let readback = Buffer::new(
         context,
         "readback",
@@ -402,8 +479,6 @@ pub fn render(
                 clip_from_relative: clip,
                 color_ka: [color.x, color.y, color.z, m.ka as f32],
                 kd_ks_p: [m.kd as f32, m.ks as f32, m.p as f32, 0.0],
-                face_offset: draw.face_offset,
-                _pad: [0; 3],
             };
             device.cmd_push_constants(
                 cmd,
@@ -412,14 +487,24 @@ pub fn render(
                 0,
                 bytemuck::bytes_of(&constants),
             );
-            device.cmd_draw_indexed(
-                cmd,
-                draw.index_count,
-                1,
-                draw.first_index,
-                draw.vertex_offset,
-                0,
-            );
+            let cull = if draw.cull_back {
+                vk::CullModeFlags::BACK
+            } else {
+                vk::CullModeFlags::NONE
+            };
+            device.cmd_set_cull_mode(cmd, cull);
+            if flat {
+                device.cmd_draw(cmd, draw.index_count, 1, draw.first_index, 0);
+            } else {
+                device.cmd_draw_indexed(
+                    cmd,
+                    draw.index_count,
+                    1,
+                    draw.first_index,
+                    draw.vertex_offset,
+                    0,
+                );
+            }
         }
         device.cmd_end_rendering(cmd);
         timestamps.stop(cmd);
@@ -476,7 +561,10 @@ pub fn render(
     }
     let (submit_ms, gpu_ms) = timestamps.submit_and_measure(&commands)?;
 
-    let image = LinearImage::from_rgba32f_bytes(width, height, readback.mapped());
+    let image = match target {
+        ColorTarget::Float32 => LinearImage::from_rgba32f_bytes(width, height, readback.mapped()),
+        ColorTarget::Srgb8 => LinearImage::from_srgba8_bytes(width, height, readback.mapped()),
+    };
     Ok(RasterOutput {
         image,
         timings: GpuTimings {

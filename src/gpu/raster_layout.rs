@@ -72,9 +72,6 @@ pub struct DrawConstants {
     pub clip_from_relative: [[f32; 4]; 4],
     pub color_ka: [f32; 4],
     pub kd_ks_p: [f32; 4],
-    pub face_offset: u32,
-    /// std430 rounds the block up to its 16-byte alignment.
-    pub _pad: [u32; 3],
 }
 
 /// Values for `SPEC_CONSTANTS`, in order; each is 4 bytes (bools as VkBool32).

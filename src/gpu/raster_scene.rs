@@ -1,19 +1,23 @@
 //! Turns a `Scene` into what the raster pipelines consume: camera-relative
 //! vertices (subtracted in `f64`, then rounded to `f32`), indices, one
-//! record per triangle for flat shading, one draw per object, and the
+//! record per triangle for flat shading, one draw per object (with its back
+//! faces culled where they cannot show, `raster_cull`), and the
 //! specialization constants that switch off what the scene does not use.
 
 use glam::DVec3;
 
+use super::raster_cull::back_faces_hidden;
 use super::raster_layout::{GpuFace, GpuLight, Specialization, Vertex};
+use crate::camera::View;
 use crate::scene::{tessellate, Scene};
 
 pub struct Draw {
     pub first_index: u32,
     pub index_count: u32,
     pub vertex_offset: i32,
-    pub face_offset: u32,
     pub material: usize,
+    /// Draw with back faces culled: they cannot show (`raster_cull`).
+    pub cull_back: bool,
 }
 
 pub struct RasterGeometry {
@@ -21,6 +25,23 @@ pub struct RasterGeometry {
     pub indices: Vec<u32>,
     pub faces: Vec<GpuFace>,
     pub draws: Vec<Draw>,
+}
+
+impl RasterGeometry {
+    /// What flat shading draws, not indexed: each triangle's three
+    /// positions of its own, triangles in the order of `faces` (vertex v
+    /// belongs to face v / 3; a draw's first vertex is its `first_index`).
+    pub fn flat_positions(&self) -> Vec<[f32; 3]> {
+        self.draws
+            .iter()
+            .flat_map(|d| {
+                let indices = &self.indices[d.first_index as usize..][..d.index_count as usize];
+                indices
+                    .iter()
+                    .map(move |&i| self.vertices[(d.vertex_offset + i as i32) as usize].position)
+            })
+            .collect()
+    }
 }
 
 fn f32x3(v: DVec3) -> [f32; 3] {
@@ -32,7 +53,8 @@ fn f32x4(v: DVec3) -> [f32; 4] {
     [x, y, z, 0.0]
 }
 
-pub fn build_geometry(scene: &Scene, eye: DVec3) -> RasterGeometry {
+pub fn build_geometry(scene: &Scene, view: &View) -> RasterGeometry {
+    let eye = view.eye;
     let mut geometry = RasterGeometry {
         vertices: Vec::new(),
         indices: Vec::new(),
@@ -45,8 +67,8 @@ pub fn build_geometry(scene: &Scene, eye: DVec3) -> RasterGeometry {
             first_index: geometry.indices.len() as u32,
             index_count: (mesh.triangles.len() * 3) as u32,
             vertex_offset: geometry.vertices.len() as i32,
-            face_offset: geometry.faces.len() as u32,
             material: object.material,
+            cull_back: back_faces_hidden(&mesh, view),
         };
         geometry.vertices.extend(
             mesh.positions
