@@ -13,9 +13,8 @@
 //! it behind). Planes and open meshes fail the first test and keep both
 //! sides, as in the ray tracer.
 
-use std::collections::HashMap;
-
 use glam::DVec3;
+use rayon::slice::ParallelSliceMut;
 
 use crate::camera::View;
 use crate::scene::TriangleMesh;
@@ -66,17 +65,29 @@ fn is_closed(mesh: &TriangleMesh) -> bool {
         return false;
     };
     let cell = WELD * (hi - lo).max_element().max(f64::MIN_POSITIVE);
-    let mut weld: HashMap<[i64; 3], u32> = HashMap::with_capacity(mesh.positions.len());
-    let id: Vec<u32> = mesh
+    // Welding by sorting the vertices' grid cells (faster than hashing
+    // them: 400k triangles take tens of milliseconds, not hundreds).
+    let mut cells: Vec<([i64; 3], u32)> = mesh
         .positions
         .iter()
-        .map(|p| {
-            let key = ((*p - lo) / cell).round().as_i64vec3().to_array();
-            let next = weld.len() as u32;
-            *weld.entry(key).or_insert(next)
-        })
+        .enumerate()
+        .map(|(i, p)| (((*p - lo) / cell).round().as_i64vec3().to_array(), i as u32))
         .collect();
-    let mut half_edges = Vec::with_capacity(mesh.triangles.len() * 3);
+    cells.par_sort_unstable();
+    let mut id = vec![0u32; mesh.positions.len()];
+    let mut next = 0u32;
+    for (k, &(cell, index)) in cells.iter().enumerate() {
+        if k > 0 && cells[k - 1].0 != cell {
+            next += 1;
+        }
+        id[index as usize] = next;
+    }
+    // Each undirected edge once per triangle using it, as one number: the
+    // lower vertex, the higher, and in the lowest bit the direction it is
+    // used in. A closed, consistently wound surface has every edge exactly
+    // twice, once each way. (Ids fit in 31 bits: a mesh has fewer than
+    // 2^31 vertices.)
+    let mut edges = Vec::with_capacity(mesh.triangles.len() * 3);
     for tri in &mesh.triangles {
         let [a, b, c] = tri.map(|i| id[i as usize]);
         if a == b || b == c || c == a {
@@ -84,17 +95,25 @@ fn is_closed(mesh: &TriangleMesh) -> bool {
             // edges are each other's reverse.
             continue;
         }
-        half_edges.extend([(a, b), (b, c), (c, a)].map(|(u, v)| u64::from(u) << 32 | u64::from(v)));
+        for (u, v) in [(a, b), (b, c), (c, a)] {
+            let (low, high) = (u64::from(u.min(v)), u64::from(u.max(v)));
+            edges.push(low << 32 | high << 1 | u64::from(u < v));
+        }
     }
-    if half_edges.is_empty() {
+    if edges.is_empty() || edges.len() % 2 != 0 {
         return false;
     }
-    half_edges.sort_unstable();
-    let unique = half_edges.windows(2).all(|w| w[0] != w[1]);
-    unique
-        && half_edges
-            .iter()
-            .all(|&e| half_edges.binary_search(&e.rotate_right(32)).is_ok())
+    edges.par_sort_unstable();
+    // Sorted, an edge used once each way is a pair `e & !1`, `e | 1`; a
+    // third use would start the next pair with the same edge.
+    let edge = |e: u64| e >> 1;
+    edges
+        .chunks_exact(2)
+        .all(|pair| pair[0] & 1 == 0 && pair[1] == pair[0] | 1)
+        && edges
+            .chunks_exact(2)
+            .zip(edges.chunks_exact(2).skip(1))
+            .all(|(p, q)| edge(p[0]) != edge(q[0]))
 }
 
 /// The signed volume the triangles enclose: positive when they are wound
