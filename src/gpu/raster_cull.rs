@@ -43,7 +43,7 @@ pub fn back_faces_hidden(mesh: &TriangleMesh, view: &View) -> bool {
     let beyond_near = corners
         .map(|c| (c - eye).dot(view.forward))
         .all(|depth| depth > view.near);
-    beyond_near && is_closed(mesh) && enclosed_volume(mesh) > 0.0
+    beyond_near && is_closed(mesh, lo, hi) && enclosed_volume(mesh, lo, hi) > 0.0
 }
 
 fn bounds(mesh: &TriangleMesh) -> Option<(DVec3, DVec3)> {
@@ -57,13 +57,11 @@ fn bounds(mesh: &TriangleMesh) -> Option<(DVec3, DVec3)> {
 }
 
 /// Every edge used by exactly two triangles, once in each direction, with
-/// vertices closer than `WELD` of the object's size taken as one (a UV
+/// vertices closer than `WELD` of the object's size (`lo` to `hi`, its
+/// bounds) taken as one (a UV
 /// sphere's seam and poles repeat positions under other indices, often off
 /// by a rounding error: sin(2 pi) is not 0).
-fn is_closed(mesh: &TriangleMesh) -> bool {
-    let Some((lo, hi)) = bounds(mesh) else {
-        return false;
-    };
+fn is_closed(mesh: &TriangleMesh, lo: DVec3, hi: DVec3) -> bool {
     let cell = WELD * (hi - lo).max_element().max(f64::MIN_POSITIVE);
     // Welding by sorting the vertices' grid cells (faster than hashing
     // them: 400k triangles take tens of milliseconds, not hundreds).
@@ -118,10 +116,8 @@ fn is_closed(mesh: &TriangleMesh) -> bool {
 
 /// The signed volume the triangles enclose: positive when they are wound
 /// counter-clockwise seen from outside (the pipeline's front faces).
-fn enclosed_volume(mesh: &TriangleMesh) -> f64 {
-    let Some((lo, hi)) = bounds(mesh) else {
-        return 0.0;
-    };
+/// `lo`, `hi`: the mesh's bounds.
+fn enclosed_volume(mesh: &TriangleMesh, lo: DVec3, hi: DVec3) -> f64 {
     // Relative to the box's centre, so far-away objects keep precision.
     let origin = (lo + hi) * 0.5;
     mesh.triangles
