@@ -164,16 +164,15 @@ pub fn gpu_bvh(rt: &RtScene, kinds: BvhKinds) -> Result<GpuBvh, GpuError> {
     Ok(bvh)
 }
 
-/// A tree over objects' boxes (min, max), rounded outward to f32.
+/// A tree over objects' boxes (min, max) rounded to f32, as the triangles'
+/// is built over their f32 corners: `subtree` widens every node's box,
+/// which covers the rounding (as it does the triangles').
 fn object_tree(bounds: &[(DVec3, DVec3)]) -> Bvh2 {
     let aabbs: Vec<Aabb> = bounds
         .iter()
-        .map(|&(lo, hi)| {
-            let (lo, hi) = widened_box(lo, hi);
-            Aabb {
-                min: Vec3A::from(lo.as_vec3()),
-                max: Vec3A::from(hi.as_vec3()),
-            }
+        .map(|&(lo, hi)| Aabb {
+            min: Vec3A::from(lo.as_vec3()),
+            max: Vec3A::from(hi.as_vec3()),
         })
         .collect();
     let mut build_time = std::time::Duration::default();
