@@ -59,22 +59,13 @@ pub fn render_gpu(
     scene: &Scene,
     shading: Shading,
 ) -> Result<Rendered, Error> {
-    render_gpu_counting(context, scene, shading, false)
+    render_gpu_to(context, scene, shading, false, ColorTarget::Float32)
 }
 
-/// As `render_gpu`; for ray tracing, also counts the rays by kind when
-/// `count_rays` (the shader variant with atomics: slower, so opt-in).
-pub fn render_gpu_counting(
-    context: &Arc<GpuContext>,
-    scene: &Scene,
-    shading: Shading,
-    count_rays: bool,
-) -> Result<Rendered, Error> {
-    render_gpu_to(context, scene, shading, count_rays, ColorTarget::Float32)
-}
-
-/// As `render_gpu_counting`, the raster modes rendering into `target` (the
-/// ray tracer always writes 32-bit floats).
+/// As `render_gpu`, the raster modes rendering into `target` (the ray
+/// tracer always writes 32-bit floats); for ray tracing, also counts the
+/// rays by kind when `count_rays` (the shader variant with atomics: slower,
+/// so opt-in).
 pub fn render_gpu_to(
     context: &Arc<GpuContext>,
     scene: &Scene,

@@ -258,11 +258,16 @@ fn gpu_and_cpu_trace_the_same_tree_at_every_depth() {
         let limits = CheckThresholds::for_shading(Shading::Raytrace);
         let o = check(&context, &s, &s, Shading::Raytrace, &limits).unwrap();
         assert!(o.passed(), "depth {depth}: {:?}", o.failures);
-        let gpu_stats =
-            shadelab::render::render_gpu_counting(&context, &s, Shading::Raytrace, true)
-                .unwrap()
-                .ray_stats
-                .unwrap();
+        let gpu_stats = shadelab::render::render_gpu_to(
+            &context,
+            &s,
+            Shading::Raytrace,
+            true,
+            shadelab::gpu::raster::ColorTarget::Float32,
+        )
+        .unwrap()
+        .ray_stats
+        .unwrap();
         let (cpu, _) = shadelab::render::render_cpu(&s, Shading::Raytrace).unwrap();
         let cpu_stats = cpu.ray_stats.unwrap();
         for (kind, g, c) in [
