@@ -19,7 +19,15 @@ struct HostInterface {
     push_constant_size: u32,
 }
 
+/// Flat shading's stages bind all of the raster set; Gouraud's and
+/// Phong's the part without the faces.
 fn host_for(shader: &ShaderBlob) -> HostInterface {
+    let raster = |bindings| HostInterface {
+        bindings,
+        record_size: raster_layout::record_size,
+        spec_constants: raster_layout::SPEC_CONSTANTS,
+        push_constant_size: std::mem::size_of::<raster_layout::DrawConstants>() as u32,
+    };
     match shader.stage {
         ShaderStage::Compute => HostInterface {
             bindings: rt_layout::BINDINGS,
@@ -27,12 +35,8 @@ fn host_for(shader: &ShaderBlob) -> HostInterface {
             spec_constants: rt_layout::SPEC_CONSTANTS,
             push_constant_size: 0,
         },
-        ShaderStage::Vertex | ShaderStage::Fragment => HostInterface {
-            bindings: raster_layout::BINDINGS,
-            record_size: raster_layout::record_size,
-            spec_constants: raster_layout::SPEC_CONSTANTS,
-            push_constant_size: std::mem::size_of::<raster_layout::DrawConstants>() as u32,
-        },
+        _ if shader.name.starts_with("flat.") => raster(raster_layout::BINDINGS),
+        ShaderStage::Vertex | ShaderStage::Fragment => raster(raster_layout::SMOOTH_BINDINGS),
     }
 }
 

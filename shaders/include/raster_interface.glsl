@@ -15,17 +15,6 @@ layout(std140, set = 0, binding = 1) uniform FrameUniforms {
     vec4 ambient_k;  // rgb: Ia, w: the constant k of Il / (d + k)
 } frame;
 
-// Flat shading: one record per triangle, computed on the host, in draw
-// order (flat.vert.glsl finds its triangle's by the vertex index).
-struct Face {
-    vec4 center;     // xyz: camera-relative centroid
-    vec4 normal;     // xyz: unit geometric normal
-};
-
-layout(std430, set = 0, binding = 2) readonly buffer FaceBuffer {
-    Face faces[];
-};
-
 layout(push_constant) uniform DrawConstants {
     mat4 clip_from_relative;  // projection * view rotation
     vec4 color_ka;            // rgb: material colour C, a: ka

@@ -11,6 +11,7 @@ mod image;
 mod pipeline;
 pub mod raster;
 mod raster_cull;
+mod raster_flat;
 pub mod raster_layout;
 mod raster_scene;
 pub mod raytrace;

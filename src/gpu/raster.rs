@@ -16,7 +16,10 @@ use super::descriptors::{create_set_layout, Descriptors};
 use super::error::{GpuError, VkContext};
 use super::image::{subresource_range, Image};
 use super::pipeline::{single_pipeline, PipelineObjects};
-use super::raster_layout::{DrawConstants, FrameUniforms, Specialization, Vertex, BINDINGS};
+use super::raster_flat::FlatMesh;
+use super::raster_layout::{
+    DrawConstants, FrameUniforms, Specialization, Vertex, BINDINGS, SMOOTH_BINDINGS,
+};
 use super::raster_scene::{build_geometry, lights, specialization};
 use super::shader_catalog::{self as shaders, ShaderBlob};
 use super::timestamps::{GpuTimings, Timestamps};
@@ -96,6 +99,15 @@ fn shader_pair(
     }
 }
 
+/// The descriptor bindings a mode's pipeline uses: only flat shading reads
+/// the per-face records.
+fn bindings_of(mode: RasterMode) -> &'static [(u32, vk::DescriptorType)] {
+    match mode {
+        RasterMode::Flat => BINDINGS,
+        RasterMode::Gouraud | RasterMode::Phong => SMOOTH_BINDINGS,
+    }
+}
+
 fn create_pipeline(
     context: &Arc<GpuContext>,
     mode: RasterMode,
@@ -106,7 +118,7 @@ fn create_pipeline(
     let device = &context.device;
     let mut p = PipelineObjects::new(context);
     let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-    p.set_layout = create_set_layout(context, BINDINGS, stages)?;
+    p.set_layout = create_set_layout(context, bindings_of(mode), stages)?;
     let ranges = [vk::PushConstantRange::default()
         .stage_flags(stages)
         .size(std::mem::size_of::<DrawConstants>() as u32)];
@@ -143,8 +155,8 @@ fn create_pipeline(
             .name(c"main")
             .specialization_info(&spec_info),
     ];
-    // Flat draws read positions alone, three of its own per triangle
-    // (`RasterGeometry::flat_positions`).
+    // Flat draws read positions alone, one vertex of its own per triangle
+    // (`raster_flat`).
     let stride = if mode == RasterMode::Flat {
         std::mem::size_of::<[f32; 3]>()
     } else {
@@ -295,15 +307,10 @@ pub fn render_to(
     let pipeline_ms = pipeline_started.elapsed().as_secs_f64() * 1e3;
 
     let flat = mode == RasterMode::Flat;
-    let flat_positions = if flat {
-        geometry.flat_positions()
-    } else {
-        Vec::new()
-    };
-    let vertex_bytes: &[u8] = if flat {
-        bytemuck::cast_slice(&flat_positions)
-    } else {
-        bytemuck::cast_slice(&geometry.vertices)
+    let flat_mesh = flat.then(|| FlatMesh::new(&geometry));
+    let (vertex_bytes, index_data): (&[u8], &[u32]) = match &flat_mesh {
+        Some(m) => (bytemuck::cast_slice(&m.positions), &m.indices),
+        None => (bytemuck::cast_slice(&geometry.vertices), &geometry.indices),
     };
     let vertex_buffer = Buffer::with_data(
         context,
@@ -314,7 +321,7 @@ pub fn render_to(
     let index_buffer = Buffer::with_data(
         context,
         "indices",
-        bytemuck::cast_slice(&geometry.indices),
+        bytemuck::cast_slice(index_data),
         vk::BufferUsageFlags::INDEX_BUFFER,
     )?;
     let light_buffer = Buffer::with_data(
@@ -333,18 +340,18 @@ pub fn render_to(
         bytemuck::bytes_of(&frame),
         vk::BufferUsageFlags::UNIFORM_BUFFER,
     )?;
-    let face_buffer = Buffer::with_data(
-        context,
-        "faces",
-        bytemuck::cast_slice(&geometry.faces),
-        vk::BufferUsageFlags::STORAGE_BUFFER,
-    )?;
-    let descriptors = Descriptors::new(
-        context,
-        pipeline.set_layout,
-        BINDINGS,
-        &[&light_buffer, &frame_buffer, &face_buffer],
-    )?;
+    let face_buffer = match &flat_mesh {
+        Some(m) => Some(Buffer::with_data(
+            context,
+            "faces",
+            bytemuck::cast_slice(&m.faces),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?),
+        None => None,
+    };
+    let mut bound = vec![&light_buffer, &frame_buffer];
+    bound.extend(&face_buffer);
+    let descriptors = Descriptors::new(context, pipeline.set_layout, bindings_of(mode), &bound)?;
 
     let extent = vk::Extent2D { width, height };
     let color = Image::new(
@@ -493,18 +500,9 @@ pub fn render_to(
                 vk::CullModeFlags::NONE
             };
             device.cmd_set_cull_mode(cmd, cull);
-            if flat {
-                device.cmd_draw(cmd, draw.index_count, 1, draw.first_index, 0);
-            } else {
-                device.cmd_draw_indexed(
-                    cmd,
-                    draw.index_count,
-                    1,
-                    draw.first_index,
-                    draw.vertex_offset,
-                    0,
-                );
-            }
+            // Flat indices are global: its vertices are one per face.
+            let vertex_offset = if flat { 0 } else { draw.vertex_offset };
+            device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, vertex_offset, 0);
         }
         device.cmd_end_rendering(cmd);
         timestamps.stop(cmd);

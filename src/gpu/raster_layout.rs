@@ -11,12 +11,16 @@ pub const LIGHTS_BINDING: u32 = 0;
 pub const FRAME_BINDING: u32 = 1;
 pub const FACES_BINDING: u32 = 2;
 
-/// Set 0 of every raster pipeline: (binding, type).
+/// Set 0 of the raster pipelines: (binding, type). Flat shading binds all
+/// of it; Gouraud and Phong the part without the faces, `SMOOTH_BINDINGS`.
 pub const BINDINGS: &[(u32, vk::DescriptorType)] = &[
     (LIGHTS_BINDING, vk::DescriptorType::STORAGE_BUFFER),
     (FRAME_BINDING, vk::DescriptorType::UNIFORM_BUFFER),
     (FACES_BINDING, vk::DescriptorType::STORAGE_BUFFER),
 ];
+
+/// What Gouraud and Phong bind: the lights and the frame.
+pub const SMOOTH_BINDINGS: &[(u32, vk::DescriptorType)] = BINDINGS.split_at(2).0;
 
 /// The size of the record the host writes to each binding: one element of
 /// a runtime array, or the whole uniform block.

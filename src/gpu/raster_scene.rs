@@ -27,23 +27,6 @@ pub struct RasterGeometry {
     pub draws: Vec<Draw>,
 }
 
-impl RasterGeometry {
-    /// What flat shading draws, not indexed: each triangle's three
-    /// positions of its own, triangles in the order of `faces` (vertex v
-    /// belongs to face v / 3; a draw's first vertex is its `first_index`).
-    pub fn flat_positions(&self) -> Vec<[f32; 3]> {
-        self.draws
-            .iter()
-            .flat_map(|d| {
-                let indices = &self.indices[d.first_index as usize..][..d.index_count as usize];
-                indices
-                    .iter()
-                    .map(move |&i| self.vertices[(d.vertex_offset + i as i32) as usize].position)
-            })
-            .collect()
-    }
-}
-
 fn f32x3(v: DVec3) -> [f32; 3] {
     v.as_vec3().to_array()
 }
