@@ -90,33 +90,15 @@ const VARIANTS: &[Variant] = &[
     },
 ];
 
-/// Resolves `#include "x.glsl"` against `shaders/include/`.
-struct Includes {
-    dir: PathBuf,
-}
-
-impl glslang::include::IncludeHandler for Includes {
-    fn include(
-        &mut self,
-        _ty: glslang::include::IncludeType,
-        header_name: &str,
-        _includer_name: &str,
-        _include_depth: usize,
-    ) -> Option<glslang::include::IncludeResult> {
-        let path = self.dir.join(header_name);
-        let data = std::fs::read_to_string(&path).ok()?;
-        Some(glslang::include::IncludeResult {
-            name: path.display().to_string(),
-            data,
-        })
-    }
-}
+#[path = "src/shader_compile.rs"]
+mod shader_compile;
 
 fn main() {
     let root = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").unwrap());
     let shader_dir = root.join("shaders");
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").unwrap());
     println!("cargo:rerun-if-changed=shaders");
+    println!("cargo:rerun-if-changed=src/shader_compile.rs");
 
     let compiler = glslang::Compiler::acquire().expect("glslang could not be initialised");
     let mut catalog =
@@ -124,14 +106,37 @@ fn main() {
     for variant in VARIANTS {
         let spirv = compile(compiler, &shader_dir, variant);
         let bytes: Vec<u8> = spirv.iter().flat_map(|w| w.to_le_bytes()).collect();
-        let reflection = reflect(variant, &bytes);
+        let reflection = shader_compile::reflect(&bytes)
+            .unwrap_or_else(|e| fail(variant, "naga rejected the SPIR-V", &e));
         let spv_path = out_dir.join(format!("{}.spv", variant.name.to_lowercase()));
         std::fs::write(&spv_path, &bytes).unwrap();
-        write_entry(&mut catalog, variant, &spv_path, &reflection);
+        write_entry(&mut catalog, variant, &shader_dir, &spv_path, &reflection);
     }
     let all: String = VARIANTS.iter().map(|v| format!("&{}, ", v.name)).collect();
     writeln!(catalog, "pub const ALL_SHADERS: &[&ShaderBlob] = &[{all}];").unwrap();
+    write_includes(&mut catalog, &shader_dir.join("include"));
     std::fs::write(out_dir.join("shaders.rs"), catalog).unwrap();
+}
+
+/// The text of every file under `shaders/include/`, by name, so the binary
+/// can compile the shaders again with a user's lighting hook.
+fn write_includes(out: &mut String, dir: &Path) {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".glsl"))
+        .collect();
+    names.sort();
+    let entries: String = names
+        .iter()
+        .map(|n| {
+            format!(
+                "({n:?}, include_str!({:?})), ",
+                dir.join(n).display().to_string()
+            )
+        })
+        .collect();
+    writeln!(out, "pub const INCLUDES: &[(&str, &str)] = &[{entries}];").unwrap();
 }
 
 fn compile(compiler: &glslang::Compiler, dir: &Path, variant: &Variant) -> Vec<u32> {
@@ -139,33 +144,20 @@ fn compile(compiler: &glslang::Compiler, dir: &Path, variant: &Variant) -> Vec<u
     println!("cargo:rerun-if-changed={}", path.display());
     let text = std::fs::read_to_string(&path)
         .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    let source = glslang::ShaderSource::from(text);
-    let options = glslang::CompilerOptions {
-        source_language: glslang::SourceLanguage::GLSL,
-        target: glslang::Target::Vulkan {
-            version: glslang::VulkanVersion::Vulkan1_3,
-            spirv_version: glslang::SpirvVersion::SPIRV1_6,
-        },
-        version_profile: None,
-        messages: glslang::ShaderMessage::DEFAULT,
+    let include_dir = dir.join("include");
+    let mut include = |name: &str| {
+        let path = include_dir.join(name);
+        let data = std::fs::read_to_string(&path).ok()?;
+        Some((path.display().to_string(), data))
     };
-    let mut includes = Includes {
-        dir: dir.join("include"),
-    };
-    let input = glslang::ShaderInput::new(
-        &source,
+    shader_compile::compile(
+        compiler,
+        &text,
         variant.stage,
-        &options,
-        Some(variant.defines),
-        Some(&mut includes),
+        variant.defines,
+        &mut include,
     )
-    .unwrap_or_else(|e| fail(variant, "glslang rejected its input", &e));
-    let shader = compiler
-        .create_shader(input)
-        .unwrap_or_else(|e| fail(variant, "glslang failed to compile it", &e));
-    shader
-        .compile()
-        .unwrap_or_else(|e| fail(variant, "glslang failed to emit SPIR-V", &e))
+    .unwrap_or_else(|e| fail(variant, "glslang failed to compile it", &e))
 }
 
 fn fail(variant: &Variant, what: &str, err: &dyn std::fmt::Display) -> ! {
@@ -175,96 +167,13 @@ fn fail(variant: &Variant, what: &str, err: &dyn std::fmt::Display) -> ! {
     )
 }
 
-struct Binding {
-    set: u32,
-    binding: u32,
-    kind: &'static str,
-    /// Byte stride of a runtime-array buffer's records, else the block size.
-    record_size: u32,
-}
-
-/// The stride of a block's trailing runtime array, or the block's size.
-fn record_size(module: &naga::Module, ty: naga::Handle<naga::Type>) -> u32 {
-    if let naga::TypeInner::Struct { members, .. } = &module.types[ty].inner {
-        if let Some(last) = members.last() {
-            if let naga::TypeInner::Array {
-                size: naga::ArraySize::Dynamic,
-                stride,
-                ..
-            } = module.types[last.ty].inner
-            {
-                return stride;
-            }
-        }
-    }
-    module.types[ty].inner.size(module.to_ctx())
-}
-
-struct Reflection {
-    bindings: Vec<Binding>,
-    push_constant_size: u32,
-    spec_constants: Vec<(u16, String)>,
-}
-
-fn reflect(variant: &Variant, spirv: &[u8]) -> Reflection {
-    let options = naga::front::spv::Options {
-        adjust_coordinate_space: false,
-        strict_capabilities: false,
-        block_ctx_dump_prefix: None,
-    };
-    let module = naga::front::spv::parse_u8_slice(spirv, &options)
-        .unwrap_or_else(|e| fail(variant, "naga could not parse the SPIR-V", &e));
-    naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::all(),
-    )
-    .validate(&module)
-    .unwrap_or_else(|e| fail(variant, "naga validation failed", &format!("{e:?}")));
-
-    let mut reflection = Reflection {
-        bindings: Vec::new(),
-        push_constant_size: 0,
-        spec_constants: Vec::new(),
-    };
-    for (_, global) in module.global_variables.iter() {
-        match (global.space, &global.binding) {
-            (naga::AddressSpace::Immediate, _) => {
-                reflection.push_constant_size = module.types[global.ty].inner.size(module.to_ctx());
-            }
-            (naga::AddressSpace::Uniform, Some(b)) => reflection.bindings.push(Binding {
-                set: b.group,
-                binding: b.binding,
-                kind: "UniformBuffer",
-                record_size: record_size(&module, global.ty),
-            }),
-            (naga::AddressSpace::Storage { .. }, Some(b)) => reflection.bindings.push(Binding {
-                set: b.group,
-                binding: b.binding,
-                kind: "StorageBuffer",
-                record_size: record_size(&module, global.ty),
-            }),
-            (naga::AddressSpace::Handle, Some(b)) => reflection.bindings.push(Binding {
-                set: b.group,
-                binding: b.binding,
-                kind: "Other",
-                record_size: record_size(&module, global.ty),
-            }),
-            _ => {}
-        }
-    }
-    reflection.bindings.sort_by_key(|b| (b.set, b.binding));
-    for (_, o) in module.overrides.iter() {
-        if let Some(id) = o.id {
-            reflection
-                .spec_constants
-                .push((id, o.name.clone().unwrap_or_default()));
-        }
-    }
-    reflection.spec_constants.sort();
-    reflection
-}
-
-fn write_entry(out: &mut String, variant: &Variant, spv: &Path, r: &Reflection) {
+fn write_entry(
+    out: &mut String,
+    variant: &Variant,
+    dir: &Path,
+    spv: &Path,
+    r: &shader_compile::Reflection,
+) {
     let stage = match variant.stage {
         glslang::ShaderStage::Vertex => "Vertex",
         glslang::ShaderStage::Fragment => "Fragment",
@@ -286,12 +195,18 @@ fn write_entry(out: &mut String, variant: &Variant, spv: &Path, r: &Reflection) 
         .iter()
         .map(|(id, name)| format!("({id}, {name:?}), "))
         .collect();
+    let defines: String = variant
+        .defines
+        .iter()
+        .map(|(k, v)| format!("({k:?}, {v:?}), "))
+        .collect();
     writeln!(
         out,
-        "pub const {}: ShaderBlob = ShaderBlob {{\n    name: {:?},\n    stage: ShaderStage::{stage},\n    spirv: include_bytes!({:?}),\n    bindings: &[{bindings}],\n    push_constant_size: {},\n    spec_constants: &[{specs}],\n}};\n",
+        "pub const {}: ShaderBlob = ShaderBlob {{\n    name: {:?},\n    stage: ShaderStage::{stage},\n    spirv: include_bytes!({:?}),\n    source: include_str!({:?}),\n    defines: &[{defines}],\n    bindings: &[{bindings}],\n    push_constant_size: {},\n    spec_constants: &[{specs}],\n}};\n",
         variant.name,
         variant.source,
         spv.display().to_string(),
+        dir.join(variant.source).display().to_string(),
         r.push_constant_size,
     )
     .unwrap();

@@ -15,6 +15,10 @@ cargo test --release
 ./target/release/shadelab check --out target/check --junit target/check/default.xml
 ./target/release/shadelab check assets/*.toml --out target/check --junit target/check/assets.xml
 ./target/release/shadelab check assets/hard/*.toml --out target/check --junit target/check/hard.xml
+# The lecture's formula written as a user's lighting hook, compiled at run
+# time into every mode, holds check's thresholds as the built-in one does.
+./target/release/shadelab check assets/*.toml --lighting examples/lighting/phong.glsl \
+    --out target/check-hook --junit target/check-hook/assets.xml
 # The ray tracer's packets at another subgroup size: lavapipe on 128-bit
 # vectors (as on a CPU without AVX) runs subgroups of 4 lanes, not 8.
 LP_NATIVE_VECTOR_WIDTH=128 ./target/release/shadelab check assets/*.toml --shading raytrace \

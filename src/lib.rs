@@ -20,6 +20,7 @@ pub mod output;
 pub mod render;
 pub mod rt_scene;
 pub mod scene;
+mod shader_compile;
 pub mod shading;
 pub mod srgb;
 

@@ -7,6 +7,7 @@ mod common;
 
 use common::*;
 use glam::DVec3;
+use shadelab::compare::report::{Metric, ReferenceChoice};
 use shadelab::compare::run::{merge, run, CompareOptions};
 use shadelab::compare::{Report, Variant};
 use shadelab::scene::{Material, Object, Scene, Shape};
@@ -63,7 +64,13 @@ fn compare(
     shard: Option<(usize, usize)>,
 ) -> (Report, tempfile::TempDir) {
     let dir = tempfile::tempdir().unwrap();
-    let options = CompareOptions { runs: 1, shard };
+    let options = CompareOptions {
+        runs: 1,
+        shard,
+        reference: ReferenceChoice::Auto,
+        metric: Metric::Rmse,
+        budget: None,
+    };
     let report = run(
         &gpu(),
         scene,
@@ -190,4 +197,94 @@ fn shards_merge_into_the_unsharded_report() {
         merge(vec![lone]).is_err(),
         "one shard of two is not a whole report"
     );
+}
+
+/// The default scene at a size a test can afford.
+fn small_default_scene() -> Scene {
+    let mut s = shadelab::scene::default_scene();
+    s.image.width = 160;
+    s.image.height = 120;
+    s
+}
+
+#[test]
+fn the_local_error_falls_with_every_doubling_of_the_segments() {
+    // On the default scene the global error of every raster variant sits
+    // near 0.1 (shadows and reflections the raster modes lack); against
+    // the local reference the tessellation sweep shows.
+    let list = [8, 16, 32, 64, 128, 256].map(|n| format!("phong:segments={n}"));
+    let names: Vec<&str> = list.iter().map(String::as_str).collect();
+    let (report, _dir) = compare(&small_default_scene(), &variants(&names), None);
+    let local: Vec<f64> = report
+        .variants
+        .iter()
+        .map(|v| v.local_error.expect("a local error").rmse)
+        .collect();
+    for pair in local.windows(2) {
+        assert!(
+            pair[1] < pair[0],
+            "local RMSE by segments 8..256: {local:?}"
+        );
+    }
+    let global: Vec<f64> = report.variants.iter().map(|v| v.model_error.rmse).collect();
+    assert!(
+        local[5] < global[5] / 2.0,
+        "the local reference must be the closer one for Phong: {local:?} vs {global:?}"
+    );
+}
+
+#[test]
+fn hook_variants_get_both_errors_and_differ_from_the_built_in_formula() {
+    let hook = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/lighting/blinn-phong.glsl"
+    );
+    let list = [
+        "phong".to_string(),
+        format!("phong:lighting={hook}"),
+        "raytrace".to_string(),
+        format!("raytrace:lighting={hook}"),
+    ];
+    let names: Vec<&str> = list.iter().map(String::as_str).collect();
+    let (report, _dir) = compare(&glossy_sphere(), &variants(&names), None);
+    for v in &report.variants {
+        let local = v.local_error.expect("a local error");
+        assert!(
+            local.rmse.is_finite() && v.model_error.rmse.is_finite(),
+            "{}",
+            v.name
+        );
+    }
+    let local = |i: usize| report.variants[i].local_error.unwrap().rmse;
+    // The built-in formula converges to the local reference; the
+    // Blinn-Phong hook is another formula, so it is further from it.
+    assert!(
+        local(1) > local(0) * 2.0,
+        "phong {} vs hook {}",
+        local(0),
+        local(1)
+    );
+    assert!(
+        report.variants[3].model_error.rmse > report.variants[2].model_error.rmse * 2.0,
+        "raytrace: {:?}",
+        report
+            .variants
+            .iter()
+            .map(|v| v.model_error.rmse)
+            .collect::<Vec<_>>()
+    );
+}
+
+#[test]
+fn no_two_plot_labels_overlap_on_the_default_scenes_report() {
+    let scene = small_default_scene();
+    let (report, _dir) = compare(&scene, &shadelab::compare::default_variants(&scene), None);
+    let boxes = shadelab::compare::present::plot::label_boxes(&report).unwrap();
+    // Every point's number and every line of the list beside the plot.
+    assert!(boxes.len() > report.variants.len(), "{} boxes", boxes.len());
+    for (i, a) in boxes.iter().enumerate() {
+        for b in &boxes[i + 1..] {
+            assert!(!a.intersects(b), "{a:?} overlaps {b:?}");
+        }
+    }
 }

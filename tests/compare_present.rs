@@ -16,7 +16,9 @@ use std::time::{Duration, Instant};
 
 use image::{Rgb, RgbImage};
 use shadelab::compare::present::{write_presentation, PresentError};
-use shadelab::compare::report::{pareto_front, Errors, Report, Timing, VariantResult};
+use shadelab::compare::report::{
+    pareto_front, Errors, Metric, ReferenceChoice, Report, Timing, VariantResult,
+};
 
 const IMAGE_W: u32 = 480;
 const IMAGE_H: u32 = 320;
@@ -76,6 +78,12 @@ fn fixture(dir: &Path) -> Report {
                 psnr: Some(-20.0 * rmse.log10()),
                 flip_mean: rmse * 1.3 + 0.001,
             },
+            local_error: Some(Errors {
+                rmse: rmse * 0.5,
+                max_abs: rmse * 4.0,
+                psnr: Some(-20.0 * (rmse * 0.5).log10()),
+                flip_mean: rmse * 0.6,
+            }),
             timing: Timing {
                 gpu_ms,
                 gpu_spread_ms: gpu_ms * 0.05,
@@ -107,8 +115,13 @@ fn fixture(dir: &Path) -> Report {
         runs: 5,
         reference: "CPU ray tracer, depth 8, 16 samples".into(),
         reference_image: "reference.png".into(),
+        local_reference: "formula per pixel, no shadows".into(),
+        local_reference_image: String::new(),
+        plot_reference: ReferenceChoice::Global,
+        plot_metric: Metric::Rmse,
         shard: None,
         variants,
+        budget: None,
     }
 }
 
@@ -180,6 +193,10 @@ fn the_csv_holds_every_figure_of_every_variant() {
             "model_max_abs",
             "model_psnr",
             "model_flip_mean",
+            "local_rmse",
+            "local_max_abs",
+            "local_psnr",
+            "local_flip_mean",
             "gpu_ms",
             "gpu_spread_ms",
             "frame_ms",
@@ -195,6 +212,7 @@ fn the_csv_holds_every_figure_of_every_variant() {
         assert_eq!(&row[0], v.name);
         let psnr = |p: Option<f64>| p.unwrap_or(f64::INFINITY);
         let (i, m, t) = (&v.implementation_error, &v.model_error, &v.timing);
+        let l = v.local_error.expect("the fixture has local errors");
         let want = [
             i.rmse,
             i.max_abs,
@@ -204,6 +222,10 @@ fn the_csv_holds_every_figure_of_every_variant() {
             m.max_abs,
             psnr(m.psnr),
             m.flip_mean,
+            l.rmse,
+            l.max_abs,
+            psnr(l.psnr),
+            l.flip_mean,
             t.gpu_ms,
             t.gpu_spread_ms,
             t.frame_ms,
@@ -220,13 +242,13 @@ fn the_csv_holds_every_figure_of_every_variant() {
                 header[k + 1]
             );
         }
-        assert_eq!(&row[14], if v.pareto { "true" } else { "false" });
+        assert_eq!(&row[18], if v.pareto { "true" } else { "false" });
     }
     assert_eq!(&rows[0][3], "inf", "the PSNR of identical images");
 }
 
 #[test]
-fn the_plot_names_the_pareto_variants_and_decodes_at_its_size() {
+fn the_plot_names_every_variant_and_decodes_at_its_size() {
     let (dir, report) = present();
     let front: Vec<&str> = report
         .variants
@@ -238,20 +260,19 @@ fn the_plot_names_the_pareto_variants_and_decodes_at_its_size() {
 
     let svg = std::fs::read_to_string(dir.path().join("speed-vs-error.svg")).unwrap();
     assert!(svg.contains("<svg"), "not an SVG");
-    for name in &front {
-        assert!(svg.contains(name), "the SVG does not name {name}");
+    // Every point is numbered and listed beside the plot, on the front or
+    // off it.
+    for v in &report.variants {
+        assert!(svg.contains(&v.name), "the SVG does not name {}", v.name);
     }
-    assert!(
-        !svg.contains(DOMINATED),
-        "a variant off the front is named in the SVG"
-    );
+    assert!(svg.contains(DOMINATED));
     // Escaped, as XML needs.
     assert!(svg.contains("spheres &lt;b&gt;&amp;amp;&lt;/b&gt;"));
 
     let png = image::open(dir.path().join("speed-vs-error.png"))
         .unwrap()
         .to_rgb8();
-    assert_eq!(png.dimensions(), (960, 600));
+    assert_eq!(png.dimensions(), (1280, 640));
     // A point per variant in its mode's colour, and the orange front.
     for (mode, colour) in [
         ("flat", [31, 119, 180]),

@@ -42,20 +42,15 @@ bool light_faces(int j, vec3 P, vec3 N, out vec3 L, out float d, out float n_dot
     return n_dot_l > FACING_EPS;
 }
 
-// Light j's diffuse and specular terms, given `light_faces`' results.
+// The contribution of one light: the lighting hook, `shade_light`. The
+// built-in one (lighting_hook.glsl) is the lecture's diffuse and specular
+// terms; `--lighting FILE` compiles the user's file in its place
+// (src/gpu/hook.rs), which may use everything declared above this line.
+#include "lighting_hook.glsl"
+
+// Light j's contribution, given `light_faces`' results.
 vec3 light_term(int j, vec3 N, vec3 V, vec3 L, float d, float n_dot_l, Surface m, float k) {
-    vec3 light = lights[j].intensity.rgb;
-    if (USE_ATTENUATION) {
-        light /= d + k;
-    }
-    vec3 reflected = m.kd * m.color * n_dot_l;
-    if (USE_SPECULAR) {
-        vec3 R = 2.0 * n_dot_l * N - L;
-        float r_dot_v = max(dot(R, V), 0.0);
-        float s = m.p == 0.0 ? 1.0 : (r_dot_v > 0.0 ? pow(r_dot_v, m.p) : 0.0);
-        reflected += vec3(m.ks * s);
-    }
-    return light * reflected;
+    return shade_light(N, V, L, d, lights[j].intensity.rgb, m, k);
 }
 
 // The whole formula with every light visible.

@@ -4,7 +4,7 @@
 //! other bad input.
 
 use clap::Args;
-use shadelab::scene::{Scene, MAX_DEPTH, MAX_RESOLUTION};
+use shadelab::scene::{LightingHook, Scene, MAX_DEPTH, MAX_RESOLUTION};
 
 use super::Failure;
 
@@ -37,6 +37,28 @@ impl ImageSize {
         self.check()?;
         scene.image.width = self.width.unwrap_or(scene.image.width);
         scene.image.height = self.height.unwrap_or(scene.image.height);
+        Ok(())
+    }
+}
+
+/// `--lighting FILE`: the user's lighting hook, compiled into the GPU
+/// modes in place of the built-in formula.
+#[derive(Args)]
+pub struct LightingArg {
+    /// GLSL file defining `vec3 shade_light(vec3 N, vec3 V, vec3 L, float d,
+    /// vec3 intensity, Surface m, float k)`, one light's contribution, used
+    /// by every GPU mode instead of the built-in formula (see the README,
+    /// "Your own lighting"). The CPU reference keeps the built-in formula.
+    #[arg(long, value_name = "FILE")]
+    pub lighting: Option<std::path::PathBuf>,
+}
+
+impl LightingArg {
+    /// Reads the hook's file into `scene`.
+    pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
+        if let Some(path) = &self.lighting {
+            scene.lighting_hook = Some(std::sync::Arc::new(LightingHook::load(path)?));
+        }
         Ok(())
     }
 }

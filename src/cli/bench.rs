@@ -18,7 +18,7 @@ use shadelab::gpu::{raster, raytrace, GpuContext, GpuOptions, GpuTimings};
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
-use super::args::{check_depth, check_runs, ImageSize};
+use super::args::{check_depth, check_runs, ImageSize, LightingArg};
 use super::render::load_scene;
 use super::Failure;
 
@@ -38,6 +38,8 @@ pub struct BenchArgs {
     runs: usize,
     #[command(flatten)]
     size: ImageSize,
+    #[command(flatten)]
+    lighting: LightingArg,
     /// Ray tracing: maximum depth (overrides the scene).
     #[arg(long)]
     depth: Option<u32>,
@@ -137,6 +139,7 @@ pub fn run(args: BenchArgs, options: &GpuOptions) -> Result<(), Failure> {
     check_runs(args.runs)?;
     let (mut scene, name) = load_scene(args.scene.as_deref())?;
     args.size.apply(&mut scene)?;
+    args.lighting.apply(&mut scene)?;
     if let Some(d) = args.depth {
         scene.render.depth = check_depth(d)?;
     }

@@ -12,7 +12,7 @@ use shadelab::metrics::heatmap::flip_heatmap;
 use shadelab::output::{write_atomically, write_image};
 use shadelab::shading::Shading;
 
-use super::args::ImageSize;
+use super::args::{ImageSize, LightingArg};
 use super::render::load_scene;
 use super::Failure;
 
@@ -38,6 +38,8 @@ pub struct CheckArgs {
     json: bool,
     #[command(flatten)]
     size: ImageSize,
+    #[command(flatten)]
+    lighting: LightingArg,
     /// Largest error allowed at an interior pixel [default: 1e-3, and 5e-3
     /// for raytrace].
     #[arg(long)]
@@ -89,6 +91,7 @@ pub fn run(args: CheckArgs, options: &GpuOptions) -> Result<(), Failure> {
     for path in paths {
         let (mut scene, stem) = load_scene(path)?;
         args.size.apply(&mut scene)?;
+        args.lighting.apply(&mut scene)?;
         let mut name = stem;
         if scenes.iter().any(|(_, n): &(_, String)| *n == name) {
             name = format!("{name}-{}", scenes.len() + 1);

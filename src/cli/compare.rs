@@ -6,7 +6,8 @@ use std::path::{Component, Path, PathBuf};
 
 use clap::Args;
 use shadelab::compare::present::write_presentation;
-use shadelab::compare::run::{merge, run, CompareOptions};
+use shadelab::compare::report::{Metric, ReferenceChoice};
+use shadelab::compare::run::{mark_pareto, merge, run, set_budget, CompareOptions};
 use shadelab::compare::{default_variants, Report, Variant};
 use shadelab::gpu::{GpuContext, GpuOptions};
 use shadelab::output::write_atomically;
@@ -38,6 +39,19 @@ pub struct CompareArgs {
     merge: Vec<PathBuf>,
     #[command(flatten)]
     size: ImageSize,
+    /// The reference the plot, the Pareto front and the budget measure
+    /// against: `local` (the formula per pixel on exact geometry, no
+    /// shadows or reflections), `global` (the ray-traced reference), or
+    /// `auto`: local for the raster modes, global for ray tracing.
+    #[arg(long, default_value = "auto", value_parser = ["auto", "local", "global"])]
+    reference: String,
+    /// The error figure they use: `rmse` or `flip` (mean FLIP).
+    #[arg(long, default_value = "rmse", value_parser = ["rmse", "flip"])]
+    metric: String,
+    /// Name the fastest variant whose error (by --reference and --metric)
+    /// is at most E, or say that none is.
+    #[arg(long, value_name = "E")]
+    budget: Option<f64>,
     /// Print the report as one JSON object on stdout.
     #[arg(long)]
     json: bool,
@@ -62,11 +76,21 @@ fn write_report(report: &Report, dir: &Path) -> Result<(), Failure> {
 pub fn run_command(args: CompareArgs, options: &GpuOptions) -> Result<(), Failure> {
     std::fs::create_dir_all(&args.out)
         .map_err(|e| Failure::usage(format!("cannot create {}: {e}", args.out.display())))?;
-    let report = if args.merge.is_empty() {
+    if let Some(e) = args.budget.filter(|e| !e.is_finite() || *e < 0.0) {
+        return Err(Failure::usage(format!(
+            "--budget {e} is invalid; expected an error >= 0"
+        )));
+    }
+    let mut report = if args.merge.is_empty() {
         render_variants(&args, options)?
     } else {
         merge_folders(&args)?
     };
+    // A merge may measure against another reference than its shards did.
+    report.plot_reference = reference_of(&args);
+    report.plot_metric = metric_of(&args);
+    mark_pareto(&mut report);
+    set_budget(&mut report, args.budget);
     write_report(&report, &args.out)?;
     let presented = write_presentation(&report, &args.out).map_err(|e| Failure {
         code: if e.is_bad_input() { 2 } else { 3 },
@@ -84,6 +108,14 @@ pub fn run_command(args: CompareArgs, options: &GpuOptions) -> Result<(), Failur
         println!("sheet:  {}", presented.contact_sheet.display());
     }
     Ok(())
+}
+
+fn reference_of(args: &CompareArgs) -> ReferenceChoice {
+    ReferenceChoice::from_name(&args.reference).expect("clap checked it")
+}
+
+fn metric_of(args: &CompareArgs) -> Metric {
+    Metric::from_name(&args.metric).expect("clap checked it")
 }
 
 fn render_variants(args: &CompareArgs, options: &GpuOptions) -> Result<Report, Failure> {
@@ -112,6 +144,9 @@ fn render_variants(args: &CompareArgs, options: &GpuOptions) -> Result<Report, F
     let compare_options = CompareOptions {
         runs: args.runs,
         shard: args.shard,
+        reference: reference_of(args),
+        metric: metric_of(args),
+        budget: args.budget,
     };
     let report = run(
         &context,
@@ -148,6 +183,9 @@ fn merge_folders(args: &CompareArgs) -> Result<Report, Failure> {
     let mut copies = Vec::new();
     for (dir, report) in &shards {
         let mut files = vec![report.reference_image.clone()];
+        if !report.local_reference_image.is_empty() {
+            files.push(report.local_reference_image.clone());
+        }
         for v in &report.variants {
             files.push(v.image.clone());
             files.push(v.heatmap.clone());
@@ -178,29 +216,68 @@ fn merge_folders(args: &CompareArgs) -> Result<Report, Failure> {
 
 fn print_table(report: &Report, dir: &Path) {
     println!(
-        "{} at {}x{} on {}, median of {} runs; model error against: {}",
+        "{} at {}x{} on {}, median of {} runs",
         report.scene,
         report.width,
         report.height,
         report.device_and_driver(),
         report.runs,
-        report.reference
     );
+    println!("global reference (model_*): {}", report.reference);
+    println!("local reference (local_*):  {}", report.local_reference);
     println!(
-        "{:<40} {:>9} {:>9} {:>11} {:>11} {:>10} {:>7}",
-        "variant", "gpu_ms", "frame_ms", "impl_rmse", "model_rmse", "model_flip", "pareto"
+        "{:<40} {:>9} {:>9} {:>11} {:>11} {:>10} {:>11} {:>7}",
+        "variant",
+        "gpu_ms",
+        "frame_ms",
+        "impl_rmse",
+        "model_rmse",
+        "model_flip",
+        "local_rmse",
+        "pareto"
     );
     for v in &report.variants {
+        let local = v
+            .local_error
+            .map(|e| format!("{:.2e}", e.rmse))
+            .unwrap_or_else(|| "-".into());
         println!(
-            "{:<40} {:>9.1} {:>9.1} {:>11.2e} {:>11.2e} {:>10.4} {:>7}",
+            "{:<40} {:>9.1} {:>9.1} {:>11.2e} {:>11.2e} {:>10.4} {:>11} {:>7}",
             v.name,
             v.timing.gpu_ms,
             v.timing.frame_ms,
             v.implementation_error.rmse,
             v.model_error.rmse,
             v.model_error.flip_mean,
+            local,
             if v.pareto { "*" } else { "" }
         );
     }
+    if let Some(budget) = &report.budget {
+        println!("{}", budget_line(report, budget));
+    }
     println!("report: {}", dir.join("report.json").display());
+}
+
+/// What `--budget` found, in one line.
+fn budget_line(report: &Report, budget: &shadelab::compare::report::Budget) -> String {
+    let what = format!(
+        "{} <= {} against the {}",
+        report.plot_metric.name(),
+        budget.max_error,
+        report.plot_reference.describe()
+    );
+    match budget
+        .fastest
+        .as_ref()
+        .and_then(|name| report.variants.iter().find(|v| &v.name == name))
+    {
+        Some(v) => format!(
+            "budget: the fastest variant with {what}: {} ({:.1} ms, error {:.3e})",
+            v.name,
+            v.timing.gpu_ms,
+            report.error_of(v)
+        ),
+        None => format!("budget: no variant has {what}"),
+    }
 }

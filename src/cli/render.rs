@@ -10,7 +10,7 @@ use shadelab::rt_scene::RayStats;
 use shadelab::scene::{self, Scene};
 use shadelab::shading::Shading;
 
-use super::args::{check_depth, ImageSize};
+use super::args::{check_depth, ImageSize, LightingArg};
 use super::Failure;
 
 #[derive(Args)]
@@ -25,6 +25,8 @@ pub struct RenderArgs {
     backend: String,
     #[command(flatten)]
     size: ImageSize,
+    #[command(flatten)]
+    lighting: LightingArg,
     /// Ray tracing: maximum recursion depth.
     #[arg(long)]
     depth: Option<u32>,
@@ -68,6 +70,12 @@ pub fn load_scene(path: Option<&Path>) -> Result<(Scene, String), Failure> {
 /// the scene loader checks the file's.
 fn apply_overrides(scene: &mut Scene, args: &RenderArgs) -> Result<(), Failure> {
     args.size.apply(scene)?;
+    if args.lighting.lighting.is_some() && args.backend == "cpu" {
+        return Err(Failure::usage(
+            "--lighting is for the GPU backend; the CPU reference always evaluates the built-in formula".to_string(),
+        ));
+    }
+    args.lighting.apply(scene)?;
     if let Some(d) = args.depth {
         scene.render.depth = check_depth(d)?;
     }

@@ -44,13 +44,115 @@ pub struct VariantResult {
     /// GPU against the CPU reference of the same variant: should be tiny;
     /// large means a bug.
     pub implementation_error: Errors,
-    /// GPU against the scene's reference image: what the variant costs in
-    /// accuracy.
+    /// GPU against the scene's (global) reference image, the ray-traced
+    /// one: what the variant costs in accuracy, shadows and reflections
+    /// included.
     pub model_error: Errors,
+    /// GPU against the local reference: the formula per pixel on exact
+    /// geometry, no shadows, reflection or refraction (what Phong shading
+    /// converges to). `None` in reports written before it existed.
+    #[serde(default)]
+    pub local_error: Option<Errors>,
     pub timing: Timing,
-    /// On the Pareto front of (gpu_ms, model RMSE): no other variant is at
-    /// least as fast and at least as accurate, and strictly better in one.
+    /// On the Pareto front of (gpu_ms, plotted RMSE, `Report::error_of`):
+    /// no other variant is at least as fast and at least as accurate, and
+    /// strictly better in one.
     pub pareto: bool,
+}
+
+/// Which reference a variant's plotted error (and the budget) is against.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ReferenceChoice {
+    /// The local reference for the raster modes, the global one for ray
+    /// tracing: each against what it tries to converge to.
+    #[default]
+    Auto,
+    Local,
+    Global,
+}
+
+impl ReferenceChoice {
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "auto" => Some(Self::Auto),
+            "local" => Some(Self::Local),
+            "global" => Some(Self::Global),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Auto => "auto",
+            Self::Local => "local",
+            Self::Global => "global",
+        }
+    }
+
+    /// The reference in a sentence's words ("against the ...").
+    pub fn describe(self) -> &'static str {
+        match self {
+            Self::Auto => "local reference (raster modes) or the global one (ray tracing)",
+            Self::Local => "local reference",
+            Self::Global => "global (ray-traced) reference",
+        }
+    }
+}
+
+/// Which error figure the plot and the budget use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Metric {
+    #[default]
+    Rmse,
+    Flip,
+}
+
+impl Metric {
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "rmse" => Some(Self::Rmse),
+            "flip" => Some(Self::Flip),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Rmse => "RMSE",
+            Self::Flip => "mean FLIP",
+        }
+    }
+
+    pub fn of(self, e: &Errors) -> f64 {
+        match self {
+            Self::Rmse => e.rmse,
+            Self::Flip => e.flip_mean,
+        }
+    }
+}
+
+/// `compare --budget E`: the fastest variant whose error is at most `E`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Budget {
+    pub max_error: f64,
+    /// The fastest variant within the budget (by `gpu_ms`), or `None` when
+    /// none is.
+    pub fastest: Option<String>,
+}
+
+impl VariantResult {
+    /// The errors against `reference` (`Auto`: the local reference for the
+    /// raster modes where the report has it).
+    pub fn errors_against(&self, reference: ReferenceChoice) -> &Errors {
+        let raster = self.variant.shading.raster_mode().is_some();
+        match (reference, &self.local_error) {
+            (ReferenceChoice::Local, Some(local)) => local,
+            (ReferenceChoice::Auto, Some(local)) if raster => local,
+            _ => &self.model_error,
+        }
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -68,12 +170,45 @@ pub struct Report {
     /// How the reference image was made.
     pub reference: String,
     pub reference_image: String,
+    /// How the local reference image was made, and its file; empty in
+    /// reports written before it existed.
+    #[serde(default)]
+    pub local_reference: String,
+    #[serde(default)]
+    pub local_reference_image: String,
+    /// The reference and the figure the plot, the Pareto front and the
+    /// budget use.
+    #[serde(default)]
+    pub plot_reference: ReferenceChoice,
+    #[serde(default)]
+    pub plot_metric: Metric,
     /// `Some((i, n))` for the i-th of n shards (1-based), `None` when whole.
     pub shard: Option<(usize, usize)>,
     pub variants: Vec<VariantResult>,
+    /// Present when `--budget` was given.
+    #[serde(default)]
+    pub budget: Option<Budget>,
 }
 
 impl Report {
+    /// A variant's plotted error: the chosen figure against the chosen
+    /// reference.
+    pub fn error_of(&self, v: &VariantResult) -> f64 {
+        self.plot_metric.of(v.errors_against(self.plot_reference))
+    }
+
+    /// The fastest variant (by `gpu_ms`) whose plotted error is at most
+    /// `max_error`; `None` when none is. Of two equally fast, the first.
+    pub fn fastest_within(&self, max_error: f64) -> Option<&VariantResult> {
+        self.variants
+            .iter()
+            .filter(|v| self.error_of(v) <= max_error)
+            .fold(None, |best: Option<&VariantResult>, v| match best {
+                Some(b) if b.timing.gpu_ms <= v.timing.gpu_ms => Some(b),
+                _ => Some(v),
+            })
+    }
+
     /// The device, with its driver and version where recorded.
     pub fn device_and_driver(&self) -> String {
         if self.driver.is_empty() {
@@ -140,5 +275,90 @@ mod tests {
             "raytrace_depth-3_cutoff-0.01"
         );
         assert_eq!(file_stem("flat"), "flat");
+    }
+
+    fn result(name: &str, gpu_ms: f64, global: f64, local: Option<f64>) -> VariantResult {
+        let errors = |rmse: f64| Errors {
+            rmse,
+            max_abs: rmse * 4.0,
+            psnr: None,
+            flip_mean: rmse / 2.0,
+        };
+        VariantResult {
+            name: name.into(),
+            variant: name.parse().unwrap(),
+            image: String::new(),
+            heatmap: String::new(),
+            implementation_error: errors(0.0),
+            model_error: errors(global),
+            local_error: local.map(errors),
+            timing: Timing {
+                gpu_ms,
+                gpu_spread_ms: 0.0,
+                frame_ms: gpu_ms,
+                frame_spread_ms: 0.0,
+                pipeline_ms: 0.0,
+            },
+            pareto: false,
+        }
+    }
+
+    fn hand_made() -> Report {
+        Report {
+            scene: "s".into(),
+            width: 1,
+            height: 1,
+            device: String::new(),
+            driver: String::new(),
+            runs: 1,
+            reference: String::new(),
+            reference_image: String::new(),
+            local_reference: String::new(),
+            local_reference_image: String::new(),
+            plot_reference: ReferenceChoice::Auto,
+            plot_metric: Metric::Rmse,
+            shard: None,
+            variants: vec![
+                result("flat", 1.0, 0.30, Some(0.20)),
+                result("gouraud", 2.0, 0.12, Some(0.05)),
+                result("phong", 3.0, 0.11, Some(0.01)),
+                result("raytrace", 9.0, 0.02, Some(0.15)),
+            ],
+            budget: None,
+        }
+    }
+
+    #[test]
+    fn the_budget_picks_the_fastest_variant_within_it_by_the_chosen_reference() {
+        let mut r = hand_made();
+        // Auto: local for the raster modes, global for the ray tracer.
+        let pick = |r: &Report, e: f64| r.fastest_within(e).map(|v| v.name.clone());
+        assert_eq!(pick(&r, 0.25).as_deref(), Some("flat"));
+        assert_eq!(pick(&r, 0.06).as_deref(), Some("gouraud"));
+        assert_eq!(pick(&r, 0.02).as_deref(), Some("phong"));
+        assert_eq!(pick(&r, 0.005), None);
+        r.plot_reference = ReferenceChoice::Global;
+        assert_eq!(pick(&r, 0.06).as_deref(), Some("raytrace"));
+        assert_eq!(pick(&r, 0.115).as_deref(), Some("phong"));
+        r.plot_reference = ReferenceChoice::Local;
+        assert_eq!(pick(&r, 0.16).as_deref(), Some("gouraud"));
+        r.plot_metric = Metric::Flip;
+        // FLIP here is half the RMSE: 0.1 local FLIP for flat.
+        assert_eq!(pick(&r, 0.1).as_deref(), Some("flat"));
+    }
+
+    #[test]
+    fn reports_without_a_local_error_measure_against_the_global_one() {
+        let v = result("phong", 1.0, 0.3, None);
+        assert_eq!(v.errors_against(ReferenceChoice::Auto).rmse, 0.3);
+        assert_eq!(v.errors_against(ReferenceChoice::Local).rmse, 0.3);
+        let old: Report = serde_json::from_str(
+            &serde_json::to_string(&hand_made())
+                .unwrap()
+                .replace(",\"budget\":null", "")
+                .replace("\"plot_reference\":\"auto\",", ""),
+        )
+        .unwrap();
+        assert_eq!(old.plot_reference, ReferenceChoice::Auto);
     }
 }

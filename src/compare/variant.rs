@@ -1,11 +1,14 @@
 //! A variant: a shading mode plus its settings, written
 //! `mode[:key=value,...]`, e.g. `flat`, `gouraud:segments=16`,
-//! `phong:interpolation=screen`, `raytrace:depth=3,cutoff=0.01,samples=4`.
+//! `phong:interpolation=screen`, `raytrace:depth=3,cutoff=0.01,samples=4`,
+//! `phong:lighting=blinn.glsl` (a lighting hook, any mode).
 
 use std::fmt;
+use std::path::Path;
 use std::str::FromStr;
+use std::sync::Arc;
 
-use crate::scene::{Interpolation, Scene, Shape, MAX_DEPTH};
+use crate::scene::{Interpolation, LightingHook, Scene, SceneError, Shape, MAX_DEPTH};
 use crate::shading::Shading;
 
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -18,6 +21,9 @@ pub struct Variant {
     pub cutoff: Option<f64>,
     pub samples: Option<u32>,
     pub shadows: Option<bool>,
+    /// A lighting hook's file (`--lighting`), for every mode.
+    #[serde(default)]
+    pub lighting: Option<String>,
 }
 
 impl Variant {
@@ -30,12 +36,17 @@ impl Variant {
             cutoff: None,
             samples: None,
             shadows: None,
+            lighting: None,
         }
     }
 
-    /// The scene with this variant's settings applied.
-    pub fn apply(&self, scene: &Scene) -> Scene {
+    /// The scene with this variant's settings applied; fails only on a
+    /// lighting hook's file that cannot be read.
+    pub fn apply(&self, scene: &Scene) -> Result<Scene, SceneError> {
         let mut s = scene.clone();
+        if let Some(path) = &self.lighting {
+            s.lighting_hook = Some(Arc::new(LightingHook::load(Path::new(path))?));
+        }
         if let Some(n) = self.segments {
             for object in &mut s.objects {
                 if let Shape::Sphere { segments, .. } = &mut object.shape {
@@ -58,7 +69,7 @@ impl Variant {
         if let Some(on) = self.shadows {
             s.render.shadows = on;
         }
-        s
+        Ok(s)
     }
 }
 
@@ -83,6 +94,9 @@ impl fmt::Display for Variant {
         }
         if let Some(on) = self.shadows {
             keys.push(format!("shadows={on}"));
+        }
+        if let Some(path) = &self.lighting {
+            keys.push(format!("lighting={path}"));
         }
         if keys.is_empty() {
             write!(f, "{}", self.shading)
@@ -157,9 +171,15 @@ impl FromStr for Variant {
                     only(!raster, "raytrace")?;
                     v.shadows = Some(value.parse().map_err(|_| bad("true or false"))?);
                 }
+                "lighting" => {
+                    if value.is_empty() {
+                        return Err(bad("a GLSL file"));
+                    }
+                    v.lighting = Some(value.to_string());
+                }
                 _ => {
                     return Err(format!(
-                        "variant `{text}`: unknown setting `{key}`; expected segments, interpolation, depth, cutoff, samples or shadows"
+                        "variant `{text}`: unknown setting `{key}`; expected segments, interpolation, depth, cutoff, samples, shadows or lighting"
                     ))
                 }
             }
@@ -217,6 +237,8 @@ mod tests {
             "phong:interpolation=screen",
             "raytrace:depth=3,cutoff=0.01,samples=4",
             "raytrace:shadows=false",
+            "phong:lighting=examples/lighting/blinn-phong.glsl",
+            "raytrace:depth=2,lighting=hook.glsl",
         ] {
             let v: Variant = text.parse().unwrap();
             assert_eq!(v.to_string(), text);

@@ -46,6 +46,9 @@ pub struct DeviceInfo {
     pub device_type: String,
     pub api_version: String,
     pub is_lavapipe: bool,
+    /// 16-bit float arithmetic in shaders (enabled where offered, for
+    /// lighting hooks in half precision).
+    pub shader_float16: bool,
     /// `None` when shadelab can use the device, else why not.
     pub unusable_because: Option<String>,
     /// `None` when the GPU ray tracer runs on the device, else why not
@@ -136,7 +139,10 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
             .push_next(&mut driver)
             .push_next(&mut subgroup);
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
-        let mut f2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut f13);
+        let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
+        let mut f2 = vk::PhysicalDeviceFeatures2::default()
+            .push_next(&mut f13)
+            .push_next(&mut f12);
         // SAFETY: `physical` came from this instance; the chains are local.
         let families = unsafe {
             instance.get_physical_device_properties2(physical, &mut props2);
@@ -184,6 +190,7 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
                     vk::api_version_patch(api)
                 ),
                 is_lavapipe: driver.driver_id == vk::DriverId::MESA_LLVMPIPE,
+                shader_float16: f12.shader_float16 == vk::TRUE,
                 unusable_because: missing.map(|m| format!("lacks {m}")),
                 no_ray_tracer_because: (!packet_tracing_supported(&subgroup)).then(|| {
                     "lacks subgroup shuffles in compute shaders, 4 or more invocations wide"
@@ -354,9 +361,13 @@ impl GpuContext {
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
             .synchronization2(true);
+        // Optional: what a lighting hook in half precision needs.
+        let mut f12 = vk::PhysicalDeviceVulkan12Features::default()
+            .shader_float16(chosen.info.shader_float16);
         let create = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
-            .push_next(&mut f13);
+            .push_next(&mut f13)
+            .push_next(&mut f12);
         // SAFETY: the create info refers to locals that outlive the call and
         // the features were checked as supported in describe_devices.
         let device = unsafe { instance.create_device(chosen.physical, &create, None) }

@@ -25,6 +25,10 @@ pub enum GpuError {
     NoRayTracer { device: String, why: String },
     #[error("the scene holds {0}; render it with --backend cpu")]
     SceneTooLarge(String),
+    /// A lighting hook that does not compile or oversteps its interface:
+    /// the message names the file (and glslang's line).
+    #[error("lighting hook {0}")]
+    LightingHook(String),
     #[error("Vulkan call {call} failed: {result}")]
     Vulkan {
         call: &'static str,
@@ -42,6 +46,7 @@ impl GpuError {
         matches!(
             self,
             GpuError::ImageTooLarge { .. }
+                | GpuError::LightingHook(_)
                 | GpuError::DeviceNotFound { .. }
                 | GpuError::BvhTooDeep { .. }
                 | GpuError::SceneTooLarge(_)

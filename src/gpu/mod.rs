@@ -7,6 +7,7 @@ mod commands;
 mod context;
 mod descriptors;
 mod error;
+pub mod hook;
 mod image;
 mod pipeline;
 pub mod raster;

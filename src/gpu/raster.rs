@@ -14,6 +14,7 @@ use super::commands::OneShot;
 use super::context::GpuContext;
 use super::descriptors::{create_set_layout, Descriptors};
 use super::error::{GpuError, VkContext};
+use super::hook;
 use super::image::{subresource_range, Image};
 use super::pipeline::{single_pipeline, PipelineObjects};
 use super::raster_flat::FlatMesh;
@@ -25,7 +26,7 @@ use super::shader_catalog::{self as shaders, ShaderBlob};
 use super::timestamps::{GpuTimings, Timestamps};
 use crate::camera::View;
 use crate::linear_image::LinearImage;
-use crate::scene::{Interpolation, Scene};
+use crate::scene::{Interpolation, LightingHook, Scene};
 use crate::shading::RasterMode;
 
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
@@ -114,6 +115,7 @@ fn create_pipeline(
     interpolation: Interpolation,
     spec: &Specialization,
     target: ColorTarget,
+    lighting_hook: Option<&LightingHook>,
 ) -> Result<PipelineObjects, GpuError> {
     let device = &context.device;
     let mut p = PipelineObjects::new(context);
@@ -132,9 +134,10 @@ fn create_pipeline(
 
     let (vert, frag) = shader_pair(mode, interpolation);
     for blob in [vert, frag] {
-        let words = blob.words();
+        let words = hook::module_words(blob, lighting_hook, &context.info)?;
         let info = vk::ShaderModuleCreateInfo::default().code(&words);
-        // SAFETY: the words are SPIR-V validated by naga at build time.
+        // SAFETY: the words are SPIR-V validated by naga (at build time, or
+        // with the hook by `hook::module_words`).
         let module =
             unsafe { device.create_shader_module(&info, None) }.during("vkCreateShaderModule")?;
         p.modules.push(module);
@@ -303,7 +306,14 @@ pub fn render_to(
     let spec = specialization(scene);
 
     let pipeline_started = Instant::now();
-    let pipeline = create_pipeline(context, mode, scene.lighting.interpolation, &spec, target)?;
+    let pipeline = create_pipeline(
+        context,
+        mode,
+        scene.lighting.interpolation,
+        &spec,
+        target,
+        scene.lighting_hook.as_deref(),
+    )?;
     let pipeline_ms = pipeline_started.elapsed().as_secs_f64() * 1e3;
 
     let flat = mode == RasterMode::Flat;

@@ -15,6 +15,7 @@ use super::commands::OneShot;
 use super::context::GpuContext;
 use super::descriptors::{create_set_layout, Descriptors};
 use super::error::{GpuError, VkContext};
+use super::hook;
 use super::pipeline::{single_pipeline, PipelineObjects};
 use super::raster::check_image_size;
 use super::raster_scene;
@@ -26,7 +27,7 @@ use super::timestamps::{GpuTimings, Timestamps};
 use crate::camera::View;
 use crate::linear_image::LinearImage;
 use crate::rt_scene::{sample_grid, RayStats, RtScene};
-use crate::scene::Scene;
+use crate::scene::{LightingHook, Scene};
 
 pub struct TraceOutput {
     pub image: LinearImage,
@@ -38,6 +39,7 @@ pub struct TraceOutput {
 fn create_pipeline(
     context: &Arc<GpuContext>,
     spec: &TraceSpecialization,
+    lighting_hook: Option<&LightingHook>,
 ) -> Result<PipelineObjects, GpuError> {
     let device = &context.device;
     let mut p = PipelineObjects::new(context);
@@ -47,9 +49,10 @@ fn create_pipeline(
     // SAFETY: valid device and create infos throughout this function.
     p.layout = unsafe { device.create_pipeline_layout(&layout_info, None) }
         .during("vkCreatePipelineLayout")?;
-    let words = RAYTRACE_COMP.words();
+    let words = hook::module_words(&RAYTRACE_COMP, lighting_hook, &context.info)?;
     let module_info = vk::ShaderModuleCreateInfo::default().code(&words);
-    // SAFETY: the words are SPIR-V validated by naga at build time.
+    // SAFETY: the words are SPIR-V validated by naga (at build time, or with
+    // the hook by `hook::module_words`).
     let module = unsafe { device.create_shader_module(&module_info, None) }
         .during("vkCreateShaderModule")?;
     p.modules.push(module);
@@ -148,7 +151,7 @@ pub fn render_with(
     let mut r = records(&rt)?;
     let spec = specialization(scene, &rt, options);
     let pipeline_started = Instant::now();
-    let pipeline = create_pipeline(context, &spec)?;
+    let pipeline = create_pipeline(context, &spec, scene.lighting_hook.as_deref())?;
     let pipeline_ms = pipeline_started.elapsed().as_secs_f64() * 1e3;
 
     if spec.has_bvh != 0 && r.bvh.root.is_none() {

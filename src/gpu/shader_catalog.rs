@@ -33,6 +33,11 @@ pub struct ShaderBlob {
     pub stage: ShaderStage,
     /// Little-endian SPIR-V words.
     pub spirv: &'static [u8],
+    /// The GLSL it was compiled from (its includes are in `INCLUDES`) and
+    /// the defines it was compiled with: what `gpu::hook` compiles again
+    /// with a user's lighting hook.
+    pub source: &'static str,
+    pub defines: &'static [(&'static str, Option<&'static str>)],
     pub bindings: &'static [ReflectedBinding],
     /// Size in bytes of the push-constant block, 0 when there is none.
     pub push_constant_size: u32,

@@ -948,6 +948,7 @@ pub(crate) fn load_scene(path: &Path) -> Result<Scene, SceneError> {
         materials,
         objects,
         render: RenderSettings::default(),
+        lighting_hook: None,
         warnings,
     })
 }

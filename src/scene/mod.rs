@@ -33,6 +33,7 @@ use std::path::Path;
 
 pub mod error;
 pub mod gltf_import;
+mod lighting_hook;
 pub mod model;
 pub mod tessellate;
 pub mod toml_format;

@@ -4,6 +4,8 @@
 //! (`toml_format`, `gltf_import`) produce it; renderers only read it. Nothing
 //! in this file touches a file, Vulkan, or an image.
 
+use std::sync::Arc;
+
 use glam::DVec3;
 
 /// A whole scene, validated: every number finite, every material index valid,
@@ -17,9 +19,22 @@ pub struct Scene {
     pub materials: Vec<Material>,
     pub objects: Vec<Object>,
     pub render: RenderSettings,
+    /// The user's GLSL for one light's contribution (`--lighting FILE`),
+    /// compiled into every GPU mode in place of the built-in formula; the
+    /// CPU reference always evaluates the built-in one, so errors are
+    /// measured against the lecture's formula.
+    pub lighting_hook: Option<Arc<LightingHook>>,
     /// Non-fatal findings of the loader (for example degenerate triangles that
     /// were dropped). The CLI prints them; the library never does.
     pub warnings: Vec<String>,
+}
+
+/// A lighting hook's source, as read from its file.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LightingHook {
+    /// The path as the user gave it: compiler messages name it.
+    pub path: String,
+    pub source: String,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]

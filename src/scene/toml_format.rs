@@ -672,6 +672,7 @@ pub fn parse(text: &str, base_dir: &Path, label: &str) -> Result<Scene, SceneErr
         materials,
         objects,
         render,
+        lighting_hook: None,
         warnings,
     })
 }

@@ -9,12 +9,14 @@ pub struct Run {
     pub stderr: String,
 }
 
-/// Runs `shadelab ARGS` in `dir` with the validation layer on.
+/// Runs `shadelab ARGS` in `dir` with the validation layer on, and the
+/// lighting hooks' cache in `dir/cache` (not the user's).
 pub fn shadelab(dir: &Path, args: &[&str]) -> Run {
     let out = Command::new(env!("CARGO_BIN_EXE_shadelab"))
         .args(args)
         .current_dir(dir)
         .env("SHADELAB_VALIDATION", "1")
+        .env("SHADELAB_CACHE_DIR", dir.join("cache"))
         .output()
         .expect("the binary runs");
     Run {

@@ -73,6 +73,7 @@ pub fn scene(width: u32, height: u32, fov_y_deg: f64) -> Scene {
         materials: vec![material(DVec3::new(0.9, 0.6, 0.3), 0.3, 0.7, 0.5, 10.0)],
         objects: Vec::new(),
         render: RenderSettings::default(),
+        lighting_hook: None,
         warnings: Vec::new(),
     }
 }

@@ -99,6 +99,21 @@ pub(crate) fn page(
     h.push_str("<h2>Speed against error</h2>\n<div class=\"plot\">\n");
     h.push_str(&inline_svg(plot_svg));
     h.push_str("</div>\n");
+    if let Some(budget) = &report.budget {
+        let within = format!(
+            "{} at most {}",
+            report.plot_metric.name(),
+            figure(budget.max_error)
+        );
+        let _ = match &budget.fastest {
+            Some(name) => writeln!(
+                h,
+                "<p class=\"budget\">Budget: the fastest variant with {within} is <code>{}</code>.</p>",
+                escape(name)
+            ),
+            None => writeln!(h, "<p class=\"budget\">Budget: no variant has {within}.</p>"),
+        };
+    }
 
     legend(&mut h, report);
     table(&mut h, report);
@@ -129,7 +144,7 @@ pub(crate) fn page(
         };
         let _ = writeln!(
             h,
-            "<figure class=\"{class}\" id=\"{}\">{}{}<figcaption><code>{}</code>{}<br>GPU {} ms, model RMSE {}, FLIP {}; implementation RMSE {}</figcaption></figure>",
+            "<figure class=\"{class}\" id=\"{}\">{}{}<figcaption><code>{}</code>{}<br>GPU {} ms, model RMSE {}, FLIP {}; local RMSE {}; implementation RMSE {}</figcaption></figure>",
             escape(&super::super::report::file_stem(&v.name)),
             png_img(&imgs.image, &v.name, "image"),
             png_img(&imgs.heatmap, &format!("{} FLIP heat map", v.name), "heatmap"),
@@ -138,6 +153,7 @@ pub(crate) fn page(
             figure(v.timing.gpu_ms),
             figure(v.model_error.rmse),
             figure(v.model_error.flip_mean),
+            v.local_error.map_or_else(|| "-".to_string(), |e| figure(e.rmse)),
             figure(v.implementation_error.rmse),
         );
     }
@@ -159,11 +175,15 @@ fn legend(h: &mut String, report: &Report) {
     let _ = writeln!(
         h,
         "<dt>Implementation error</dt><dd>The variant rendered on the GPU against the CPU reference renderer running the same variant. It should be tiny: a large value means a bug in one of the two renderers, not a property of the shading model.</dd>\n\
-<dt>Model error</dt><dd>The variant's GPU image against the scene's reference image ({}). This is what the variant's simplifications cost in accuracy, and what the plot and the Pareto front use.</dd>\n\
+<dt>Model error</dt><dd>The variant's GPU image against the scene's global reference image ({}): what the variant's simplifications cost in accuracy, shadows and reflections included.</dd>\n\
+<dt>Local error</dt><dd>The variant's GPU image against the local reference ({}): the formula per pixel on exact geometry, without shadows, reflection or refraction, what Phong shading converges to. The plot, the Pareto front and the budget use {} against the {}.</dd>\n\
 <dt>RMSE, max abs, PSNR, FLIP</dt><dd>Root mean square over every channel of every pixel, and the largest pixel error, both in linear intensity; PSNR in dB with peak 1.0 (&infin; for identical images); FLIP, NVIDIA's perceptual difference, averaged over the pixels (0 none, 1 the most).</dd>\n\
 <dt>Times</dt><dd>Milliseconds, the median of {} timed runs after a warm-up, &plusmn; the spread (slowest minus fastest). GPU: queue submission to completion. Frame: the whole frame, pipeline creation, uploads and read-back included. Pipeline: shader modules and pipeline creation.</dd>\n\
-<dt><span class=\"swatch\" style=\"background: rgb{:?}\"></span>Pareto front</dt><dd>No other variant is at least as fast (GPU time) and at least as accurate (model RMSE), and strictly better in one. Marked orange in the plot, the table, the contact sheet and the images.</dd>",
+<dt><span class=\"swatch\" style=\"background: rgb{:?}\"></span>Pareto front</dt><dd>No other variant is at least as fast (GPU time) and at least as accurate (the plotted error), and strictly better in one. Marked orange in the plot, the table, the contact sheet and the images.</dd>",
         escape(&report.reference),
+        escape(&report.local_reference),
+        report.plot_metric.name(),
+        report.plot_reference.describe(),
         report.runs,
         PARETO_COLOUR
     );
@@ -171,7 +191,7 @@ fn legend(h: &mut String, report: &Report) {
 }
 
 fn table(h: &mut String, report: &Report) {
-    h.push_str("<h2>Every figure</h2>\n<table>\n<thead>\n<tr><th rowspan=\"2\">variant</th><th colspan=\"4\">implementation error</th><th colspan=\"4\">model error</th><th colspan=\"5\">time, ms</th><th rowspan=\"2\">Pareto</th></tr>\n<tr><th>RMSE</th><th>max abs</th><th>PSNR dB</th><th>FLIP</th><th>RMSE</th><th>max abs</th><th>PSNR dB</th><th>FLIP</th><th>GPU</th><th>&plusmn;</th><th>frame</th><th>&plusmn;</th><th>pipeline</th></tr>\n</thead>\n<tbody>\n");
+    h.push_str("<h2>Every figure</h2>\n<table>\n<thead>\n<tr><th rowspan=\"2\">variant</th><th colspan=\"4\">implementation error</th><th colspan=\"4\">model error</th><th colspan=\"4\">local error</th><th colspan=\"5\">time, ms</th><th rowspan=\"2\">Pareto</th></tr>\n<tr><th>RMSE</th><th>max abs</th><th>PSNR dB</th><th>FLIP</th><th>RMSE</th><th>max abs</th><th>PSNR dB</th><th>FLIP</th><th>RMSE</th><th>max abs</th><th>PSNR dB</th><th>FLIP</th><th>GPU</th><th>&plusmn;</th><th>frame</th><th>&plusmn;</th><th>pipeline</th></tr>\n</thead>\n<tbody>\n");
     for v in &report.variants {
         let t = &v.timing;
         let (r, g, b) = mode_colour(v.variant.shading);
@@ -183,6 +203,10 @@ fn table(h: &mut String, report: &Report) {
         );
         cells(h, &v.implementation_error);
         cells(h, &v.model_error);
+        match &v.local_error {
+            Some(e) => cells(h, e),
+            None => h.push_str(&"<td>-</td>".repeat(4)),
+        }
         for x in [
             t.gpu_ms,
             t.gpu_spread_ms,

@@ -10,7 +10,8 @@
 mod contact_sheet;
 mod font;
 mod html;
-mod plot;
+pub mod labels;
+pub mod plot;
 mod table;
 
 use std::io::Cursor;

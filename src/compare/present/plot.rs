@@ -1,6 +1,9 @@
-//! `speed-vs-error.png` and `.svg`: GPU time (x) against model RMSE (y),
-//! one point per variant coloured by mode, the Pareto front as a line
-//! through its points with each one named.
+//! `speed-vs-error.png` and `.svg`: GPU time (x) against error (y: the
+//! report's metric against its reference, `Report::error_of`), one point
+//! per variant coloured by mode, the Pareto front as a line through its
+//! points. Every point carries its number, placed where it overlaps no
+//! other label and no point (`labels`); the numbers and names are listed
+//! beside the plot.
 //!
 //! An axis is logarithmic when its positive values span more than a factor
 //! of 10, linear from zero otherwise. On a log axis a value of zero (a
@@ -12,23 +15,41 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::font::{Typeset, FAMILY};
+use super::labels::{place_labels, Rect};
 use super::{encode_png, figure, mode_colour, PresentError, PARETO_COLOUR};
 use crate::compare::report::Report;
 use crate::shading::Shading;
 
-pub const WIDTH: u32 = 960;
-pub const HEIGHT: u32 = 600;
+pub const WIDTH: u32 = 1280;
+pub const HEIGHT: u32 = 640;
+/// The column beside the plot that lists each point's number and name.
+const LIST_WIDTH: u32 = 400;
+/// Half the side of the square a point's marker takes, in pixels.
+const MARKER: i32 = 6;
 
 pub(crate) struct Plot {
     pub png: Vec<u8>,
     pub svg: String,
 }
 
-pub(crate) fn draw(report: &Report) -> Result<Plot, PresentError> {
-    let err = |message: String| PresentError::Draw {
+fn draw_error(message: String) -> PresentError {
+    PresentError::Draw {
         what: "speed against error plot",
         message,
-    };
+    }
+}
+
+/// The boxes of every label the plot draws (point numbers and the list
+/// beside the plot), in pixels: what the test of overlaps reads.
+pub fn label_boxes(report: &Report) -> Result<Vec<Rect>, PresentError> {
+    super::font::register()?;
+    let mut rgb = vec![255u8; (WIDTH * HEIGHT * 3) as usize];
+    let root = Typeset(BitMapBackend::with_buffer(&mut rgb, (WIDTH, HEIGHT))).into_drawing_area();
+    chart(&root, report).map_err(draw_error)
+}
+
+pub(crate) fn draw(report: &Report) -> Result<Plot, PresentError> {
+    let err = draw_error;
     let mut rgb = vec![255u8; (WIDTH * HEIGHT * 3) as usize];
     {
         let root =
@@ -93,9 +114,12 @@ impl Axis {
     }
 }
 
-fn chart<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, report: &Report) -> Result<(), String> {
+fn chart<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    report: &Report,
+) -> Result<Vec<Rect>, String> {
     let x = Axis::fit(report.variants.iter().map(|v| v.timing.gpu_ms));
-    let y = Axis::fit(report.variants.iter().map(|v| v.model_error.rmse));
+    let y = Axis::fit(report.variants.iter().map(|v| report.error_of(v)));
     match (x.log, y.log) {
         (false, false) => chart_in(root, report, x, y, x.lo..x.hi, y.lo..y.hi),
         (true, false) => chart_in(root, report, x, y, (x.lo..x.hi).log_scale(), y.lo..y.hi),
@@ -118,7 +142,7 @@ fn chart_in<DB, XS, YS>(
     y: Axis,
     x_spec: XS,
     y_spec: YS,
-) -> Result<(), String>
+) -> Result<Vec<Rect>, String>
 where
     DB: DrawingBackend,
     XS: AsRangedCoord<Value = f64>,
@@ -128,18 +152,19 @@ where
 {
     let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     root.fill(&WHITE).map_err(e)?;
+    let (plot_area, list_area) = root.split_horizontally(WIDTH - LIST_WIDTH);
     let clamped = report.variants.iter().any(|v| {
-        let (px, py) = (v.timing.gpu_ms, v.model_error.rmse);
+        let (px, py) = (v.timing.gpu_ms, report.error_of(v));
         px.is_finite() && py.is_finite() && (x.place(px) != px || y.place(py) != py)
     });
     let mut caption = format!(
-        "{}, {} x {}: GPU time against model error",
+        "{}, {} x {}: GPU time against error",
         report.scene, report.width, report.height
     );
     if clamped {
         caption.push_str(" (error 0 drawn on the lower edge)");
     }
-    let mut chart = ChartBuilder::on(root)
+    let mut chart = ChartBuilder::on(&plot_area)
         .caption(caption, (FAMILY, 20))
         .margin(16)
         .x_label_area_size(44)
@@ -155,7 +180,9 @@ where
             scale(x.log)
         ))
         .y_desc(format!(
-            "model error: RMSE against the reference ({})",
+            "{} against the {} ({})",
+            report.plot_metric.name(),
+            report.plot_reference.describe(),
             scale(y.log)
         ))
         .x_label_formatter(&|v| figure(*v))
@@ -167,14 +194,14 @@ where
         .draw()
         .map_err(e)?;
 
-    let place = |gpu: f64, rmse: f64| (x.place(gpu), y.place(rmse));
+    let place = |gpu: f64, error: f64| (x.place(gpu), y.place(error));
     let finite = |gpu: f64, rmse: f64| gpu.is_finite() && rmse.is_finite();
 
     // The front first, so the points sit on top of its line.
     let mut front: Vec<_> = report
         .variants
         .iter()
-        .filter(|v| v.pareto && finite(v.timing.gpu_ms, v.model_error.rmse))
+        .filter(|v| v.pareto && finite(v.timing.gpu_ms, report.error_of(v)))
         .collect();
     front.sort_by(|a, b| a.timing.gpu_ms.total_cmp(&b.timing.gpu_ms));
     let (pr, pg, pb) = PARETO_COLOUR;
@@ -183,7 +210,7 @@ where
         .draw_series(LineSeries::new(
             front
                 .iter()
-                .map(|v| place(v.timing.gpu_ms, v.model_error.rmse)),
+                .map(|v| place(v.timing.gpu_ms, report.error_of(v))),
             pareto.stroke_width(2),
         ))
         .map_err(e)?
@@ -196,8 +223,8 @@ where
         let points: Vec<_> = report
             .variants
             .iter()
-            .filter(|v| v.variant.shading == mode && finite(v.timing.gpu_ms, v.model_error.rmse))
-            .map(|v| place(v.timing.gpu_ms, v.model_error.rmse))
+            .filter(|v| v.variant.shading == mode && finite(v.timing.gpu_ms, report.error_of(v)))
+            .map(|v| place(v.timing.gpu_ms, report.error_of(v)))
             .collect();
         if points.is_empty() {
             continue;
@@ -215,30 +242,16 @@ where
             .legend(move |(lx, ly)| Circle::new((lx + 9, ly), 5, colour.filled()));
     }
 
-    // Name each front point, alternately above and below it so that
-    // neighbours' names overlap less, and to its left where the name would
-    // run past the plot's right edge.
-    let label_style = TextStyle::from((FAMILY, 13).into_font());
-    let (area_x, _) = chart.plotting_area().get_base_pixel();
-    let (area_w, _) = chart.plotting_area().dim_in_pixel();
-    for (i, v) in front.iter().enumerate() {
-        let p = place(v.timing.gpu_ms, v.model_error.rmse);
-        let (px, _) = chart.backend_coord(&p);
-        let (tw, _) = root.estimate_text_size(&v.name, &label_style).map_err(e)?;
-        let dx = if px + 10 + tw as i32 > area_x + area_w as i32 {
-            -(tw as i32) - 10
-        } else {
-            10
-        };
-        let dy = if i % 2 == 0 { -20 } else { 8 };
-        chart
-            .draw_series(std::iter::once(
-                EmptyElement::at(p)
-                    + Circle::new((0, 0), 8, pareto.stroke_width(2))
-                    + Text::new(v.name.clone(), (dx, dy), label_style.clone()),
-            ))
-            .map_err(e)?;
-    }
+    // The front's points ringed.
+    chart
+        .draw_series(front.iter().map(|v| {
+            Circle::new(
+                place(v.timing.gpu_ms, report.error_of(v)),
+                MARKER as u32 + 3,
+                pareto.stroke_width(2),
+            )
+        }))
+        .map_err(e)?;
 
     chart
         .configure_series_labels()
@@ -248,7 +261,97 @@ where
         .position(SeriesLabelPosition::UpperRight)
         .draw()
         .map_err(e)?;
-    Ok(())
+
+    // Every drawn point's number, where it overlaps nothing.
+    let label_style = TextStyle::from((FAMILY, 13).into_font());
+    let (area_x, area_y) = chart.plotting_area().get_base_pixel();
+    let (area_w, area_h) = chart.plotting_area().dim_in_pixel();
+    let bounds = Rect {
+        left: area_x,
+        top: area_y,
+        right: area_x + area_w as i32,
+        bottom: area_y + area_h as i32,
+    };
+    let drawn: Vec<(usize, (i32, i32))> = report
+        .variants
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| finite(v.timing.gpu_ms, report.error_of(v)))
+        .map(|(i, v)| {
+            let p = place(v.timing.gpu_ms, report.error_of(v));
+            (i, chart.backend_coord(&p))
+        })
+        .collect();
+    let mut sizes = Vec::with_capacity(drawn.len());
+    for (i, _) in &drawn {
+        sizes.push(
+            root.estimate_text_size(&(i + 1).to_string(), &label_style)
+                .map_err(e)?,
+        );
+    }
+    let points: Vec<(i32, i32)> = drawn.iter().map(|(_, p)| *p).collect();
+    let boxes = place_labels(&points, &sizes, bounds, MARKER);
+    let mut placed = Vec::new();
+    for ((i, (px, py)), found) in drawn.iter().zip(&boxes) {
+        let Some(b) = found else { continue };
+        let (cx, cy) = ((b.left + b.right) / 2, (b.top + b.bottom) / 2);
+        // A leader line where the label had to move away from its point.
+        if (cx - px).abs() + (cy - py).abs() > 4 * MARKER {
+            root.draw(&PathElement::new(
+                [(*px, *py), (cx, cy)],
+                RGBColor(170, 170, 170).stroke_width(1),
+            ))
+            .map_err(e)?;
+        }
+        root.draw(&Text::new(
+            (i + 1).to_string(),
+            (b.left, b.top),
+            label_style.clone(),
+        ))
+        .map_err(e)?;
+        placed.push(*b);
+    }
+
+    placed.extend(draw_list(&list_area, report, &label_style)?);
+    Ok(placed)
+}
+
+/// The list beside the plot: each variant's number and name, one per
+/// line; returns the boxes of its lines.
+fn draw_list<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    report: &Report,
+    style: &TextStyle,
+) -> Result<Vec<Rect>, String> {
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let (left, top) = (area.get_base_pixel().0 + 8, 48);
+    let (_, area_h) = area.dim_in_pixel();
+    let line = ((area_h as i32 - top - 16) / report.variants.len().max(1) as i32).clamp(6, 18);
+    let mut boxes = Vec::new();
+    for (i, v) in report.variants.iter().enumerate() {
+        let text = format!("{:>2}  {}", i + 1, v.name);
+        let y = top + line * i as i32;
+        // Lines closer than the text is tall would overlap: the font
+        // shrinks with the spacing, so a long list still fits the column.
+        let mut size = 13.0;
+        let (mut fitted, (mut w, mut h)) = (
+            style.clone(),
+            area.estimate_text_size(&text, style).map_err(e)?,
+        );
+        while h as i32 > line && size > 4.0 {
+            size -= 1.0;
+            fitted = TextStyle::from((FAMILY, size).into_font());
+            (w, h) = area.estimate_text_size(&text, &fitted).map_err(e)?;
+        }
+        area.draw(&Text::new(
+            text,
+            (left - area.get_base_pixel().0, y),
+            fitted,
+        ))
+        .map_err(e)?;
+        boxes.push(Rect::at(left, y, (w, h)));
+    }
+    Ok(boxes)
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@ use super::PresentError;
 use crate::compare::report::{Errors, Report};
 
 /// The header, in column order.
-pub const COLUMNS: [&str; 15] = [
+pub const COLUMNS: [&str; 19] = [
     "name",
     "impl_rmse",
     "impl_max_abs",
@@ -14,6 +14,10 @@ pub const COLUMNS: [&str; 15] = [
     "model_max_abs",
     "model_psnr",
     "model_flip_mean",
+    "local_rmse",
+    "local_max_abs",
+    "local_psnr",
+    "local_flip_mean",
     "gpu_ms",
     "gpu_spread_ms",
     "frame_ms",
@@ -24,7 +28,8 @@ pub const COLUMNS: [&str; 15] = [
 
 /// The CSV bytes. Numbers are written in Rust's shortest round-trip form,
 /// so they parse back to the report's exact values; a PSNR of identical
-/// images (`None`) is `inf`; `pareto` is `true` or `false`.
+/// images (`None`) is `inf`; `pareto` is `true` or `false`. The local
+/// errors are empty in a report made before the local reference existed.
 pub(crate) fn csv(report: &Report) -> Result<Vec<u8>, PresentError> {
     let err = |e: csv::Error| PresentError::Draw {
         what: "CSV table",
@@ -37,6 +42,10 @@ pub(crate) fn csv(report: &Report) -> Result<Vec<u8>, PresentError> {
         let mut row = vec![v.name.clone()];
         row.extend(errors(&v.implementation_error));
         row.extend(errors(&v.model_error));
+        match &v.local_error {
+            Some(e) => row.extend(errors(e)),
+            None => row.extend([""; 4].map(String::from)),
+        }
         row.extend(
             [
                 t.gpu_ms,

@@ -1,0 +1,313 @@
+//! The built-in shaders compiled again with a user's lighting hook in place
+//! of `shaders/include/lighting_hook.glsl`, at run time: glslang compiles,
+//! naga validates, and the module's interface must be the built-in one's
+//! (the same bindings, push constants and specialization constants), so a
+//! hook can change the formula and nothing else. Compiled modules are kept
+//! on disk, keyed by every text that went in, the defines and the driver,
+//! so a sweep over many variants compiles each once.
+
+use std::hash::{Hash, Hasher};
+use std::path::PathBuf;
+
+use super::context::DeviceInfo;
+use super::error::GpuError;
+use super::shader_catalog::{ShaderBlob, ShaderStage, INCLUDES};
+use crate::scene::LightingHook;
+use crate::shader_compile;
+
+/// The include a hook replaces.
+const HOOK_INCLUDE: &str = "lighting_hook.glsl";
+
+/// What a hook must define, in the words of error messages.
+pub const HOOK_SIGNATURE: &str =
+    "vec3 shade_light(vec3 N, vec3 V, vec3 L, float d, vec3 intensity, Surface m, float k)";
+
+/// The SPIR-V words of `blob`, with `hook` compiled in when there is one
+/// and the stage evaluates the formula at all.
+pub fn module_words(
+    blob: &ShaderBlob,
+    hook: Option<&LightingHook>,
+    device: &DeviceInfo,
+) -> Result<Vec<u32>, GpuError> {
+    let Some(hook) = hook.filter(|_| evaluates_formula(blob)) else {
+        return Ok(blob.words());
+    };
+    let words = compiled(blob, hook, &device.driver)?;
+    if declares_capability(&words, FLOAT16_CAPABILITY) && !device.shader_float16 {
+        return Err(GpuError::LightingHook(format!(
+            "{}: computes in half precision (float16), which the device `{}` lacks (shaderFloat16)",
+            hook.path, device.name
+        )));
+    }
+    Ok(words)
+}
+
+/// SPIR-V's `Float16` capability.
+const FLOAT16_CAPABILITY: u32 = 9;
+
+/// Whether the module declares `OpCapability capability` (the capabilities
+/// open every module, right after the five-word header).
+fn declares_capability(words: &[u32], capability: u32) -> bool {
+    const OP_CAPABILITY: u32 = 17;
+    let mut at = 5;
+    while let Some(&word) = words.get(at) {
+        let (count, opcode) = ((word >> 16) as usize, word & 0xffff);
+        if opcode != OP_CAPABILITY || count == 0 {
+            return false;
+        }
+        if words.get(at + 1) == Some(&capability) {
+            return true;
+        }
+        at += count;
+    }
+    false
+}
+
+/// The module, from the cache or compiled (and then cached).
+fn compiled(blob: &ShaderBlob, hook: &LightingHook, driver: &str) -> Result<Vec<u32>, GpuError> {
+    let key = cache_key(blob, hook, driver);
+    let cached = cache_path(&key);
+    if let Some(words) = cached.as_ref().and_then(|path| read_cached(path, &key)) {
+        return Ok(words);
+    }
+    let words = compile(blob, hook)?;
+    if let Some(path) = cached {
+        write_cached(&path, &key, &words);
+    }
+    Ok(words)
+}
+
+/// Whether the stage includes the formula (the others compile unchanged).
+fn evaluates_formula(blob: &ShaderBlob) -> bool {
+    blob.source.contains("#include \"lighting.glsl\"")
+}
+
+fn compile(blob: &ShaderBlob, hook: &LightingHook) -> Result<Vec<u32>, GpuError> {
+    let compiler = glslang::Compiler::acquire()
+        .ok_or_else(|| GpuError::LightingHook("glslang could not be initialised".into()))?;
+    let stage = match blob.stage {
+        ShaderStage::Vertex => glslang::ShaderStage::Vertex,
+        ShaderStage::Fragment => glslang::ShaderStage::Fragment,
+        ShaderStage::Compute => glslang::ShaderStage::Compute,
+    };
+    let mut include = |name: &str| {
+        if name == HOOK_INCLUDE {
+            return Some((hook.path.clone(), hook.source.clone()));
+        }
+        INCLUDES
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(n, text)| (format!("shaders/include/{n}"), text.to_string()))
+    };
+    let words = shader_compile::compile(compiler, blob.source, stage, blob.defines, &mut include)
+        .map_err(|log| compile_error(hook, &log))?;
+    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+    let reflection = shader_compile::reflect(&bytes).map_err(|e| {
+        GpuError::LightingHook(format!(
+            "{}: the shader compiled with this hook is not valid SPIR-V ({e})",
+            hook.path
+        ))
+    })?;
+    check_interface(blob, hook, &reflection)?;
+    Ok(words)
+}
+
+/// glslang's log, or, when the hook's own lines are not what failed (the
+/// call in `lighting.glsl` found no matching function), what the hook must
+/// define.
+fn compile_error(hook: &LightingHook, log: &str) -> GpuError {
+    let log = log.trim();
+    let in_hook = log.lines().any(|l| l.contains(&format!("{}:", hook.path)));
+    if in_hook {
+        return GpuError::LightingHook(format!("{}: does not compile:\n{log}", hook.path));
+    }
+    GpuError::LightingHook(format!(
+        "{}: a lighting hook must define\n    {HOOK_SIGNATURE}\n(Surface has the fields color, ka, kd, ks, p); glslang says:\n{log}",
+        hook.path
+    ))
+}
+
+/// The hook may change the formula, not the interface: every binding, the
+/// push constants and the specialization constants as the built-in module
+/// has them.
+fn check_interface(
+    blob: &ShaderBlob,
+    hook: &LightingHook,
+    got: &shader_compile::Reflection,
+) -> Result<(), GpuError> {
+    let bindings: Vec<(u32, u32, String, u32)> = got
+        .bindings
+        .iter()
+        .map(|b| (b.set, b.binding, b.kind.to_string(), b.record_size))
+        .collect();
+    let expected: Vec<(u32, u32, String, u32)> = blob
+        .bindings
+        .iter()
+        .map(|b| (b.set, b.binding, format!("{:?}", b.kind), b.record_size))
+        .collect();
+    if let Some(extra) = bindings.iter().find(|b| !expected.contains(b)) {
+        return Err(GpuError::LightingHook(format!(
+            "{}: declares a resource of its own (set {}, binding {}); a hook may use only what shadelab supplies (its arguments, the Surface fields, USE_SPECULAR, USE_ATTENUATION)",
+            hook.path, extra.0, extra.1
+        )));
+    }
+    let specs: Vec<(u16, &str)> = got
+        .spec_constants
+        .iter()
+        .map(|(id, name)| (*id, name.as_str()))
+        .collect();
+    let expected_specs: Vec<(u16, &str)> = blob.spec_constants.to_vec();
+    if got.push_constant_size != blob.push_constant_size || specs != expected_specs {
+        return Err(GpuError::LightingHook(format!(
+            "{}: declares push constants or specialization constants of its own; a hook may use only what shadelab supplies",
+            hook.path
+        )));
+    }
+    Ok(())
+}
+
+/// Everything the module depends on: the shader's text and defines, every
+/// include (the hook among them), the compiler's version, the driver.
+fn cache_key(blob: &ShaderBlob, hook: &LightingHook, driver: &str) -> String {
+    let mut hasher = std::collections::hash_map::DefaultHasher::new();
+    blob.source.hash(&mut hasher);
+    INCLUDES.hash(&mut hasher);
+    hook.source.hash(&mut hasher);
+    format!(
+        "shadelab {} glslang 0.9 {} {:?} {driver} {:016x}",
+        env!("CARGO_PKG_VERSION"),
+        blob.name,
+        blob.defines,
+        hasher.finish()
+    )
+}
+
+/// `$SHADELAB_CACHE_DIR`, else `$XDG_CACHE_HOME/shadelab`, else
+/// `~/.cache/shadelab`; then `hooks/<hash of the key>.spv`. None without
+/// any of them.
+fn cache_path(key: &str) -> Option<PathBuf> {
+    let env = |name| std::env::var_os(name).filter(|v| !v.is_empty());
+    let dir = env("SHADELAB_CACHE_DIR")
+        .map(PathBuf::from)
+        .or_else(|| env("XDG_CACHE_HOME").map(|d| PathBuf::from(d).join("shadelab")))
+        .or_else(|| env("HOME").map(|d| PathBuf::from(d).join(".cache/shadelab")))?;
+    let mut hasher = std::collections::hash_map::DefaultHasher::new();
+    key.hash(&mut hasher);
+    Some(
+        dir.join("hooks")
+            .join(format!("{:016x}.spv", hasher.finish())),
+    )
+}
+
+/// The cached words, if the file holds this very key (a hash collision or
+/// a torn write reads as a miss).
+fn read_cached(path: &PathBuf, key: &str) -> Option<Vec<u32>> {
+    let bytes = std::fs::read(path).ok()?;
+    let rest = bytes.strip_prefix(key.as_bytes())?.strip_prefix(b"\n")?;
+    if rest.is_empty() || rest.len() % 4 != 0 {
+        return None;
+    }
+    Some(
+        rest.chunks_exact(4)
+            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect(),
+    )
+}
+
+/// Best effort: a cache that cannot be written is no cache. Written to a
+/// temporary name, then renamed, so a reader never sees half a module.
+fn write_cached(path: &PathBuf, key: &str, words: &[u32]) {
+    let Some(dir) = path.parent() else { return };
+    if std::fs::create_dir_all(dir).is_err() {
+        return;
+    }
+    let mut bytes = Vec::with_capacity(key.len() + 1 + words.len() * 4);
+    bytes.extend_from_slice(key.as_bytes());
+    bytes.push(b'\n');
+    bytes.extend(words.iter().flat_map(|w| w.to_le_bytes()));
+    let temp = path.with_extension(format!("tmp{}", std::process::id()));
+    if std::fs::write(&temp, &bytes).is_ok() && std::fs::rename(&temp, path).is_err() {
+        let _ = std::fs::remove_file(&temp);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cached_module_reads_back_only_under_its_own_key() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("hooks").join("m.spv");
+        let words = vec![0x0723_0203, 1, 2, 0xdead_beef];
+        write_cached(&path, "key one", &words);
+        assert_eq!(read_cached(&path, "key one"), Some(words.clone()));
+        assert_eq!(read_cached(&path, "key two"), None);
+        // A torn file (a word cut short) is a miss, not a bad module.
+        let mut bytes = std::fs::read(&path).unwrap();
+        bytes.pop();
+        std::fs::write(&path, bytes).unwrap();
+        assert_eq!(read_cached(&path, "key one"), None);
+    }
+
+    #[test]
+    fn the_key_changes_with_the_hook_the_defines_and_the_driver() {
+        use super::super::shader_catalog::{GOURAUD_VERT, GOURAUD_VERT_SCREEN};
+        let hook = |text: &str| LightingHook {
+            path: "h.glsl".into(),
+            source: text.into(),
+        };
+        let base = cache_key(&GOURAUD_VERT, &hook("a"), "llvmpipe");
+        assert_ne!(base, cache_key(&GOURAUD_VERT, &hook("b"), "llvmpipe"));
+        assert_ne!(
+            base,
+            cache_key(&GOURAUD_VERT_SCREEN, &hook("a"), "llvmpipe")
+        );
+        assert_ne!(base, cache_key(&GOURAUD_VERT, &hook("a"), "nvidia"));
+        assert_eq!(base, cache_key(&GOURAUD_VERT, &hook("a"), "llvmpipe"));
+    }
+
+    #[test]
+    fn a_float16_capability_is_found_among_the_capabilities() {
+        use super::super::shader_catalog::PHONG_FRAG;
+        let header = [0x0723_0203, 0x0001_0600, 0, 10, 0];
+        let capability = |c: u32| [(2 << 16) | 17, c];
+        let mut module = header.to_vec();
+        module.extend(capability(1)); // Shader
+        module.extend(capability(FLOAT16_CAPABILITY));
+        module.push((1 << 16) | 0xffff); // not a capability: the scan stops
+        assert!(declares_capability(&module, FLOAT16_CAPABILITY));
+        assert!(!declares_capability(&module, 22));
+        assert!(!declares_capability(
+            &PHONG_FRAG.words(),
+            FLOAT16_CAPABILITY
+        ));
+        assert!(declares_capability(&PHONG_FRAG.words(), 1));
+    }
+
+    #[test]
+    fn a_half_precision_hook_is_refused_where_the_device_lacks_float16() {
+        use super::super::shader_catalog::PHONG_FRAG;
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/examples/lighting/half-precision.glsl"
+        );
+        let hook = LightingHook::load(std::path::Path::new(path)).unwrap();
+        let mut device = DeviceInfo {
+            index: 0,
+            name: "test device".into(),
+            driver: format!("test {}", std::process::id()),
+            device_type: String::new(),
+            api_version: String::new(),
+            is_lavapipe: false,
+            shader_float16: true,
+            unusable_because: None,
+            no_ray_tracer_because: None,
+        };
+        let words = module_words(&PHONG_FRAG, Some(&hook), &device).unwrap();
+        assert!(declares_capability(&words, FLOAT16_CAPABILITY));
+        device.shader_float16 = false;
+        let refused = module_words(&PHONG_FRAG, Some(&hook), &device).unwrap_err();
+        assert!(refused.to_string().contains("shaderFloat16"), "{refused}");
+    }
+}

@@ -1,0 +1,152 @@
+//! GLSL to validated SPIR-V and its reflection: glslang compiles, naga
+//! parses, validates and reflects. Shared by build.rs (the built-in
+//! shaders, through `#[path]`) and `gpu::hook` (the built-in shaders with a
+//! user's lighting hook, at run time), so both go through the same steps.
+//! Depends on glslang and naga alone.
+
+/// Where `#include "name"` finds its text: `(name to report, text)`.
+pub type Include<'a> = dyn FnMut(&str) -> Option<(String, String)> + 'a;
+
+/// Compiles `text` (reported as `name`) for `stage` with `defines`.
+/// The error is glslang's log, which names the file and line of each
+/// message.
+pub fn compile(
+    compiler: &glslang::Compiler,
+    text: &str,
+    stage: glslang::ShaderStage,
+    defines: &[(&str, Option<&str>)],
+    include: &mut Include<'_>,
+) -> Result<Vec<u32>, String> {
+    let source = glslang::ShaderSource::from(text.to_string());
+    let options = glslang::CompilerOptions {
+        source_language: glslang::SourceLanguage::GLSL,
+        target: glslang::Target::Vulkan {
+            version: glslang::VulkanVersion::Vulkan1_3,
+            spirv_version: glslang::SpirvVersion::SPIRV1_6,
+        },
+        version_profile: None,
+        messages: glslang::ShaderMessage::DEFAULT,
+    };
+    let mut includes = Includes { include };
+    let input =
+        glslang::ShaderInput::new(&source, stage, &options, Some(defines), Some(&mut includes))
+            .map_err(|e| e.to_string())?;
+    let shader = compiler.create_shader(input).map_err(log_of)?;
+    shader.compile().map_err(log_of)
+}
+
+/// glslang's own messages, without the crate's framing.
+fn log_of(e: glslang::error::GlslangError) -> String {
+    use glslang::error::GlslangError as E;
+    match e {
+        E::PreprocessError(log) | E::ParseError(log) | E::MapIoError(log) | E::LinkError(log) => {
+            log.log
+        }
+        other => other.to_string(),
+    }
+}
+
+struct Includes<'a, 'b> {
+    include: &'a mut Include<'b>,
+}
+
+impl glslang::include::IncludeHandler for Includes<'_, '_> {
+    fn include(
+        &mut self,
+        _ty: glslang::include::IncludeType,
+        header_name: &str,
+        _includer_name: &str,
+        _include_depth: usize,
+    ) -> Option<glslang::include::IncludeResult> {
+        let (name, data) = (self.include)(header_name)?;
+        Some(glslang::include::IncludeResult { name, data })
+    }
+}
+
+pub struct Binding {
+    pub set: u32,
+    pub binding: u32,
+    /// `UniformBuffer`, `StorageBuffer` or `Other`.
+    pub kind: &'static str,
+    /// Byte stride of a runtime-array buffer's records, else the block size.
+    pub record_size: u32,
+}
+
+pub struct Reflection {
+    /// By (set, binding).
+    pub bindings: Vec<Binding>,
+    /// 0 when there is no push-constant block.
+    pub push_constant_size: u32,
+    /// By id.
+    pub spec_constants: Vec<(u16, String)>,
+}
+
+/// The stride of a block's trailing runtime array, or the block's size.
+fn record_size(module: &naga::Module, ty: naga::Handle<naga::Type>) -> u32 {
+    if let naga::TypeInner::Struct { members, .. } = &module.types[ty].inner {
+        if let Some(last) = members.last() {
+            if let naga::TypeInner::Array {
+                size: naga::ArraySize::Dynamic,
+                stride,
+                ..
+            } = module.types[last.ty].inner
+            {
+                return stride;
+            }
+        }
+    }
+    module.types[ty].inner.size(module.to_ctx())
+}
+
+/// Parses and validates `spirv` with naga and reflects its interface.
+pub fn reflect(spirv: &[u8]) -> Result<Reflection, String> {
+    let options = naga::front::spv::Options {
+        adjust_coordinate_space: false,
+        strict_capabilities: false,
+        block_ctx_dump_prefix: None,
+    };
+    let module = naga::front::spv::parse_u8_slice(spirv, &options)
+        .map_err(|e| format!("naga could not parse the SPIR-V: {e}"))?;
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .map_err(|e| format!("naga validation failed: {e:?}"))?;
+
+    let mut reflection = Reflection {
+        bindings: Vec::new(),
+        push_constant_size: 0,
+        spec_constants: Vec::new(),
+    };
+    for (_, global) in module.global_variables.iter() {
+        let kind = match global.space {
+            naga::AddressSpace::Immediate => {
+                reflection.push_constant_size = module.types[global.ty].inner.size(module.to_ctx());
+                continue;
+            }
+            naga::AddressSpace::Uniform => "UniformBuffer",
+            naga::AddressSpace::Storage { .. } => "StorageBuffer",
+            naga::AddressSpace::Handle => "Other",
+            _ => continue,
+        };
+        if let Some(b) = &global.binding {
+            reflection.bindings.push(Binding {
+                set: b.group,
+                binding: b.binding,
+                kind,
+                record_size: record_size(&module, global.ty),
+            });
+        }
+    }
+    reflection.bindings.sort_by_key(|b| (b.set, b.binding));
+    for (_, o) in module.overrides.iter() {
+        if let Some(id) = o.id {
+            reflection
+                .spec_constants
+                .push((id, o.name.clone().unwrap_or_default()));
+        }
+    }
+    reflection.spec_constants.sort();
+    Ok(reflection)
+}

@@ -1,0 +1,201 @@
+//! The lighting hook (`--lighting FILE`): compiled into all four GPU modes,
+//! used by each, and refused with exit status 2 and a message that names
+//! the file when it does not compile or does not define the hook.
+
+mod common;
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use common::cli::shadelab;
+use common::*;
+use glam::DVec3;
+use shadelab::scene::{LightingHook, Object, Scene, Shape};
+use shadelab::shading::Shading;
+use shadelab::LinearImage;
+
+const MODES: [Shading; 4] = [
+    Shading::Flat,
+    Shading::Gouraud,
+    Shading::Phong,
+    Shading::Raytrace,
+];
+
+fn example(name: &str) -> Arc<LightingHook> {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("examples/lighting")
+        .join(name);
+    Arc::new(LightingHook::load(&path).unwrap())
+}
+
+/// A glossy sphere lit from the side: the specular highlight, where the
+/// hooks below differ, covers many pixels.
+fn glossy_sphere() -> Scene {
+    let mut s = scene(96, 96, 30.0);
+    s.materials[0].ks = 0.8;
+    s.materials[0].p = 8.0;
+    s.objects.push(Object {
+        shape: Shape::Sphere {
+            center: DVec3::ZERO,
+            radius: 2.0,
+            segments: 24,
+        },
+        material: 0,
+    });
+    s
+}
+
+fn max_difference(a: &LinearImage, b: &LinearImage) -> f32 {
+    a.pixels
+        .iter()
+        .zip(&b.pixels)
+        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs()))
+        .fold(0.0, f32::max)
+}
+
+#[test]
+fn the_lectures_formula_as_a_hook_renders_as_the_built_in_one_in_every_mode() {
+    let context = gpu();
+    let built_in = glossy_sphere();
+    let mut hooked = glossy_sphere();
+    hooked.lighting_hook = Some(example("phong.glsl"));
+    for mode in MODES {
+        let a = render(&context, &built_in, mode);
+        let b = render(&context, &hooked, mode);
+        // The same source text compiled again: only the compiler's freedom
+        // to contract a*b+c differently could separate them, a few ulps of
+        // values near 1.
+        let diff = max_difference(&a, &b);
+        assert!(diff <= 1e-5, "{mode}: the hook differs by {diff}");
+    }
+}
+
+#[test]
+fn a_blinn_phong_hook_changes_every_mode() {
+    let context = gpu();
+    let built_in = glossy_sphere();
+    let mut hooked = glossy_sphere();
+    hooked.lighting_hook = Some(example("blinn-phong.glsl"));
+    for mode in MODES {
+        let a = render(&context, &built_in, mode);
+        let b = render(&context, &hooked, mode);
+        // With p = 8 the half-vector highlight is far wider than Phong's:
+        // a whole step of intensity on some pixel, not rounding.
+        let diff = max_difference(&a, &b);
+        assert!(diff > 0.05, "{mode}: the hook changed nothing ({diff})");
+    }
+}
+
+/// Writes `hook` to a fresh folder and renders the default scene with it;
+/// returns the run and whether the output exists.
+fn render_with_hook(hook: &str, shading: &str) -> (common::cli::Run, bool) {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("hook.glsl"), hook).unwrap();
+    let run = shadelab(
+        dir.path(),
+        &[
+            "render",
+            "--shading",
+            shading,
+            "--lighting",
+            "hook.glsl",
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "--out",
+            "out.png",
+        ],
+    );
+    let written = dir.path().join("out.png").exists();
+    (run, written)
+}
+
+#[test]
+fn a_hook_with_a_syntax_error_is_refused_naming_its_file_and_line() {
+    let hook = "// line 1\nvec3 shade_light(vec3 N, vec3 V, vec3 L, float d, vec3 intensity, Surface m, float k) {\n    return intensity * ;\n}\n";
+    for shading in ["phong", "raytrace"] {
+        let (run, written) = render_with_hook(hook, shading);
+        assert_eq!(run.code, 2, "{shading}: {}", run.stderr);
+        assert!(!run.stderr.contains("panicked"), "{}", run.stderr);
+        assert!(run.stderr.contains("hook.glsl:3"), "{}", run.stderr);
+        assert!(!written, "{shading}: an image was written");
+    }
+}
+
+#[test]
+fn a_hook_with_the_wrong_signature_is_refused_naming_the_expected_one() {
+    let hook = "vec3 shade_light(vec3 N, vec3 L) {\n    return vec3(dot(N, L));\n}\n";
+    let (run, written) = render_with_hook(hook, "gouraud");
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(
+        run.stderr.contains(
+            "vec3 shade_light(vec3 N, vec3 V, vec3 L, float d, vec3 intensity, Surface m, float k)"
+        ),
+        "{}",
+        run.stderr
+    );
+    assert!(!written);
+}
+
+#[test]
+fn a_hook_that_declares_its_own_binding_is_refused() {
+    let hook = "layout(std430, set = 0, binding = 7) readonly buffer Extra { vec4 extra[]; };\nvec3 shade_light(vec3 N, vec3 V, vec3 L, float d, vec3 intensity, Surface m, float k) {\n    return extra[0].rgb;\n}\n";
+    let (run, written) = render_with_hook(hook, "phong");
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("binding 7"), "{}", run.stderr);
+    assert!(!written);
+}
+
+#[test]
+fn a_compiled_hook_is_cached_and_a_damaged_cache_entry_is_compiled_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let hook = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/lighting/blinn-phong.glsl"
+    );
+    let render = |out: &str| {
+        let run = shadelab(
+            dir.path(),
+            &[
+                "render",
+                "--lighting",
+                hook,
+                "--width",
+                "32",
+                "--height",
+                "24",
+                "--out",
+                out,
+            ],
+        );
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        std::fs::read(dir.path().join(out)).unwrap()
+    };
+    let first = render("a.png");
+    let cached: Vec<PathBuf> = std::fs::read_dir(dir.path().join("cache/hooks"))
+        .expect("a cache folder")
+        .map(|e| e.unwrap().path())
+        .collect();
+    // Phong's fragment stage is the one stage of the mode with the formula.
+    assert_eq!(cached.len(), 1, "{cached:?}");
+    assert_eq!(render("b.png"), first, "from the cache, the same image");
+    std::fs::write(&cached[0], b"not a module").unwrap();
+    assert_eq!(render("c.png"), first, "a damaged entry is a miss");
+    assert!(
+        std::fs::read(&cached[0]).unwrap().len() > 100,
+        "and is written anew"
+    );
+}
+
+#[test]
+fn a_missing_hook_file_is_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = shadelab(
+        dir.path(),
+        &["render", "--lighting", "nowhere.glsl", "--out", "out.png"],
+    );
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("nowhere.glsl"), "{}", run.stderr);
+    assert!(!dir.path().join("out.png").exists());
+}
