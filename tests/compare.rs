@@ -278,11 +278,27 @@ fn hook_variants_get_both_errors_and_differ_from_the_built_in_formula() {
 #[test]
 fn no_two_plot_labels_overlap_on_the_default_scenes_report() {
     let scene = small_default_scene();
-    let (report, _dir) = compare(&scene, &shadelab::compare::default_variants(&scene), None);
+    let mut list = shadelab::compare::default_variants(&scene);
+    // And a name far wider than the list beside the plot.
+    let hook = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/lighting/blinn-phong.glsl"
+    );
+    list.push(
+        format!("phong:segments=256,lighting={hook}")
+            .parse()
+            .unwrap(),
+    );
+    let (report, _dir) = compare(&scene, &list, None);
     let boxes = shadelab::compare::present::plot::label_boxes(&report).unwrap();
     // Every point's number and every line of the list beside the plot.
     assert!(boxes.len() > report.variants.len(), "{} boxes", boxes.len());
+    use shadelab::compare::present::plot::{HEIGHT, WIDTH};
     for (i, a) in boxes.iter().enumerate() {
+        assert!(
+            a.left >= 0 && a.top >= 0 && a.right <= WIDTH as i32 && a.bottom <= HEIGHT as i32,
+            "{a:?} leaves the image"
+        );
         for b in &boxes[i + 1..] {
             assert!(!a.intersects(b), "{a:?} overlaps {b:?}");
         }

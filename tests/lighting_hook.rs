@@ -199,3 +199,42 @@ fn a_missing_hook_file_is_bad_input() {
     assert!(run.stderr.contains("nowhere.glsl"), "{}", run.stderr);
     assert!(!dir.path().join("out.png").exists());
 }
+
+#[test]
+fn bench_names_the_hook_it_timed() {
+    let dir = tempfile::tempdir().unwrap();
+    let hook = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/lighting/schlick-pow.glsl"
+    );
+    let args = [
+        "bench",
+        "--lighting",
+        hook,
+        "--shading",
+        "phong",
+        "--runs",
+        "1",
+        "--width",
+        "32",
+        "--height",
+        "24",
+    ];
+    let text = shadelab(dir.path(), &args);
+    assert_eq!(text.code, 0, "{}", text.stderr);
+    assert!(
+        text.stdout.contains(&format!("lighting hook: {hook}")),
+        "{}",
+        text.stdout
+    );
+    let mut with_json = args.to_vec();
+    with_json.push("--json");
+    let run = shadelab(dir.path(), &with_json);
+    let json: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    assert_eq!(json["lighting"], hook);
+    let mut built_in = with_json.clone();
+    built_in.drain(1..3);
+    let run = shadelab(dir.path(), &built_in);
+    let json: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    assert!(json["lighting"].is_null(), "{json}");
+}

@@ -140,6 +140,7 @@ pub fn run(args: BenchArgs, options: &GpuOptions) -> Result<(), Failure> {
     let (mut scene, name) = load_scene(args.scene.as_deref())?;
     args.size.apply(&mut scene)?;
     args.lighting.apply(&mut scene)?;
+    let hook_path = scene.lighting_hook.as_ref().map(|h| h.path.clone());
     if let Some(d) = args.depth {
         scene.render.depth = check_depth(d)?;
     }
@@ -226,6 +227,7 @@ pub fn run(args: BenchArgs, options: &GpuOptions) -> Result<(), Failure> {
             "runs": args.runs,
             "baseline": { "shading": "flat", "total_ms": baseline },
             "raster_target": raster_target.name(),
+            "lighting": hook_path,
             "results": rows,
         });
         println!("{value}");
@@ -240,6 +242,9 @@ pub fn run(args: BenchArgs, options: &GpuOptions) -> Result<(), Failure> {
         raster_target.name(),
         if raster_target == ColorTarget::Srgb8 { "png" } else { "exr" }
     );
+    if let Some(path) = &hook_path {
+        println!("lighting hook: {path} (the GPU modes; --cpu times the built-in formula)");
+    }
     let mut header = format!(
         "{:<10} {:>10} {:>10} {:>10} {:>8} {:>10}",
         "mode", "total_ms", "gpu_ms", "spread_ms", "ratio", "Mrays/s"

@@ -316,6 +316,31 @@ where
     Ok(placed)
 }
 
+/// `text` shortened in the middle (an ellipsis in place of what is cut)
+/// until it is at most `max_width` pixels wide in `style`.
+fn fit_width<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    text: &str,
+    style: &TextStyle,
+    max_width: u32,
+) -> Result<String, String> {
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let chars: Vec<char> = text.chars().collect();
+    let mut fitted = text.to_string();
+    let mut cut = 0;
+    while area.estimate_text_size(&fitted, style).map_err(e)?.0 > max_width && cut < chars.len() {
+        cut += 1;
+        // Keep the start (the number and the mode) and the end (the file).
+        let keep = chars.len() - cut;
+        let head = keep * 2 / 5;
+        let tail = keep - head;
+        fitted = chars[..head].iter().collect::<String>()
+            + "\u{2026}"
+            + &chars[chars.len() - tail..].iter().collect::<String>();
+    }
+    Ok(fitted)
+}
+
 /// The list beside the plot: each variant's number and name, one per
 /// line; returns the boxes of its lines.
 fn draw_list<DB: DrawingBackend>(
@@ -329,7 +354,12 @@ fn draw_list<DB: DrawingBackend>(
     let line = ((area_h as i32 - top - 16) / report.variants.len().max(1) as i32).clamp(6, 18);
     let mut boxes = Vec::new();
     for (i, v) in report.variants.iter().enumerate() {
-        let text = format!("{:>2}  {}", i + 1, v.name);
+        let text = fit_width(
+            area,
+            &format!("{:>2}  {}", i + 1, v.name),
+            style,
+            LIST_WIDTH - 16,
+        )?;
         let y = top + line * i as i32;
         // Lines closer than the text is tall would overlap: the font
         // shrinks with the spacing, so a long list still fits the column.
