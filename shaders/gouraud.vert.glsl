@@ -17,7 +17,7 @@ layout(location = 1) out float out_w;
 
 void main() {
     vec3 P = in_position;
-    vec3 intensity = shade(P, unit_or_zero(in_normal), normalize(-P), draw_surface(), frame.ambient_k.rgb, frame.ambient_k.w);
+    vec3 intensity = shade(P, surface_normal(in_normal), normalize(-P), draw_surface(), frame.ambient_k.rgb, frame.ambient_k.w);
     gl_Position = draw.clip_from_relative * vec4(P, 1.0);
 #ifdef SCREEN_LINEAR
     out_intensity = intensity * gl_Position.w;

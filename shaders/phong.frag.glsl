@@ -22,5 +22,5 @@ void main() {
     vec3 P = in_position;
     vec3 N = in_normal;
 #endif
-    out_color = vec4(shade(P, unit_or_zero(N), normalize(-P), draw_surface(), frame.ambient_k.rgb, frame.ambient_k.w), 1.0);
+    out_color = vec4(shade(P, surface_normal(N), normalize(-P), draw_surface(), frame.ambient_k.rgb, frame.ambient_k.w), 1.0);
 }

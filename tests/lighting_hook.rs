@@ -238,3 +238,38 @@ fn bench_names_the_hook_it_timed() {
     let json: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
     assert!(json["lighting"].is_null(), "{json}");
 }
+
+fn mean(image: &LinearImage) -> f64 {
+    let sum: f64 = image
+        .pixels
+        .iter()
+        .map(|p| f64::from(p[0] + p[1] + p[2]))
+        .sum();
+    sum / image.pixels.len() as f64
+}
+
+#[test]
+fn an_unnormalised_normal_darkens_phong_and_leaves_gouraud_alone() {
+    let context = gpu();
+    let mut coarse = glossy_sphere();
+    if let Shape::Sphere { segments, .. } = &mut coarse.objects[0].shape {
+        *segments = 8;
+    }
+    let mut hooked = coarse.clone();
+    hooked.lighting_hook = Some(example("unnormalised-normal.glsl"));
+    let (a, b) = (
+        render(&context, &coarse, Shading::Phong),
+        render(&context, &hooked, Shading::Phong),
+    );
+    // Interpolated normals are shorter than 1 inside each triangle: the
+    // diffuse term falls with their length (by up to 1 - cos 22.5 deg,
+    // 8 %, at 8 segments), so Phong darkens.
+    assert!(max_difference(&a, &b) > 0.02, "{}", max_difference(&a, &b));
+    assert!(mean(&b) < mean(&a), "{} vs {}", mean(&b), mean(&a));
+    // Gouraud shades at the vertices, whose normals are unit already.
+    let (c, d) = (
+        render(&context, &coarse, Shading::Gouraud),
+        render(&context, &hooked, Shading::Gouraud),
+    );
+    assert!(max_difference(&c, &d) <= 1e-5, "{}", max_difference(&c, &d));
+}

@@ -42,11 +42,28 @@ bool light_faces(int j, vec3 P, vec3 N, out vec3 L, out float d, out float n_dot
     return n_dot_l > FACING_EPS;
 }
 
+// Normalises an interpolated normal; one that has shrunk to zero stays zero.
+vec3 unit_or_zero(vec3 n) {
+    float len2 = dot(n, n);
+    return len2 > 0.0 ? n * inversesqrt(len2) : vec3(0.0);
+}
+
 // The contribution of one light: the lighting hook, `shade_light`. The
 // built-in one (lighting_hook.glsl) is the lecture's diffuse and specular
 // terms; `--lighting FILE` compiles the user's file in its place
 // (src/gpu/hook.rs), which may use everything declared above this line.
 #include "lighting_hook.glsl"
+
+// How the raster modes turn an interpolated normal (Gouraud's vertex
+// normal, Phong's per-pixel one) into the formula's N: normalised. A hook
+// may define SHADELAB_SURFACE_NORMAL and its own `surface_normal` (to show
+// the classic bug of an unnormalised normal, say). The ray tracer keeps
+// its normals unit: they also steer its reflected and refracted rays.
+#ifndef SHADELAB_SURFACE_NORMAL
+vec3 surface_normal(vec3 interpolated) {
+    return unit_or_zero(interpolated);
+}
+#endif
 
 // Light j's contribution, given `light_faces`' results.
 vec3 light_term(int j, vec3 N, vec3 V, vec3 L, float d, float n_dot_l, Surface m, float k) {
@@ -71,8 +88,3 @@ vec3 shade(vec3 P, vec3 N, vec3 V, Surface m, vec3 ambient, float k) {
     return intensity;
 }
 
-// Normalises an interpolated normal; one that has shrunk to zero stays zero.
-vec3 unit_or_zero(vec3 n) {
-    float len2 = dot(n, n);
-    return len2 > 0.0 ? n * inversesqrt(len2) : vec3(0.0);
-}
