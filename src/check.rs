@@ -165,25 +165,35 @@ fn within(value: f64, limit: f64) -> bool {
     value <= limit
 }
 
-/// Renders `scene` on the GPU and `reference` (normally the same scene) with
-/// the CPU reference, and compares. A different `reference` is how the tests
-/// show that perturbing the reference is caught.
-pub fn check(
-    context: &Arc<GpuContext>,
-    scene: &Scene,
-    reference: &Scene,
-    shading: Shading,
+/// The figures of one comparison and the thresholds they broke.
+pub struct Judgement {
+    pub interior: ErrorStats,
+    pub edges: ErrorStats,
+    /// Edge pixels differing by more than the edge tolerance, as a share of
+    /// the whole image.
+    pub edge_share: f64,
+    pub flip: FlipStats,
+    /// The unit of the figures above (`comparison_scale`).
+    pub scale: f64,
+    /// One line per threshold exceeded, with the figure and the limit.
+    pub failures: Vec<String>,
+}
+
+/// Measures `actual` against `expected` (interior and edge pixels apart,
+/// `near_edge` marking the edge ones) and judges the figures by `limits`.
+/// Pure: what `check` decides from two images, testable on made-up ones.
+pub fn judge(
+    expected: &LinearImage,
+    actual: &LinearImage,
+    near_edge: &[bool],
     limits: &CheckThresholds,
-) -> Result<CheckOutcome, Error> {
-    let actual = render_gpu(context, scene, shading)?;
-    let (expected, coverage) = render_cpu(reference, shading)?;
-    let edge_mask = coverage.near_edge;
-    let interior_mask: Vec<bool> = edge_mask.iter().map(|e| !e).collect();
+) -> Judgement {
+    let interior_mask: Vec<bool> = near_edge.iter().map(|e| !e).collect();
     let pixel = limits.edge_pixel_error;
-    let scale = comparison_scale(&expected.image);
-    let (e, a) = (scaled(&expected.image, scale), scaled(&actual.image, scale));
+    let scale = comparison_scale(expected);
+    let (e, a) = (scaled(expected, scale), scaled(actual, scale));
     let interior = ErrorStats::compute(&e, &a, Some(&interior_mask), pixel);
-    let edges = ErrorStats::compute(&e, &a, Some(&edge_mask), pixel);
+    let edges = ErrorStats::compute(&e, &a, Some(near_edge), pixel);
     let flip = flip(&e, &a, PIXELS_PER_DEGREE);
 
     let mut failures = Vec::new();
@@ -213,17 +223,40 @@ pub fn check(
     if non_finite > 0 {
         failures.push(format!("{non_finite} pixels are NaN or infinite"));
     }
-    Ok(CheckOutcome {
-        shading,
-        gpu_ms: actual.timings.total_ms,
-        cpu_ms: expected.timings.total_ms,
-        expected: expected.image,
-        actual: actual.image,
+    Judgement {
         interior,
         edges,
         edge_share,
         flip,
         scale,
         failures,
+    }
+}
+
+/// Renders `scene` on the GPU and `reference` (normally the same scene) with
+/// the CPU reference, and compares. A different `reference` is how the tests
+/// show that perturbing the reference is caught.
+pub fn check(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    reference: &Scene,
+    shading: Shading,
+    limits: &CheckThresholds,
+) -> Result<CheckOutcome, Error> {
+    let actual = render_gpu(context, scene, shading)?;
+    let (expected, coverage) = render_cpu(reference, shading)?;
+    let j = judge(&expected.image, &actual.image, &coverage.near_edge, limits);
+    Ok(CheckOutcome {
+        shading,
+        gpu_ms: actual.timings.total_ms,
+        cpu_ms: expected.timings.total_ms,
+        expected: expected.image,
+        actual: actual.image,
+        interior: j.interior,
+        edges: j.edges,
+        edge_share: j.edge_share,
+        flip: j.flip,
+        scale: j.scale,
+        failures: j.failures,
     })
 }

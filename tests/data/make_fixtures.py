@@ -21,6 +21,12 @@ Every file is tiny and hand-built so the tests can check exact numbers:
                         light (KHR_lights_punctual), a BLEND material with
                         KHR_materials_ior
 - mirrored.gltf         a triangle under a node with scale [-1, 1, 1]
+- skewed.gltf           four triangles with normals tilted out of their
+                        faces' planes, under a node that scales
+                        non-uniformly, rotates and moves, whose children
+                        rotate and mirror (scale [1, -1, 1]), one by TRS and
+                        one by a matrix: where the normal matrix (inverse
+                        transpose) and the model matrix disagree
 
 and, for the hard-case suite, into ../../assets/hard/models/:
 
@@ -328,6 +334,47 @@ def mirrored():
     write_gltf("mirrored.gltf", b.finish(doc))
 
 
+def quat(axis, degrees):
+    import math
+    n = math.sqrt(sum(c * c for c in axis))
+    h = math.radians(degrees) / 2
+    return [c / n * math.sin(h) for c in axis] + [math.cos(h)]
+
+
+def skewed():
+    b = Builder()
+    pos = b.vec3([(0, 0, 0), (1, 0, 0), (0, 1, 0), (0.2, 0.3, 1), (1, 1, 0.5)])
+    # Unit normals deliberately not perpendicular to any face.
+    raw = [(0.3, 0.4, 0.866), (-0.5, 0.1, 0.86), (0.2, -0.6, 0.77),
+           (0.7, 0.7, 0.14), (0.0, 0.6, 0.8)]
+    import math
+    nrm = b.vec3([tuple(c / math.sqrt(sum(x * x for x in v)) for c in v) for v in raw])
+    idx = b.indices([0, 1, 2, 0, 1, 3, 1, 4, 2, 2, 4, 3])
+    prim = {"attributes": {"POSITION": pos, "NORMAL": nrm}, "indices": idx}
+    # The child by matrix: rotation 70 degrees about z, then scale
+    # (0.5, 2, 1), then a move; column-major as glTF stores it.
+    c, s_ = math.cos(math.radians(70)), math.sin(math.radians(70))
+    sx, sy, sz = 0.5, 2.0, 1.0
+    matrix = [c * sx, s_ * sx, 0, 0,
+              -s_ * sy, c * sy, 0, 0,
+              0, 0, sz, 0,
+              0.25, -0.5, 0.75, 1]
+    doc = {
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [
+            {"name": "skew", "translation": [0.5, -1, 2],
+             "rotation": quat((1, 2, 3), 40), "scale": [3, 0.5, 1.5],
+             "children": [1, 2]},
+            {"name": "turn-and-mirror", "rotation": quat((0, 1, 1), 25),
+             "scale": [1, -1, 1], "mesh": 0},
+            {"name": "by-matrix", "matrix": matrix, "mesh": 0},
+        ],
+        "meshes": [{"primitives": [prim]}],
+    }
+    write_gltf("skewed.gltf", b.finish(doc))
+
+
 HARD = os.path.join(HERE, "..", "..", "assets", "hard", "models")
 
 
@@ -413,6 +460,7 @@ def main():
     corrupt()
     scene_with_camera_light()
     mirrored()
+    skewed()
     slivers()
     bad_normals()
 
