@@ -76,7 +76,10 @@ fn an_edge_pixel_may_differ_where_an_interior_one_may_not() {
         assert!(run(&at_edge, &limits).failures.is_empty(), "{shading}");
         let (mut inside, _) = grey();
         inside.pixels[interior_pixel(0)][0] += 0.5;
-        assert!(failures_mention(&run(&inside, &limits), "interior"), "{shading}");
+        assert!(
+            failures_mention(&run(&inside, &limits), "interior"),
+            "{shading}"
+        );
     }
 }
 
@@ -95,9 +98,16 @@ fn the_share_of_differing_edge_pixels_flips_the_verdict_one_pixel_over_it() {
         let limits = CheckThresholds::for_shading(shading);
         // The most edge pixels that may differ, of W * H.
         let allowed = (limits.edge_fraction * f64::from(W * H)).round() as u32;
-        assert!(allowed + 1 <= 2 * H, "{shading}: the mask has too few edge pixels");
+        assert!(
+            allowed < 2 * H,
+            "{shading}: the mask has too few edge pixels"
+        );
         let over = run(&edges_off(allowed + 1, 0.05), &limits);
-        assert!(failures_mention(&over, "edge pixels"), "{shading}: {:?}", over.failures);
+        assert!(
+            failures_mention(&over, "edge pixels"),
+            "{shading}: {:?}",
+            over.failures
+        );
         let at = run(&edges_off(allowed, 0.05), &limits);
         assert!(at.failures.is_empty(), "{shading}: {:?}", at.failures);
     }
@@ -110,7 +120,11 @@ fn an_edge_pixel_differs_only_past_the_edge_tolerance() {
         let many = (limits.edge_fraction * f64::from(W * H)) as u32 + 20;
         let tolerance = limits.edge_pixel_error as f32;
         let over = run(&edges_off(many, tolerance * 1.02), &limits);
-        assert!(failures_mention(&over, "edge pixels"), "{shading}: {:?}", over.failures);
+        assert!(
+            failures_mention(&over, "edge pixels"),
+            "{shading}: {:?}",
+            over.failures
+        );
         let under = run(&edges_off(many, tolerance * 0.98), &limits);
         assert!(under.failures.is_empty(), "{shading}: {:?}", under.failures);
     }
@@ -141,7 +155,10 @@ fn the_flip_limit_flips_the_verdict_just_over_it() {
             }
             run(&actual, &limits)
         };
-        assert!(flip_of(spots.len()).flip.mean > limits.flip_mean, "{shading}: too few spots");
+        assert!(
+            flip_of(spots.len()).flip.mean > limits.flip_mean,
+            "{shading}: too few spots"
+        );
         let (mut lo, mut hi) = (0, spots.len());
         while hi - lo > 1 {
             let mid = (lo + hi) / 2;
@@ -158,7 +175,11 @@ fn the_flip_limit_flips_the_verdict_just_over_it() {
             over.flip.mean,
             limits.flip_mean
         );
-        assert!(failures_mention(&over, "FLIP"), "{shading}: {:?}", over.failures);
+        assert!(
+            failures_mention(&over, "FLIP"),
+            "{shading}: {:?}",
+            over.failures
+        );
         assert!(under.failures.is_empty(), "{shading}: {:?}", under.failures);
     }
 }

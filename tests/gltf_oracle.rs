@@ -48,14 +48,26 @@ fn trs(node: &Value) -> M4 {
     let (x, y, z, w) = (q[0], q[1], q[2], q[3]);
     // The rotation matrix of a unit quaternion, by columns.
     let r = [
-        [1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y + z * w), 2.0 * (x * z - y * w)],
-        [2.0 * (x * y - z * w), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z + x * w)],
-        [2.0 * (x * z + y * w), 2.0 * (y * z - x * w), 1.0 - 2.0 * (x * x + y * y)],
+        [
+            1.0 - 2.0 * (y * y + z * z),
+            2.0 * (x * y + z * w),
+            2.0 * (x * z - y * w),
+        ],
+        [
+            2.0 * (x * y - z * w),
+            1.0 - 2.0 * (x * x + z * z),
+            2.0 * (y * z + x * w),
+        ],
+        [
+            2.0 * (x * z + y * w),
+            2.0 * (y * z - x * w),
+            1.0 - 2.0 * (x * x + y * y),
+        ],
     ];
     let mut m = IDENTITY;
-    for col in 0..3 {
-        for row in 0..3 {
-            m[col][row] = r[col][row] * s[col];
+    for ((m_col, r_col), scale) in m.iter_mut().zip(r).zip(&s) {
+        for (cell, value) in m_col.iter_mut().zip(r_col) {
+            *cell = value * scale;
         }
     }
     m[3] = [t[0], t[1], t[2], 1.0];
@@ -67,8 +79,8 @@ fn local_matrix(node: &Value) -> M4 {
         Some(a) => {
             let v: Vec<f64> = a.iter().map(|x| x.as_f64().unwrap()).collect();
             let mut m = [[0.0; 4]; 4];
-            for col in 0..4 {
-                m[col].copy_from_slice(&v[col * 4..col * 4 + 4]);
+            for (col, values) in m.iter_mut().zip(v.chunks_exact(4)) {
+                col.copy_from_slice(values);
             }
             m
         }
@@ -95,15 +107,13 @@ fn det3(a: &[[f64; 3]; 3]) -> f64 {
 fn inverse_transpose(a: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
     let d = det3(a);
     let e = |c: usize, r: usize| a[c][r];
-    let mut out = [[0.0; 3]; 3];
-    for c in 0..3 {
-        for r in 0..3 {
+    [0, 1, 2].map(|c| {
+        [0, 1, 2].map(|r| {
             let (c1, c2) = ((c + 1) % 3, (c + 2) % 3);
             let (r1, r2) = ((r + 1) % 3, (r + 2) % 3);
-            out[c][r] = (e(c1, r1) * e(c2, r2) - e(c2, r1) * e(c1, r2)) / d;
-        }
-    }
-    out
+            (e(c1, r1) * e(c2, r2) - e(c2, r1) * e(c1, r2)) / d
+        })
+    })
 }
 
 fn apply3(a: &[[f64; 3]; 3], v: V3) -> V3 {
@@ -161,7 +171,9 @@ fn read_document(path: &Path) -> Document {
         let data = match buffer.get("uri").and_then(Value::as_str) {
             Some(uri) if uri.starts_with("data:") => {
                 let b64 = &uri[uri.find(',').unwrap() + 1..];
-                base64::engine::general_purpose::STANDARD.decode(b64).unwrap()
+                base64::engine::general_purpose::STANDARD
+                    .decode(b64)
+                    .unwrap()
             }
             Some(uri) => std::fs::read(path.parent().unwrap().join(uri)).unwrap(),
             None => glb_bin.clone().expect("a GLB's BIN chunk"),
@@ -174,7 +186,10 @@ fn read_document(path: &Path) -> Document {
 /// Accessor `index` as rows of f64 (any component type the fixtures use).
 fn read_accessor(doc: &Document, index: usize) -> Vec<Vec<f64>> {
     let acc = &doc.json["accessors"][index];
-    assert!(acc.get("sparse").is_none(), "sparse accessors: not in the oracle");
+    assert!(
+        acc.get("sparse").is_none(),
+        "sparse accessors: not in the oracle"
+    );
     let count = acc["count"].as_u64().unwrap() as usize;
     let width = match acc["type"].as_str().unwrap() {
         "SCALAR" => 1,
@@ -230,7 +245,12 @@ fn oracle_triangles(path: &Path) -> Vec<Triangle> {
     while let Some((index, parent)) = stack.pop() {
         let node = &doc.json["nodes"][index];
         let world = mul(&parent, &local_matrix(node));
-        for child in node.get("children").and_then(Value::as_array).into_iter().flatten() {
+        for child in node
+            .get("children")
+            .and_then(Value::as_array)
+            .into_iter()
+            .flatten()
+        {
             stack.push((child.as_u64().unwrap() as usize, world));
         }
         let Some(mesh) = node.get("mesh").and_then(Value::as_u64) else {
@@ -239,8 +259,14 @@ fn oracle_triangles(path: &Path) -> Vec<Triangle> {
         let m3 = upper3(&world);
         let mirrored = det3(&m3) < 0.0;
         let normal_matrix = inverse_transpose(&m3);
-        for prim in doc.json["meshes"][mesh as usize]["primitives"].as_array().unwrap() {
-            assert!(prim.get("mode").and_then(Value::as_u64).unwrap_or(4) == 4, "triangles only");
+        for prim in doc.json["meshes"][mesh as usize]["primitives"]
+            .as_array()
+            .unwrap()
+        {
+            assert!(
+                prim.get("mode").and_then(Value::as_u64).unwrap_or(4) == 4,
+                "triangles only"
+            );
             let attrs = &prim["attributes"];
             let positions: Vec<V3> =
                 read_accessor(&doc, attrs["POSITION"].as_u64().unwrap() as usize)
@@ -269,7 +295,11 @@ fn oracle_triangles(path: &Path) -> Vec<Triangle> {
                 // The spec: a negative determinant makes the winding
                 // clockwise; front faces stay counter-clockwise in world
                 // space by reversing it.
-                let t = if mirrored { [t[0], t[2], t[1]] } else { [t[0], t[1], t[2]] };
+                let t = if mirrored {
+                    [t[0], t[2], t[1]]
+                } else {
+                    [t[0], t[1], t[2]]
+                };
                 out.push(Triangle {
                     positions: t.map(|i| positions[i]),
                     normals: t.map(|i| normals[i]),
@@ -321,7 +351,10 @@ fn compare_with_the_importer(path: &Path) {
             })
         });
         let Some(normals) = found else {
-            panic!("{name}: oracle triangle {k} {:?} is not imported with this winding", want.positions);
+            panic!(
+                "{name}: oracle triangle {k} {:?} is not imported with this winding",
+                want.positions
+            );
         };
         for (c, want_n) in want.normals.iter().enumerate() {
             if let Some(want_n) = want_n {

@@ -1,0 +1,128 @@
+//! Every threshold `shadelab diff` applies by default, pinned: an error
+//! just over it gives exit status 1 naming the figure, one just under gives
+//! 0. Images are written as EXR (lossless) and compared by the binary, as
+//! a CI job would.
+
+mod common;
+
+use std::path::Path;
+
+use common::cli::shadelab;
+use shadelab::LinearImage;
+
+const W: u32 = 200;
+const H: u32 = 200;
+
+fn grey() -> LinearImage {
+    LinearImage {
+        width: W,
+        height: H,
+        pixels: vec![[0.5; 3]; (W * H) as usize],
+    }
+}
+
+/// Writes `expected` and `actual` and runs `diff --json`: (exit status,
+/// the figures that failed).
+fn diff(dir: &Path, actual: &LinearImage) -> (i32, Vec<String>) {
+    shadelab::output::write_image(&grey(), &dir.join("expected.exr")).unwrap();
+    shadelab::output::write_image(actual, &dir.join("actual.exr")).unwrap();
+    let run = shadelab(dir, &["diff", "expected.exr", "actual.exr", "--json"]);
+    let json: serde_json::Value = serde_json::from_str(run.stdout.trim())
+        .unwrap_or_else(|e| panic!("{e}: {} {}", run.stdout, run.stderr));
+    let failed = json["verdicts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|v| v["pass"] == false)
+        .map(|v| v["figure"].as_str().unwrap().to_string())
+        .collect();
+    (run.code, failed)
+}
+
+/// `n` pixels, spread over the image, off by `error` in every channel.
+fn spots(n: usize, spacing: u32, error: f32) -> LinearImage {
+    let mut image = grey();
+    let per_row = W / spacing;
+    for k in 0..n as u32 {
+        let (x, y) = ((k % per_row) * spacing + 1, (k / per_row) * spacing + 1);
+        assert!(y < H, "too many spots");
+        for c in &mut image.pixels[(y * W + x) as usize] {
+            *c += error;
+        }
+    }
+    image
+}
+
+#[test]
+fn the_max_abs_limit_flips_the_verdict_just_over_it() {
+    // Default 1.0, documented in `diff --help`.
+    let dir = tempfile::tempdir().unwrap();
+    assert_eq!(
+        diff(dir.path(), &spots(1, 8, 1.02)),
+        (1, vec!["max_abs".to_string()])
+    );
+    assert_eq!(diff(dir.path(), &spots(1, 8, 0.98)), (0, vec![]));
+}
+
+#[test]
+fn the_p99_limit_flips_the_verdict_just_over_it() {
+    // Default 0.05: 2% of the pixels off puts the 99th percentile on them.
+    let dir = tempfile::tempdir().unwrap();
+    let n = (W * H / 50) as usize;
+    assert_eq!(
+        diff(dir.path(), &spots(n, 2, 0.051)),
+        (1, vec!["p99_abs".to_string()])
+    );
+    assert_eq!(diff(dir.path(), &spots(n, 2, 0.049)), (0, vec![]));
+}
+
+/// The first `rows` rows in a checkerboard of 4-pixel squares, +-0.045:
+/// under the p99 and
+/// max limits everywhere, but a pattern FLIP sees.
+fn checker_rows(rows: u32) -> LinearImage {
+    let mut image = grey();
+    for y in 0..rows {
+        for x in 0..W {
+            let sign = if (x / 4 + y / 4) % 2 == 0 { 1.0 } else { -1.0 };
+            for c in &mut image.pixels[(y * W + x) as usize] {
+                *c += 0.045 * sign;
+            }
+        }
+    }
+    image
+}
+
+#[test]
+fn the_flip_limit_flips_the_verdict_one_row_over_it() {
+    // Default 0.02. FLIP's mean grows with each row of the checkerboard;
+    // the least count over the limit is found by bisection.
+    let dir = tempfile::tempdir().unwrap();
+    let flip_of = |rows: u32| {
+        let (code, failed) = diff(dir.path(), &checker_rows(rows));
+        assert!(failed.iter().all(|f| f == "flip_mean"), "{failed:?}");
+        assert_eq!(code != 0, !failed.is_empty());
+        let run = shadelab(
+            dir.path(),
+            &["diff", "expected.exr", "actual.exr", "--json"],
+        );
+        let json: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+        (!failed.is_empty(), json["flip"]["mean"].as_f64().unwrap())
+    };
+    assert!(flip_of(H).0, "even the whole image stays under the limit");
+    let (mut lo, mut hi) = (0, H);
+    while hi - lo > 1 {
+        let mid = (lo + hi) / 2;
+        if flip_of(mid).0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    // One row more than the most that pass fails, by a small step: the
+    // limit is where the documentation puts it, not far off.
+    let ((_, over), (_, under)) = (flip_of(hi), flip_of(lo));
+    assert!(
+        under <= 0.02 && over > 0.02 && over < 0.021,
+        "{under} .. {over}"
+    );
+}
