@@ -102,5 +102,5 @@ if [ $run_rust = 1 ]; then
     [ -n "$shard" ] && args+=(--shard "$shard")
     # In place: the repository's target folder and its built dependencies
     # (a copy would build everything again); each mutant is undone after.
-    SHADELAB_VALIDATION=1 cargo mutants --in-place --release "${args[@]}" -- "${test_args[@]}"
+    SHADELAB_VALIDATION=1 cargo mutants --in-place --profile release "${args[@]}" -- "${test_args[@]}"
 fi
