@@ -139,24 +139,15 @@ pub struct CheckOutcome {
     pub expected: LinearImage,
     /// The GPU render.
     pub actual: LinearImage,
-    pub interior: ErrorStats,
-    pub edges: ErrorStats,
-    /// Edge pixels differing by more than the edge tolerance, as a share of
-    /// the whole image.
-    pub edge_share: f64,
-    pub flip: FlipStats,
-    /// The unit of the figures above (`comparison_scale`): 1 for images in
-    /// the display range.
-    pub scale: f64,
-    /// One line per threshold exceeded, with the figure and the limit.
-    pub failures: Vec<String>,
+    /// The figures and the verdict (`judge`).
+    pub judgement: Judgement,
     pub gpu_ms: f64,
     pub cpu_ms: f64,
 }
 
 impl CheckOutcome {
     pub fn passed(&self) -> bool {
-        self.failures.is_empty()
+        self.judgement.failures.is_empty()
     }
 }
 
@@ -173,7 +164,8 @@ pub struct Judgement {
     /// the whole image.
     pub edge_share: f64,
     pub flip: FlipStats,
-    /// The unit of the figures above (`comparison_scale`).
+    /// The unit of the figures above (`comparison_scale`): 1 for images in
+    /// the display range.
     pub scale: f64,
     /// One line per threshold exceeded, with the figure and the limit.
     pub failures: Vec<String>,
@@ -245,18 +237,13 @@ pub fn check(
 ) -> Result<CheckOutcome, Error> {
     let actual = render_gpu(context, scene, shading)?;
     let (expected, coverage) = render_cpu(reference, shading)?;
-    let j = judge(&expected.image, &actual.image, &coverage.near_edge, limits);
+    let judgement = judge(&expected.image, &actual.image, &coverage.near_edge, limits);
     Ok(CheckOutcome {
         shading,
         gpu_ms: actual.timings.total_ms,
         cpu_ms: expected.timings.total_ms,
         expected: expected.image,
         actual: actual.image,
-        interior: j.interior,
-        edges: j.edges,
-        edge_share: j.edge_share,
-        flip: j.flip,
-        scale: j.scale,
-        failures: j.failures,
+        judgement,
     })
 }

@@ -50,7 +50,7 @@ fn every_mode_of_every_scene_passes() {
         for mode in ALL_MODES {
             let limits = CheckThresholds::for_shading(mode);
             let o = check(&context, &scene, &scene, mode, &limits).unwrap();
-            assert!(o.passed(), "{name} {mode}: {:?}", o.failures);
+            assert!(o.passed(), "{name} {mode}: {:?}", o.judgement.failures);
         }
     }
 }
@@ -71,9 +71,9 @@ fn assert_caught(scene: &Scene, reference: &Scene, modes: &[Shading], what: &str
         assert!(
             !o.passed(),
             "{what} in {mode} went unnoticed: interior max {:.2e}",
-            o.interior.max_abs
+            o.judgement.interior.max_abs
         );
-        eprintln!("{what} in {mode}: {}", o.failures.join("; "));
+        eprintln!("{what} in {mode}: {}", o.judgement.failures.join("; "));
     }
 }
 

@@ -129,6 +129,6 @@ fn screen_interpolation_stays_finite_and_agrees_on_the_default_scene() {
             o.expected.pixels.iter().flatten().all(|v| v.is_finite()),
             "{shading}: CPU"
         );
-        assert!(o.passed(), "{shading}: {:?}", o.failures);
+        assert!(o.passed(), "{shading}: {:?}", o.judgement.failures);
     }
 }

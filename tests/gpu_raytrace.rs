@@ -257,7 +257,7 @@ fn gpu_and_cpu_trace_the_same_tree_at_every_depth() {
         s.render.depth = depth;
         let limits = CheckThresholds::for_shading(Shading::Raytrace);
         let o = check(&context, &s, &s, Shading::Raytrace, &limits).unwrap();
-        assert!(o.passed(), "depth {depth}: {:?}", o.failures);
+        assert!(o.passed(), "depth {depth}: {:?}", o.judgement.failures);
         let gpu_stats = shadelab::render::render_gpu_to(
             &context,
             &s,
@@ -369,7 +369,7 @@ fn long_object_lists_in_the_bvh_agree_with_the_cpu() {
     );
     let limits = CheckThresholds::for_shading(Shading::Raytrace);
     let o = check(&gpu(), &s, &s, Shading::Raytrace, &limits).unwrap();
-    assert!(o.passed(), "{:?}", o.failures);
+    assert!(o.passed(), "{:?}", o.judgement.failures);
 }
 
 /// The uber-shader build (`bench --every-feature`: reflection, refraction,

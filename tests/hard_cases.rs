@@ -49,7 +49,7 @@ fn every_hard_case_is_finite_and_within_thresholds_in_every_mode() {
                 o.expected.pixels.iter().flatten().all(|v| v.is_finite()),
                 "{name} {mode}: CPU non-finite"
             );
-            assert!(o.passed(), "{name} {mode}: {:?}", o.failures);
+            assert!(o.passed(), "{name} {mode}: {:?}", o.judgement.failures);
         }
     }
 }
@@ -502,7 +502,11 @@ fn huge_and_tiny_intensities_scale_the_image() {
     )
     .unwrap();
     assert!(!o.passed(), "a 1% brighter light at 1e-30 went unnoticed");
-    assert!((o.scale / 1e-30 - 1.0).abs() < 0.5, "scale {}", o.scale);
+    assert!(
+        (o.judgement.scale / 1e-30 - 1.0).abs() < 0.5,
+        "scale {}",
+        o.judgement.scale
+    );
 }
 
 /// A tilted grid mesh whose every pixel centre in `inner` lies on a shared

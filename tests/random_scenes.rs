@@ -175,7 +175,7 @@ proptest! {
                 outcome.actual.pixels.iter().flatten().all(|v| v.is_finite()),
                 "{}: a pixel is not finite", shading
             );
-            prop_assert!(outcome.passed(), "{}: {:?}", shading, outcome.failures);
+            prop_assert!(outcome.passed(), "{}: {:?}", shading, outcome.judgement.failures);
         }
     }
 }

@@ -327,7 +327,11 @@ fn back_faces_are_drawn_where_they_can_show() {
             );
             let limits = CheckThresholds::for_shading(shading);
             let outcome = check(&context, s, s, shading, &limits).unwrap();
-            assert!(outcome.passed(), "{name} {shading}: {:?}", outcome.failures);
+            assert!(
+                outcome.passed(),
+                "{name} {shading}: {:?}",
+                outcome.judgement.failures
+            );
         }
     }
 }

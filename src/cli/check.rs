@@ -143,7 +143,7 @@ pub fn run(args: CheckArgs, options: &GpuOptions) -> Result<(), Failure> {
             let summary = summary(&outcome);
             if !args.json {
                 println!("{verdict} {name}/{shading}  {summary}");
-                for f in &outcome.failures {
+                for f in &outcome.judgement.failures {
                     println!("     {f}");
                 }
             }
@@ -151,20 +151,20 @@ pub fn run(args: CheckArgs, options: &GpuOptions) -> Result<(), Failure> {
                 classname: name.clone(),
                 name: shading.to_string(),
                 time_s: (outcome.gpu_ms + outcome.cpu_ms) / 1e3,
-                failure: (!outcome.passed()).then(|| outcome.failures.join("\n")),
+                failure: (!outcome.passed()).then(|| outcome.judgement.failures.join("\n")),
                 output: summary,
             });
             reports.push(serde_json::json!({
                 "scene": name,
                 "shading": shading,
                 "passed": outcome.passed(),
-                "failures": outcome.failures,
-                "interior": outcome.interior,
-                "edges": outcome.edges,
-                "edge_share": outcome.edge_share,
-                "flip_mean": outcome.flip.mean,
-                "flip_p99": outcome.flip.p99,
-                "scale": outcome.scale,
+                "failures": outcome.judgement.failures,
+                "interior": outcome.judgement.interior,
+                "edges": outcome.judgement.edges,
+                "edge_share": outcome.judgement.edge_share,
+                "flip_mean": outcome.judgement.flip.mean,
+                "flip_p99": outcome.judgement.flip.p99,
+                "scale": outcome.judgement.scale,
                 "gpu_ms": outcome.gpu_ms,
                 "cpu_ms": outcome.cpu_ms,
                 "images": folder.join(shading.to_string()),
@@ -206,34 +206,34 @@ pub fn run(args: CheckArgs, options: &GpuOptions) -> Result<(), Failure> {
 }
 
 fn summary(o: &CheckOutcome) -> String {
-    let unit = if o.scale == 1.0 {
+    let unit = if o.judgement.scale == 1.0 {
         String::new()
     } else {
         format!(
             "  (errors relative to the brightest value, {:.1e})",
-            o.scale
+            o.judgement.scale
         )
     };
     format!(
         "interior max {:.1e}  differing edge pixels {:.4}%  FLIP mean {:.1e}  (GPU {:.0} ms, CPU {:.0} ms){unit}",
-        o.interior.max_abs,
-        o.edge_share * 100.0,
-        o.flip.mean,
+        o.judgement.interior.max_abs,
+        o.judgement.edge_share * 100.0,
+        o.judgement.flip.mean,
         o.gpu_ms,
         o.cpu_ms
     )
 }
 
-/// The images as compared: in units of `o.scale`, so that a scene lit at
+/// The images as compared: in units of `o.judgement.scale`, so that a scene lit at
 /// 1e30 is not written all white.
 fn write_images(folder: &Path, o: &CheckOutcome) -> Result<(), Failure> {
     let mode = o.shading.to_string();
-    let expected = scaled(&o.expected, o.scale);
-    let actual = scaled(&o.actual, o.scale);
+    let expected = scaled(&o.expected, o.judgement.scale);
+    let actual = scaled(&o.actual, o.judgement.scale);
     write_image(&expected, &folder.join(format!("{mode}-expected.png")))?;
     write_image(&actual, &folder.join(format!("{mode}-actual.png")))?;
     write_image(
-        &flip_heatmap(&o.flip),
+        &flip_heatmap(&o.judgement.flip),
         &folder.join(format!("{mode}-diff.png")),
     )?;
     Ok(())

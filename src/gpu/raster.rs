@@ -302,7 +302,7 @@ pub fn render_to(
     check_image_size(context, width, height)?;
     let device = &context.device;
     let view = View::new(scene, width, height);
-    let geometry = build_geometry(scene, &view);
+    let geometry = build_geometry(scene, &view, mode == RasterMode::Flat);
     let spec = specialization(scene);
 
     let pipeline_started = Instant::now();

@@ -92,7 +92,7 @@ mod tests {
     fn geometry() -> RasterGeometry {
         let scene = default_scene();
         let view = View::new(&scene, 64, 64);
-        build_geometry(&scene, &view)
+        build_geometry(&scene, &view, true)
     }
 
     #[test]

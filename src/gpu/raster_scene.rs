@@ -36,7 +36,9 @@ fn f32x4(v: DVec3) -> [f32; 4] {
     [x, y, z, 0.0]
 }
 
-pub fn build_geometry(scene: &Scene, view: &View) -> RasterGeometry {
+/// `with_faces`: also the per-triangle records, which only flat shading
+/// reads (`faces` stays empty otherwise).
+pub fn build_geometry(scene: &Scene, view: &View, with_faces: bool) -> RasterGeometry {
     let eye = view.eye;
     let mut geometry = RasterGeometry {
         vertices: Vec::new(),
@@ -64,6 +66,9 @@ pub fn build_geometry(scene: &Scene, view: &View) -> RasterGeometry {
         );
         for tri in &mesh.triangles {
             geometry.indices.extend_from_slice(tri);
+            if !with_faces {
+                continue;
+            }
             let [a, b, c] = tri.map(|i| mesh.positions[i as usize]);
             let normal = (b - a).cross(c - a).normalize_or_zero();
             let center = (a + b + c) / 3.0;
