@@ -15,6 +15,7 @@ pub mod gpu;
 pub mod junit;
 pub mod linear_image;
 pub mod markup;
+pub mod memory;
 pub mod metrics;
 pub mod output;
 pub mod render;

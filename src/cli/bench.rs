@@ -15,6 +15,7 @@ use shadelab::compare::run::median_and_spread;
 use shadelab::gpu::raster::ColorTarget;
 use shadelab::gpu::raytrace::TraceOptions;
 use shadelab::gpu::{raster, raytrace, GpuContext, GpuOptions, GpuTimings};
+use shadelab::memory::MemoryLimit;
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
@@ -135,15 +136,19 @@ struct Row {
     every_feature_ratio: Option<f64>,
 }
 
-pub fn run(args: BenchArgs, options: &GpuOptions) -> Result<(), Failure> {
+pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
     check_runs(args.runs)?;
-    let (mut scene, name) = load_scene(args.scene.as_deref())?;
+    let (mut scene, name) = load_scene(args.scene.as_deref(), memory)?;
     args.size.apply(&mut scene)?;
     args.lighting.apply(&mut scene)?;
     let hook_path = scene.lighting_hook.as_ref().map(|h| h.path.clone());
     if let Some(d) = args.depth {
         scene.render.depth = check_depth(d)?;
     }
+    let cpu_modes: &[Shading] = if args.cpu { &[Shading::Raytrace] } else { &[] };
+    let mut gpu_modes = args.shading.clone();
+    gpu_modes.push(Shading::Flat);
+    memory.check(&name, &scene, &gpu_modes, cpu_modes)?;
     let context = GpuContext::new(options)?;
     let raster_target = args.target.color_target();
     let target_of = |shading: Shading| {

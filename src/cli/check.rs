@@ -8,6 +8,7 @@ use clap::Args;
 use shadelab::check::{check, scaled, CheckOutcome, CheckThresholds};
 use shadelab::gpu::{GpuContext, GpuOptions};
 use shadelab::junit::{self, TestCase};
+use shadelab::memory::MemoryLimit;
 use shadelab::metrics::heatmap::flip_heatmap;
 use shadelab::output::{write_atomically, write_image};
 use shadelab::shading::Shading;
@@ -58,7 +59,7 @@ fn io_failure(path: &Path, e: impl std::fmt::Display) -> Failure {
     Failure::usage(format!("cannot write {}: {e}", path.display()))
 }
 
-pub fn run(args: CheckArgs, options: &GpuOptions) -> Result<(), Failure> {
+pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
     let limits_for = |shading: Shading| {
         let defaults = CheckThresholds::for_shading(shading);
         CheckThresholds {
@@ -89,9 +90,10 @@ pub fn run(args: CheckArgs, options: &GpuOptions) -> Result<(), Failure> {
         args.scenes.iter().map(|p| Some(p.as_path())).collect()
     };
     for path in paths {
-        let (mut scene, stem) = load_scene(path)?;
+        let (mut scene, stem) = load_scene(path, memory)?;
         args.size.apply(&mut scene)?;
         args.lighting.apply(&mut scene)?;
+        memory.check(&stem, &scene, &args.shading, &args.shading)?;
         let mut name = stem;
         if scenes.iter().any(|(_, n): &(_, String)| *n == name) {
             name = format!("{name}-{}", scenes.len() + 1);

@@ -10,7 +10,9 @@ use shadelab::compare::report::{Metric, ReferenceChoice};
 use shadelab::compare::run::{mark_pareto, merge, run, set_budget, CompareOptions};
 use shadelab::compare::{default_variants, Report, Variant};
 use shadelab::gpu::{GpuContext, GpuOptions};
+use shadelab::memory::MemoryLimit;
 use shadelab::output::write_atomically;
+use shadelab::shading::Shading;
 
 use super::args::{check_runs, ImageSize};
 use super::render::load_scene;
@@ -73,7 +75,11 @@ fn write_report(report: &Report, dir: &Path) -> Result<(), Failure> {
     Ok(())
 }
 
-pub fn run_command(args: CompareArgs, options: &GpuOptions) -> Result<(), Failure> {
+pub fn run_command(
+    args: CompareArgs,
+    options: &GpuOptions,
+    memory: &MemoryLimit,
+) -> Result<(), Failure> {
     std::fs::create_dir_all(&args.out)
         .map_err(|e| Failure::usage(format!("cannot create {}: {e}", args.out.display())))?;
     if let Some(e) = args.budget.filter(|e| !e.is_finite() || *e < 0.0) {
@@ -82,7 +88,7 @@ pub fn run_command(args: CompareArgs, options: &GpuOptions) -> Result<(), Failur
         )));
     }
     let mut report = if args.merge.is_empty() {
-        render_variants(&args, options)?
+        render_variants(&args, options, memory)?
     } else {
         merge_folders(&args)?
     };
@@ -118,9 +124,13 @@ fn metric_of(args: &CompareArgs) -> Metric {
     Metric::from_name(&args.metric).expect("clap checked it")
 }
 
-fn render_variants(args: &CompareArgs, options: &GpuOptions) -> Result<Report, Failure> {
+fn render_variants(
+    args: &CompareArgs,
+    options: &GpuOptions,
+    memory: &MemoryLimit,
+) -> Result<Report, Failure> {
     check_runs(args.runs)?;
-    let (mut scene, name) = load_scene(args.scene.as_deref())?;
+    let (mut scene, name) = load_scene(args.scene.as_deref(), memory)?;
     args.size.apply(&mut scene)?;
     let variants: Vec<Variant> = if args.variants.is_empty() {
         default_variants(&scene)
@@ -134,6 +144,14 @@ fn render_variants(args: &CompareArgs, options: &GpuOptions) -> Result<Report, F
     };
     if variants.is_empty() {
         return Err(Failure::usage("--variants names no variant".into()));
+    }
+    // Each variant (its tessellation may differ) against the references:
+    // the global one traced on the CPU, a local one per mode.
+    for variant in &variants {
+        let varied = variant.apply(&scene)?;
+        let modes = [variant.shading];
+        let references = [variant.shading, Shading::Raytrace];
+        memory.check(&name, &varied, &modes, &references)?;
     }
     let context = GpuContext::new(options)?;
     let bar = indicatif::ProgressBar::new(0);

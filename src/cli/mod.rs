@@ -26,6 +26,13 @@ struct Cli {
     #[arg(long, global = true, value_name = "NAME|INDEX")]
     device: Option<String>,
 
+    /// The most memory a render may plan to take, such as 512M or 4G
+    /// (binary units). A scene whose estimate is over it is refused before
+    /// anything large is allocated. Also read from SHADELAB_MAX_MEMORY;
+    /// default: 3/4 of the machine's memory (or of its control group's).
+    #[arg(long, global = true, value_name = "SIZE")]
+    max_memory: Option<String>,
+
     #[command(subcommand)]
     command: Command,
 }
@@ -101,11 +108,18 @@ pub fn run() -> ExitCode {
     if cli.device.is_some() {
         gpu_options.device = cli.device;
     }
+    let memory = match shadelab::memory::MemoryLimit::resolve(cli.max_memory.as_deref()) {
+        Ok(limit) => limit,
+        Err(e) => {
+            eprintln!("shadelab: error: {e}");
+            return ExitCode::from(e.exit_code() as u8);
+        }
+    };
     let result = match cli.command {
-        Command::Render(args) => render::run(args, &gpu_options),
-        Command::Bench(args) => bench::run(args, &gpu_options),
-        Command::Check(args) => check::run(args, &gpu_options),
-        Command::Compare(args) => compare::run_command(args, &gpu_options),
+        Command::Render(args) => render::run(args, &gpu_options, &memory),
+        Command::Bench(args) => bench::run(args, &gpu_options, &memory),
+        Command::Check(args) => check::run(args, &gpu_options, &memory),
+        Command::Compare(args) => compare::run_command(args, &gpu_options, &memory),
         Command::Diff(args) => diff::run(args),
         Command::Info(args) => info::run(args, &gpu_options),
     };

@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use shadelab::gpu::raster::ColorTarget;
 use shadelab::gpu::{GpuContext, GpuOptions};
+use shadelab::memory::MemoryLimit;
 use shadelab::render::Timings;
 use shadelab::rt_scene::RayStats;
 use shadelab::scene::{self, Scene};
@@ -52,11 +53,13 @@ pub struct RenderArgs {
     stats: bool,
 }
 
-pub fn load_scene(path: Option<&Path>) -> Result<(Scene, String), Failure> {
+/// Loads `path` (the default scene when `None`), refusing a glTF file whose
+/// geometry alone would exceed `memory`, and returns it with its name.
+pub fn load_scene(path: Option<&Path>, memory: &MemoryLimit) -> Result<(Scene, String), Failure> {
     match path {
         None => Ok((scene::default_scene(), "default".to_string())),
         Some(p) => {
-            let scene = scene::load(p)?;
+            let scene = scene::load_within(p, &memory.load_limits())?;
             let stem = p
                 .file_stem()
                 .map(|s| s.to_string_lossy().into_owned())
@@ -101,9 +104,14 @@ fn apply_overrides(scene: &mut Scene, args: &RenderArgs) -> Result<(), Failure> 
     Ok(())
 }
 
-pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
-    let (mut scene, stem) = load_scene(args.scene.as_deref())?;
+pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
+    let (mut scene, stem) = load_scene(args.scene.as_deref(), memory)?;
     apply_overrides(&mut scene, &args)?;
+    let estimate = if args.backend == "cpu" {
+        memory.check(&stem, &scene, &[], &[args.shading])?
+    } else {
+        memory.check(&stem, &scene, &[args.shading], &[])?
+    };
     for warning in &scene.warnings {
         eprintln!("shadelab: warning: {warning}");
     }
@@ -138,6 +146,11 @@ pub fn run(args: RenderArgs, options: &GpuOptions) -> Result<(), Failure> {
             "color_target": (args.backend != "cpu" && args.shading.raster_mode().is_some())
                 .then(|| target.name()),
             "timings_ms": rendered.timings,
+            "memory": {
+                "estimate_bytes": estimate,
+                "peak_bytes": shadelab::memory::peak_resident_bytes(),
+                "limit_bytes": memory.bytes,
+            },
         });
         let mut value = value;
         if args.stats {

@@ -510,9 +510,7 @@ pub fn render_to(
                 vk::CullModeFlags::NONE
             };
             device.cmd_set_cull_mode(cmd, cull);
-            // Flat indices are global: its vertices are one per face.
-            let vertex_offset = if flat { 0 } else { draw.vertex_offset };
-            device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, vertex_offset, 0);
+            device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0);
         }
         device.cmd_end_rendering(cmd);
         timestamps.stop(cmd);

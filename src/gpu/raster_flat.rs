@@ -41,24 +41,20 @@ impl FlatMesh {
         let mut flat_vertex = vec![UNCOVERED; geometry.vertices.len()];
         // Each face's shared corners, rotated so its provoking one is first.
         let mut rotated_faces: Vec<[u32; 3]> = Vec::with_capacity(face_count);
-        for draw in &geometry.draws {
-            let draw_indices =
-                &geometry.indices[draw.first_index as usize..][..draw.index_count as usize];
-            for tri in draw_indices.chunks_exact(3) {
-                let corners = [0, 1, 2].map(|k| (draw.vertex_offset + tri[k] as i32) as u32);
-                // Greedy: provoke from a corner no earlier face took, so
-                // that corner needs no vertex of its own later.
-                let first = (0..3)
-                    .find(|&k| flat_vertex[corners[k] as usize] == UNCOVERED)
-                    .unwrap_or(0);
-                let rotated = [0, 1, 2].map(|k| corners[(first + k) % 3]);
-                let own = rotated[0] as usize;
-                if flat_vertex[own] == UNCOVERED {
-                    flat_vertex[own] = positions.len() as u32;
-                }
-                positions.push(geometry.vertices[own].position);
-                rotated_faces.push(rotated);
+        for tri in geometry.indices.chunks_exact(3) {
+            let corners = [tri[0], tri[1], tri[2]];
+            // Greedy: provoke from a corner no earlier face took, so that
+            // corner needs no vertex of its own later.
+            let first = (0..3)
+                .find(|&k| flat_vertex[corners[k] as usize] == UNCOVERED)
+                .unwrap_or(0);
+            let rotated = [0, 1, 2].map(|k| corners[(first + k) % 3]);
+            let own = rotated[0] as usize;
+            if flat_vertex[own] == UNCOVERED {
+                flat_vertex[own] = positions.len() as u32;
             }
+            positions.push(geometry.vertices[own].position);
+            rotated_faces.push(rotated);
         }
         let mut indices = Vec::with_capacity(face_count * 3);
         for (face, corners) in rotated_faces.iter().enumerate() {
@@ -102,27 +98,23 @@ mod tests {
         assert_eq!(flat.indices.len(), g.indices.len());
         assert_eq!(flat.faces.len(), flat.positions.len());
         let mut face = 0;
-        for draw in &g.draws {
-            let shared = &g.indices[draw.first_index as usize..][..draw.index_count as usize];
-            let own = &flat.indices[draw.first_index as usize..][..draw.index_count as usize];
-            for (tri, flat_tri) in shared.chunks_exact(3).zip(own.chunks_exact(3)) {
-                assert_eq!(
-                    flat_tri[0], face as u32,
-                    "face {face} provoked by another vertex"
-                );
-                let corner = |i: u32| g.vertices[(draw.vertex_offset + i as i32) as usize].position;
-                let expected = [corner(tri[0]), corner(tri[1]), corner(tri[2])];
-                let got = [0, 1, 2].map(|k| flat.positions[flat_tri[k] as usize]);
-                // Same triangle, same winding: `got` is a rotation of `expected`.
-                let rotation = (0..3).find(|&r| (0..3).all(|k| got[k] == expected[(r + k) % 3]));
-                assert!(
-                    rotation.is_some(),
-                    "face {face}: {got:?} is not {expected:?}"
-                );
-                assert_eq!(flat.faces[face].center, g.faces[face].center);
-                assert_eq!(flat.faces[face].normal, g.faces[face].normal);
-                face += 1;
-            }
+        for (tri, flat_tri) in g.indices.chunks_exact(3).zip(flat.indices.chunks_exact(3)) {
+            assert_eq!(
+                flat_tri[0], face as u32,
+                "face {face} provoked by another vertex"
+            );
+            let corner = |i: u32| g.vertices[i as usize].position;
+            let expected = [corner(tri[0]), corner(tri[1]), corner(tri[2])];
+            let got = [0, 1, 2].map(|k| flat.positions[flat_tri[k] as usize]);
+            // Same triangle, same winding: `got` is a rotation of `expected`.
+            let rotation = (0..3).find(|&r| (0..3).all(|k| got[k] == expected[(r + k) % 3]));
+            assert!(
+                rotation.is_some(),
+                "face {face}: {got:?} is not {expected:?}"
+            );
+            assert_eq!(flat.faces[face].center, g.faces[face].center);
+            assert_eq!(flat.faces[face].normal, g.faces[face].normal);
+            face += 1;
         }
         assert_eq!(face, g.faces.len());
     }

@@ -44,6 +44,10 @@ pub enum SceneError {
     #[error("{file}: {message}")]
     Mesh { file: String, message: String },
 
+    /// Holding the scene would exceed the memory limit (`footprint`).
+    #[error("{file}: {message}")]
+    TooLarge { file: String, message: String },
+
     /// A mesh file referenced by `[[objects]]` entry `object` (1-based) of a
     /// scene failed to load.
     #[error("{file} line {line}: object {object} (mesh): {source}")]

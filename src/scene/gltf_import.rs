@@ -49,6 +49,7 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 
 use super::error::SceneError;
+use super::footprint::{GeometrySize, LoadLimits};
 use super::model::{
     Camera, ImageSettings, Interpolation, Lighting, Material, Object, PointLight, RenderSettings,
     Scene, Shape, TriangleMesh,
@@ -61,9 +62,23 @@ struct GltfFile {
     stem: String,
     doc: gltf::Document,
     buffers: Vec<gltf::buffer::Data>,
-    /// The raw JSON, for extensions the `gltf` crate is not built to read
-    /// (`KHR_materials_ior`).
-    raw: serde_json::Value,
+    /// The raw JSON of what the `gltf` crate does not read for us.
+    raw: RawParts,
+}
+
+/// The parts of the JSON read as plain JSON: the accessor references the
+/// `gltf` crate indexes before validating them, and the materials, for
+/// extensions it is not built to read (`KHR_materials_ior`). Everything else
+/// is skipped rather than kept: a file instancing a mesh two million times
+/// has two million nodes, and a JSON tree of them cost about 400 bytes each.
+#[derive(serde::Deserialize, Default)]
+struct RawParts {
+    #[serde(default)]
+    accessors: serde_json::Value,
+    #[serde(default)]
+    meshes: serde_json::Value,
+    #[serde(default)]
+    materials: serde_json::Value,
 }
 
 fn open(path: &Path) -> Result<GltfFile, SceneError> {
@@ -72,18 +87,19 @@ fn open(path: &Path) -> Result<GltfFile, SceneError> {
         file: label.clone(),
         reason: e.to_string(),
     })?;
-    let json_bytes: Vec<u8> = if bytes.starts_with(b"glTF") {
+    let json_bytes: std::borrow::Cow<[u8]> = if bytes.starts_with(b"glTF") {
         check_glb_header(&label, &bytes)?;
         let glb = gltf::Glb::from_slice(&bytes).map_err(|e| {
             SceneError::mesh(&label, format!("not a valid binary glTF (.glb) file ({e})"))
         })?;
-        glb.json.into_owned()
+        glb.json
     } else {
-        bytes.clone()
+        std::borrow::Cow::Borrowed(&bytes)
     };
-    let raw: serde_json::Value = serde_json::from_slice(&json_bytes).map_err(|e| {
+    let raw = raw_parts(&json_bytes).map_err(|e| {
         SceneError::mesh(&label, format!("not a valid glTF 2.0 file (bad JSON: {e})"))
     })?;
+    drop(json_bytes);
     check_primitive_references(&label, &raw)?;
     let gltf::Gltf { document, blob } = gltf::Gltf::from_slice(&bytes)
         .map_err(|e| SceneError::mesh(&label, format!("not a valid glTF 2.0 file ({e})")))?;
@@ -109,15 +125,24 @@ fn open(path: &Path) -> Result<GltfFile, SceneError> {
     })
 }
 
+/// Reads [`RawParts`] from a JSON document. Any valid JSON is accepted here
+/// (a top-level value that is not an object reads as empty parts): telling
+/// the user what a glTF file must look like is the `gltf` crate's job.
+fn raw_parts(json: &[u8]) -> serde_json::Result<RawParts> {
+    let first = json.iter().find(|b| !b.is_ascii_whitespace());
+    if first == Some(&b'{') {
+        serde_json::from_slice(json)
+    } else {
+        serde_json::from_slice::<serde::de::IgnoredAny>(json).map(|_| RawParts::default())
+    }
+}
+
 /// The `gltf` crate's validator indexes `accessors` with a primitive's
 /// POSITION before checking it exists; check every primitive's accessor
 /// references first.
-fn check_primitive_references(label: &str, raw: &serde_json::Value) -> Result<(), SceneError> {
-    let count = raw
-        .get("accessors")
-        .and_then(|a| a.as_array())
-        .map_or(0, Vec::len);
-    let meshes = raw.get("meshes").and_then(|m| m.as_array());
+fn check_primitive_references(label: &str, raw: &RawParts) -> Result<(), SceneError> {
+    let count = raw.accessors.as_array().map_or(0, Vec::len);
+    let meshes = raw.meshes.as_array();
     for (mi, mesh) in meshes.into_iter().flatten().enumerate() {
         let prims = mesh.get("primitives").and_then(|p| p.as_array());
         for (pi, prim) in prims.into_iter().flatten().enumerate() {
@@ -227,9 +252,13 @@ fn mesh_name(mesh: &gltf::Mesh) -> String {
     }
 }
 
-/// Every node reachable from the scene's roots with its world matrix, in
-/// depth-first order.
-fn walk_nodes<'a>(file: &'a GltfFile) -> Result<Vec<(gltf::Node<'a>, DMat4)>, SceneError> {
+/// Calls `visit` on every node reachable from the scene's roots with its
+/// world matrix, in depth-first order. Nothing is kept per node: a file
+/// instancing a mesh millions of times has millions of nodes.
+fn walk_nodes<'a>(
+    file: &'a GltfFile,
+    mut visit: impl FnMut(gltf::Node<'a>, &DMat4) -> Result<(), SceneError>,
+) -> Result<(), SceneError> {
     let roots: Vec<gltf::Node> = match file
         .doc
         .default_scene()
@@ -251,33 +280,32 @@ fn walk_nodes<'a>(file: &'a GltfFile) -> Result<Vec<(gltf::Node<'a>, DMat4)>, Sc
                 .collect()
         }
     };
-    let mut out = Vec::new();
     let mut visited = vec![false; file.doc.nodes().len()];
     let mut stack: Vec<(gltf::Node, DMat4)> = Vec::new();
-    for root in roots.into_iter().rev() {
+    for root in roots {
         stack.push((root, DMat4::IDENTITY));
-    }
-    while let Some((node, parent)) = stack.pop() {
-        match visited.get_mut(node.index()) {
-            Some(seen) if !*seen => *seen = true,
-            _ => {
-                return Err(SceneError::mesh(
-                    &file.label,
-                    format!(
-                        "{} appears more than once in the node hierarchy (a cycle or several parents); expected disjoint trees as glTF requires",
-                        node_name(&node)
-                    ),
-                ))
+        while let Some((node, parent)) = stack.pop() {
+            match visited.get_mut(node.index()) {
+                Some(seen) if !*seen => *seen = true,
+                _ => {
+                    return Err(SceneError::mesh(
+                        &file.label,
+                        format!(
+                            "{} appears more than once in the node hierarchy (a cycle or several parents); expected disjoint trees as glTF requires",
+                            node_name(&node)
+                        ),
+                    ))
+                }
             }
+            let world = parent * local_matrix(&file.label, &node)?;
+            let children: Vec<gltf::Node> = node.children().collect();
+            for child in children.into_iter().rev() {
+                stack.push((child, world));
+            }
+            visit(node, &world)?;
         }
-        let world = parent * local_matrix(&file.label, &node)?;
-        let children: Vec<gltf::Node> = node.children().collect();
-        for child in children.into_iter().rev() {
-            stack.push((child, world));
-        }
-        out.push((node, world));
     }
-    Ok(out)
+    Ok(())
 }
 
 /// Checks an accessor so that the `gltf` crate's reader cannot panic on it.
@@ -628,7 +656,7 @@ pub fn map_material(
     file_label: &str,
     name: String,
     mat: &gltf::Material,
-    raw_json: &serde_json::Value,
+    raw_materials: &serde_json::Value,
 ) -> Result<Material, SceneError> {
     let pbr = mat.pbr_metallic_roughness();
     let base = pbr.base_color_factor();
@@ -640,8 +668,7 @@ pub fn map_material(
         0.0
     };
     let ior_ext = mat.index().and_then(|i| {
-        raw_json
-            .get("materials")?
+        raw_materials
             .get(i)?
             .get("extensions")?
             .get("KHR_materials_ior")?
@@ -744,7 +771,27 @@ pub(crate) fn push_material(materials: &mut Vec<Material>, m: Material) -> usize
 /// What a glTF file contributes to a scene.
 struct Contents<'a> {
     objects: Vec<Object>,
+    /// The nodes that carry a camera or a light, with their world matrices,
+    /// in depth-first order.
     nodes: Vec<(gltf::Node<'a>, DMat4)>,
+}
+
+/// The geometry the file's nodes instance, counted from accessor sizes
+/// alone: what loading it would build.
+fn instanced_size(file: &GltfFile) -> Result<GeometrySize, SceneError> {
+    let mut size = GeometrySize::default();
+    walk_nodes(file, |node, _| {
+        for prim in node.mesh().iter().flat_map(|m| m.primitives()) {
+            let Some(positions) = prim.get(&gltf::Semantic::Positions) else {
+                continue;
+            };
+            let vertices = positions.count() as u64;
+            let corners = prim.indices().map_or(vertices, |i| i.count() as u64);
+            size.add(1, vertices, corners / 3);
+        }
+        Ok(())
+    })?;
+    Ok(size)
 }
 
 fn contents<'a>(
@@ -753,12 +800,20 @@ fn contents<'a>(
     material_override: Option<usize>,
     materials: &mut Vec<Material>,
     warnings: &mut Vec<String>,
+    limits: &LoadLimits,
 ) -> Result<Contents<'a>, SceneError> {
-    let nodes = walk_nodes(file)?;
+    let size = instanced_size(file)?;
+    limits.check(&file.label, &size)?;
     let mut per_file: HashMap<Option<usize>, usize> = HashMap::new();
-    let mut objects = Vec::new();
-    for (node, world) in &nodes {
-        let Some(mesh) = node.mesh() else { continue };
+    let mut objects = Vec::with_capacity(size.objects as usize);
+    let mut nodes = Vec::new();
+    walk_nodes(file, |node, world| {
+        if node.camera().is_some() || node.light().is_some() {
+            nodes.push((node.clone(), *world));
+        }
+        let Some(mesh) = node.mesh() else {
+            return Ok(());
+        };
         for prim in mesh.primitives() {
             let Some(tri) = primitive_mesh(file, &mesh, &prim, post * *world, warnings)? else {
                 continue;
@@ -781,7 +836,7 @@ fn contents<'a>(
                                         &file.label,
                                         format!("{}/{label}", file.stem),
                                         &mat,
-                                        &file.raw,
+                                        &file.raw.materials,
                                     )?
                                 }
                                 None => default_material(format!("{}/default", file.stem)),
@@ -798,7 +853,8 @@ fn contents<'a>(
                 material,
             });
         }
-    }
+        Ok(())
+    })?;
     if objects.is_empty() {
         return Err(SceneError::mesh(
             &file.label,
@@ -817,20 +873,27 @@ pub(crate) fn load_meshes(
     material_override: Option<usize>,
     materials: &mut Vec<Material>,
     warnings: &mut Vec<String>,
+    limits: &LoadLimits,
 ) -> Result<Vec<Object>, SceneError> {
     let file = open(path)?;
-    Ok(contents(&file, post, material_override, materials, warnings)?.objects)
+    Ok(contents(&file, post, material_override, materials, warnings, limits)?.objects)
 }
 
 /// Loads a glTF file as a whole scene (rules in the crate docs of `scene`):
 /// its meshes, the first perspective camera of the node tree (else a camera
 /// framing the bounding box), and its point lights.
-pub(crate) fn load_scene(path: &Path) -> Result<Scene, SceneError> {
+pub(crate) fn load_scene(path: &Path, limits: &LoadLimits) -> Result<Scene, SceneError> {
     let file = open(path)?;
     let mut materials = Vec::new();
     let mut warnings = Vec::new();
-    let Contents { objects, nodes } =
-        contents(&file, DMat4::IDENTITY, None, &mut materials, &mut warnings)?;
+    let Contents { objects, nodes } = contents(
+        &file,
+        DMat4::IDENTITY,
+        None,
+        &mut materials,
+        &mut warnings,
+        limits,
+    )?;
 
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for o in &objects {
@@ -973,7 +1036,14 @@ mod tests {
     fn meshes(path: &Path, post: DMat4) -> Result<Loaded, SceneError> {
         let mut materials = Vec::new();
         let mut warnings = Vec::new();
-        let objects = load_meshes(path, post, None, &mut materials, &mut warnings)?;
+        let objects = load_meshes(
+            path,
+            post,
+            None,
+            &mut materials,
+            &mut warnings,
+            &LoadLimits::default(),
+        )?;
         Ok(Loaded {
             objects,
             materials,

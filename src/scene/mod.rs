@@ -32,6 +32,7 @@
 use std::path::Path;
 
 pub mod error;
+pub mod footprint;
 pub mod gltf_import;
 mod lighting_hook;
 pub mod model;
@@ -39,6 +40,7 @@ pub mod tessellate;
 pub mod toml_format;
 
 pub use error::SceneError;
+pub use footprint::{GeometrySize, LoadLimits};
 pub use model::*;
 pub use tessellate::tessellate;
 pub use toml_format::MAX_RESOLUTION;
@@ -50,6 +52,12 @@ pub const DEFAULT_SCENE_TOML: &str = include_str!("default.toml");
 /// scene (meshes, first perspective camera, point lights). Any other
 /// extension is an error.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    load_within(path, &LoadLimits::default())
+}
+
+/// As [`load`], refusing a glTF file whose instanced geometry would take
+/// more than `limits` allows, before building it.
+pub fn load_within(path: &Path, limits: &LoadLimits) -> Result<Scene, SceneError> {
     let label = path.display().to_string();
     let ext = path
         .extension()
@@ -65,9 +73,9 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
                 Some(p) if !p.as_os_str().is_empty() => p,
                 _ => Path::new("."),
             };
-            from_toml_str(&text, base, &label)
+            toml_format::parse_within(&text, base, &label, limits)
         }
-        "gltf" | "glb" => gltf_import::load_scene(path),
+        "gltf" | "glb" => gltf_import::load_scene(path, limits),
         _ => Err(SceneError::UnsupportedFile { file: label }),
     }
 }

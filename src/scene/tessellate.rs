@@ -43,6 +43,25 @@ pub fn tessellate(shape: &Shape) -> TriangleMesh {
     }
 }
 
+/// The vertex and triangle counts `tessellate(shape)` returns, computed
+/// from the numbers alone, so the memory a scene needs can be estimated
+/// before any of it is built.
+pub fn counts(shape: &Shape) -> (u64, u64) {
+    match shape {
+        Shape::Sphere { segments, .. } => {
+            let seg = u64::from((*segments).max(3));
+            let bands = (seg / 2).max(2);
+            (seg * (bands - 1) + 2, 2 * seg * (bands - 1))
+        }
+        Shape::Plane { segments, .. } => {
+            let n = u64::from((*segments).max(1));
+            ((n + 1) * (n + 1), 2 * n * n)
+        }
+        Shape::Box { .. } => (24, 12),
+        Shape::Mesh(mesh) => (mesh.positions.len() as u64, mesh.triangles.len() as u64),
+    }
+}
+
 fn sphere(center: DVec3, radius: f64, segments: u32) -> TriangleMesh {
     let seg = segments.max(3);
     let bands = (seg / 2).max(2);
@@ -153,6 +172,36 @@ fn cuboid(center: DVec3, half: DVec3, rotation: &glam::DMat3) -> TriangleMesh {
 mod tests {
     use super::*;
     use glam::DMat3;
+
+    #[test]
+    fn counts_match_the_tessellation() {
+        let mut shapes = Vec::new();
+        for segments in [0, 3, 4, 5, 8, 33, 64] {
+            shapes.push(Shape::Sphere {
+                center: DVec3::ZERO,
+                radius: 1.0,
+                segments,
+            });
+            shapes.push(Shape::Plane {
+                center: DVec3::ZERO,
+                normal: DVec3::Y,
+                size: 2.0,
+                segments,
+            });
+        }
+        shapes.push(Shape::Box {
+            center: DVec3::ZERO,
+            half_extents: DVec3::ONE,
+            rotation: DMat3::IDENTITY,
+        });
+        let mesh = tessellate(&shapes[3]);
+        shapes.push(Shape::Mesh(mesh));
+        for shape in &shapes {
+            let m = tessellate(shape);
+            let expected = (m.positions.len() as u64, m.triangles.len() as u64);
+            assert_eq!(counts(shape), expected, "{shape:?}");
+        }
+    }
 
     /// Every triangle's geometric normal agrees with its vertex normals and
     /// every normal is unit length.

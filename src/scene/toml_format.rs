@@ -57,6 +57,7 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::error::SceneError;
+use super::footprint::LoadLimits;
 use super::gltf_import;
 use super::model::{
     Camera, ImageSettings, Interpolation, Lighting, Material, Object, PointLight, RenderSettings,
@@ -410,6 +411,7 @@ fn toml_error(label: &str, text: &str, err: &toml::de::Error) -> SceneError {
 struct Ctx<'a> {
     label: &'a str,
     text: &'a str,
+    limits: &'a LoadLimits,
 }
 
 impl Ctx<'_> {
@@ -491,8 +493,22 @@ pub fn rotation_from_deg(deg: DVec3) -> DMat3 {
 /// Parses and validates a TOML scene. `base_dir` resolves mesh paths;
 /// `label` names the file in messages.
 pub fn parse(text: &str, base_dir: &Path, label: &str) -> Result<Scene, SceneError> {
+    parse_within(text, base_dir, label, &LoadLimits::default())
+}
+
+/// As [`parse`], each mesh file held to `limits` (`footprint`).
+pub fn parse_within(
+    text: &str,
+    base_dir: &Path,
+    label: &str,
+    limits: &LoadLimits,
+) -> Result<Scene, SceneError> {
     let raw: FileRaw = toml::from_str(text).map_err(|e| toml_error(label, text, &e))?;
-    let cx = Ctx { label, text };
+    let cx = Ctx {
+        label,
+        text,
+        limits,
+    };
 
     // camera
     let cam = raw.camera.get_ref();
@@ -801,14 +817,13 @@ fn convert_object(
             * DMat4::from_scale(scale);
         let path = base_dir.join(file.get_ref());
         let loaded =
-            gltf_import::load_meshes(&path, post, material, materials, warnings).map_err(|e| {
-                SceneError::InObject {
+            gltf_import::load_meshes(&path, post, material, materials, warnings, cx.limits)
+                .map_err(|e| SceneError::InObject {
                     file: cx.label.to_string(),
                     line: cx.line(file),
                     object: index,
                     source: Box::new(e),
-                }
-            })?;
+                })?;
         objects.extend(loaded);
         return Ok(());
     }

@@ -1,0 +1,366 @@
+//! The memory a render will take, estimated before anything large is
+//! allocated, and the limit it must stay under.
+//!
+//! The estimate is a line per kind of work: a fixed base (the driver, its
+//! compiler, the program) plus bytes per object, vertex, triangle and
+//! pixel. The coefficients were fitted to peak resident memory measured on
+//! three scenes that separate them (a 400k-triangle sphere, the same
+//! triangle count as unshared triangles, 200k one-triangle instances) and
+//! on large images, then rounded up: the estimate errs high. The GPU's base
+//! includes the Khronos validation layer's 25 MB, which the tests turn on.
+//! `docs/memory.md` has the measurements and the command that repeats them.
+
+use crate::error::Error;
+use crate::scene::footprint::format_bytes;
+use crate::scene::{GeometrySize, LoadLimits, Scene};
+use crate::shading::Shading;
+
+/// The environment variable that sets the limit when `--max-memory` does not.
+pub const LIMIT_ENV: &str = "SHADELAB_MAX_MEMORY";
+
+/// Where a render runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Backend {
+    Gpu,
+    /// The f64 CPU reference.
+    Cpu,
+}
+
+/// Bytes per unit of one kind of work.
+struct Cost {
+    base: u64,
+    object: u64,
+    vertex: u64,
+    triangle: u64,
+    pixel: u64,
+}
+
+const MIB: u64 = 1 << 20;
+
+fn cost(shading: Shading, backend: Backend) -> Cost {
+    match (backend, shading) {
+        // Flat adds a vertex of its own per face and a face record.
+        (Backend::Gpu, Shading::Flat) => Cost {
+            base: 128 * MIB,
+            object: 280,
+            vertex: 240,
+            triangle: 260,
+            pixel: 52,
+        },
+        (Backend::Gpu, Shading::Gouraud | Shading::Phong) => Cost {
+            base: 128 * MIB,
+            object: 280,
+            vertex: 150,
+            triangle: 180,
+            pixel: 52,
+        },
+        // Triangles copied into f64 records with their normals, a BVH over
+        // them; vertices matter only as the scene holds them.
+        (Backend::Gpu, Shading::Raytrace) => Cost {
+            base: 164 * MIB,
+            object: 280,
+            vertex: 60,
+            triangle: 600,
+            pixel: 40,
+        },
+        (Backend::Cpu, Shading::Raytrace) => Cost {
+            base: 16 * MIB,
+            object: 280,
+            vertex: 60,
+            triangle: 560,
+            pixel: 80,
+        },
+        (Backend::Cpu, _) => Cost {
+            base: 16 * MIB,
+            object: 280,
+            vertex: 260,
+            triangle: 720,
+            pixel: 64,
+        },
+    }
+}
+
+/// The peak bytes one render of `size` at `pixels` takes.
+pub fn estimate(size: &GeometrySize, pixels: u64, shading: Shading, backend: Backend) -> u64 {
+    let c = cost(shading, backend);
+    [
+        (size.objects, c.object),
+        (size.vertices, c.vertex),
+        (size.triangles, c.triangle),
+        (pixels, c.pixel),
+    ]
+    .iter()
+    .fold(c.base, |sum, &(n, per)| {
+        sum.saturating_add(n.saturating_mul(per))
+    })
+}
+
+/// The most memory shadelab may plan to use, and how it was set.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MemoryLimit {
+    pub bytes: u64,
+    /// "--max-memory 2G", "SHADELAB_MAX_MEMORY=2G", or how the default was
+    /// chosen: the message that refuses a scene says it.
+    pub source: String,
+}
+
+impl MemoryLimit {
+    /// `--max-memory` when given, else `SHADELAB_MAX_MEMORY`, else
+    /// [`MemoryLimit::machine_default`].
+    pub fn resolve(flag: Option<&str>) -> Result<Self, Error> {
+        let given = match flag {
+            Some(v) => Some((v.to_string(), format!("--max-memory {v}"))),
+            None => std::env::var(LIMIT_ENV)
+                .ok()
+                .filter(|v| !v.trim().is_empty())
+                .map(|v| (v.clone(), format!("{LIMIT_ENV}={v}"))),
+        };
+        match given {
+            Some((text, source)) => {
+                let bytes = parse_size(&text).ok_or_else(|| {
+                    Error::Usage(format!(
+                        "{source} is not a memory size; expected a number of bytes with an optional unit, such as 512M, 4G or 1.5GiB"
+                    ))
+                })?;
+                Ok(MemoryLimit { bytes, source })
+            }
+            None => Ok(Self::machine_default()),
+        }
+    }
+
+    /// Three quarters of the memory this process may use: the machine's
+    /// (`MemTotal`), or its control group's limit where that is lower, so a
+    /// container's limit is respected. 8 GiB where neither can be read.
+    pub fn machine_default() -> Self {
+        let total = std::fs::read_to_string("/proc/meminfo")
+            .ok()
+            .and_then(|text| mem_total(&text));
+        let group = std::fs::read_to_string("/sys/fs/cgroup/memory.max")
+            .ok()
+            .and_then(|text| text.trim().parse::<u64>().ok());
+        match (total, group) {
+            (None, None) => MemoryLimit {
+                bytes: 8 << 30,
+                source: "the default when the machine's memory cannot be read".into(),
+            },
+            (total, group) => {
+                let usable = total.unwrap_or(u64::MAX).min(group.unwrap_or(u64::MAX));
+                MemoryLimit {
+                    bytes: usable / 4 * 3,
+                    source: format!(
+                        "the default, 3/4 of this machine's {}",
+                        format_bytes(usable)
+                    ),
+                }
+            }
+        }
+    }
+
+    /// The limit as the scene loader applies it to each glTF file.
+    pub fn load_limits(&self) -> LoadLimits {
+        LoadLimits {
+            max_bytes: self.bytes,
+            source: self.source.clone(),
+        }
+    }
+
+    /// Refuses `scene` when rendering it would exceed the limit: the
+    /// largest of the GPU renders plus the largest of the CPU ones (a
+    /// command such as `check` holds one of each at a time). Returns the
+    /// estimate.
+    /// `name` names the scene in the message.
+    pub fn check(
+        &self,
+        name: &str,
+        scene: &Scene,
+        gpu: &[Shading],
+        cpu: &[Shading],
+    ) -> Result<u64, Error> {
+        let pixels = u64::from(scene.image.width) * u64::from(scene.image.height);
+        let size_for = |s: Shading| GeometrySize::of_scene(scene, s.raster_mode().is_some());
+        let largest = |modes: &[Shading], backend| {
+            modes
+                .iter()
+                .map(|&s| (estimate(&size_for(s), pixels, s, backend), s))
+                .max_by_key(|e| e.0)
+        };
+        let size = size_for(
+            match (largest(gpu, Backend::Gpu), largest(cpu, Backend::Cpu)) {
+                (Some((_, s)), _) | (None, Some((_, s))) => s,
+                (None, None) => Shading::Phong,
+            },
+        );
+        let (g, c) = (largest(gpu, Backend::Gpu), largest(cpu, Backend::Cpu));
+        let total = g.map_or(0, |e| e.0).saturating_add(c.map_or(0, |e| e.0));
+        if total <= self.bytes {
+            return Ok(total);
+        }
+        let work = match (g, c) {
+            (Some((_, s)), None) => format!("rendering it in {s} mode"),
+            (None, Some((_, s))) => format!("rendering it in {s} mode with the CPU reference"),
+            (Some((_, gs)), Some((_, cs))) => {
+                format!("rendering it in {gs} mode on the GPU and {cs} mode on the CPU")
+            }
+            (None, None) => "rendering it".into(),
+        };
+        Err(Error::Usage(format!(
+            "{name}: {work} at {}x{} would take about {} ({} objects, {} triangles, {} vertices), over the memory limit of {} ({}); raise the limit with --max-memory or {LIMIT_ENV}, or lower the resolution or the geometry",
+            scene.image.width,
+            scene.image.height,
+            format_bytes(total),
+            size.objects,
+            size.triangles,
+            size.vertices,
+            format_bytes(self.bytes),
+            self.source
+        )))
+    }
+}
+
+/// The most resident memory this process has held so far (`VmHWM`), where
+/// the system tells it (Linux); `None` elsewhere.
+pub fn peak_resident_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
+}
+
+fn mem_total(meminfo: &str) -> Option<u64> {
+    let line = meminfo.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
+}
+
+/// "512M", "4G", "1.5GiB", "2 gb", "1000000": bytes, with binary units
+/// (K, M, G, T, with or without "B" or "iB"). `None` for anything else,
+/// zero and non-finite numbers included.
+pub fn parse_size(text: &str) -> Option<u64> {
+    let text = text.trim();
+    let split = text
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .unwrap_or(text.len());
+    let (number, unit) = text.split_at(split);
+    let value: f64 = number.parse().ok()?;
+    let unit = unit.trim().to_ascii_lowercase();
+    let unit = unit
+        .strip_suffix("ib")
+        .or_else(|| unit.strip_suffix('b'))
+        .unwrap_or(&unit);
+    let scale: u64 = match unit {
+        "" => 1,
+        "k" => 1 << 10,
+        "m" => 1 << 20,
+        "g" => 1 << 30,
+        "t" => 1 << 40,
+        _ => return None,
+    };
+    let bytes = value * scale as f64;
+    (bytes.is_finite() && bytes >= 1.0 && bytes < u64::MAX as f64).then_some(bytes as u64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::default_scene;
+
+    #[test]
+    fn sizes_parse_with_binary_units() {
+        assert_eq!(parse_size("512M"), Some(512 << 20));
+        assert_eq!(parse_size("4G"), Some(4 << 30));
+        assert_eq!(parse_size("1.5GiB"), Some(3 << 29));
+        assert_eq!(parse_size(" 2 gb "), Some(2 << 30));
+        assert_eq!(parse_size("1000000"), Some(1_000_000));
+        assert_eq!(parse_size("64k"), Some(64 << 10));
+        for bad in ["", "G", "0", "-1G", "1X", "1.2.3M", "nanG", "1e400"] {
+            assert_eq!(parse_size(bad), None, "{bad}");
+        }
+    }
+
+    #[test]
+    fn mem_total_reads_proc_meminfo() {
+        let text = "MemTotal:       24588020 kB\nMemFree:  1 kB\n";
+        assert_eq!(mem_total(text), Some(24588020 * 1024));
+        assert_eq!(mem_total("MemFree: 1 kB\n"), None);
+    }
+
+    #[test]
+    fn the_estimate_grows_with_every_input() {
+        let size = GeometrySize {
+            objects: 10,
+            vertices: 1000,
+            triangles: 2000,
+        };
+        for shading in Shading::ALL {
+            for backend in [Backend::Gpu, Backend::Cpu] {
+                let e = |s: &GeometrySize, px| estimate(s, px, shading, backend);
+                let base = e(&size, 100);
+                assert!(e(&size, 101) > base);
+                for bump in [(1, 0, 0), (0, 1, 0), (0, 0, 1)] {
+                    let mut more = size;
+                    more.add(bump.0, bump.1, bump.2);
+                    assert!(e(&more, 100) > base, "{shading} {backend:?} {bump:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn check_refuses_just_over_the_estimate_and_names_the_work() {
+        let scene = default_scene();
+        let unlimited = MemoryLimit {
+            bytes: u64::MAX,
+            source: "test".into(),
+        };
+        let need = unlimited
+            .check(
+                "default",
+                &scene,
+                &[Shading::Phong, Shading::Raytrace],
+                &[Shading::Flat],
+            )
+            .unwrap();
+        let traced = GeometrySize::of_scene(&scene, false);
+        let tessellated = GeometrySize::of_scene(&scene, true);
+        assert!(traced.triangles < tessellated.triangles);
+        let px = 640 * 480;
+        assert_eq!(
+            need,
+            estimate(&traced, px, Shading::Raytrace, Backend::Gpu)
+                + estimate(&tessellated, px, Shading::Flat, Backend::Cpu)
+        );
+        let at = MemoryLimit {
+            bytes: need,
+            source: "--max-memory X".into(),
+        };
+        assert!(at
+            .check(
+                "default",
+                &scene,
+                &[Shading::Phong, Shading::Raytrace],
+                &[Shading::Flat]
+            )
+            .is_ok());
+        let under = MemoryLimit {
+            bytes: need - 1,
+            ..at
+        };
+        let e = under
+            .check(
+                "default",
+                &scene,
+                &[Shading::Phong, Shading::Raytrace],
+                &[Shading::Flat],
+            )
+            .unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        let e = e.to_string();
+        assert!(
+            e.starts_with("default: rendering it")
+                && e.contains("raytrace mode on the GPU and flat mode on the CPU")
+                && e.contains("640x480")
+                && e.contains("--max-memory X"),
+            "{e}"
+        );
+    }
+}

@@ -1,0 +1,158 @@
+//! How much geometry a scene holds and what holding it costs, counted
+//! before it is built, so that a scene too large for the machine is refused
+//! with a clear message instead of being killed by the kernel halfway.
+//!
+//! The figures per vertex, triangle and object are the scene model's own
+//! layout (`model.rs`); what the renderers add on top is `crate::memory`'s
+//! business. `docs/memory.md` has the measurements behind both.
+
+use super::error::SceneError;
+use super::model::{Object, Scene, Shape};
+use super::tessellate;
+
+/// Geometry counts: objects, vertices and triangles, as the raster modes
+/// see them (primitive shapes tessellated, meshes as they are).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct GeometrySize {
+    pub objects: u64,
+    pub vertices: u64,
+    pub triangles: u64,
+}
+
+/// A mesh object's bytes beyond its vertices and triangles: the `Object`
+/// itself and three heap blocks (positions, normals, triangles) with the
+/// allocator's header each.
+const OBJECT_BYTES: u64 = std::mem::size_of::<Object>() as u64 + 3 * 16;
+/// A position and a normal in `f64`.
+const VERTEX_BYTES: u64 = 48;
+/// Three `u32` indices.
+const TRIANGLE_BYTES: u64 = 12;
+
+impl GeometrySize {
+    pub fn add(&mut self, objects: u64, vertices: u64, triangles: u64) {
+        self.objects += objects;
+        self.vertices += vertices;
+        self.triangles += triangles;
+    }
+
+    /// Every object of `scene`, shapes counted as tessellated when
+    /// `tessellated` (the raster modes), else as the single records the
+    /// ray tracer intersects exactly.
+    pub fn of_scene(scene: &Scene, tessellated: bool) -> Self {
+        let mut size = GeometrySize::default();
+        for object in &scene.objects {
+            let (vertices, triangles) = match &object.shape {
+                Shape::Mesh(_) => tessellate::counts(&object.shape),
+                _ if tessellated => tessellate::counts(&object.shape),
+                _ => (0, 0),
+            };
+            size.add(1, vertices, triangles);
+        }
+        size
+    }
+
+    /// The scene model's bytes for this much geometry held as meshes.
+    pub fn model_bytes(&self) -> u64 {
+        self.objects
+            .saturating_mul(OBJECT_BYTES)
+            .saturating_add(self.vertices.saturating_mul(VERTEX_BYTES))
+            .saturating_add(self.triangles.saturating_mul(TRIANGLE_BYTES))
+    }
+}
+
+/// Limits a load must keep to.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LoadLimits {
+    /// The most bytes the loaded geometry may take.
+    pub max_bytes: u64,
+    /// How the limit was set, for the message that refuses a scene
+    /// (for example "--max-memory 2G").
+    pub source: String,
+}
+
+impl Default for LoadLimits {
+    /// No limit.
+    fn default() -> Self {
+        LoadLimits {
+            max_bytes: u64::MAX,
+            source: "no limit".to_string(),
+        }
+    }
+}
+
+impl LoadLimits {
+    /// Refuses the geometry a file would bring when holding it alone
+    /// would exceed the limit.
+    pub fn check(&self, file: &str, size: &GeometrySize) -> Result<(), SceneError> {
+        let bytes = size.model_bytes();
+        if bytes <= self.max_bytes {
+            return Ok(());
+        }
+        Err(SceneError::TooLarge {
+            file: file.to_string(),
+            message: format!(
+                "its nodes instance {} triangles in {} meshes; holding them would take about {}, over the memory limit of {} ({}); raise the limit with --max-memory or SHADELAB_MAX_MEMORY",
+                size.triangles,
+                size.objects,
+                format_bytes(bytes),
+                format_bytes(self.max_bytes),
+                self.source
+            ),
+        })
+    }
+}
+
+/// `bytes` for a person: "1.5 GiB", "320 MiB", "12 KiB", "100 B".
+pub fn format_bytes(bytes: u64) -> String {
+    const UNITS: [&str; 4] = ["KiB", "MiB", "GiB", "TiB"];
+    if bytes < 1024 {
+        return format!("{bytes} B");
+    }
+    let mut value = bytes as f64 / 1024.0;
+    let mut unit = 0;
+    while value >= 1024.0 && unit + 1 < UNITS.len() {
+        value /= 1024.0;
+        unit += 1;
+    }
+    if value < 10.0 {
+        format!("{value:.1} {}", UNITS[unit])
+    } else {
+        format!("{value:.0} {}", UNITS[unit])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bytes_read_as_a_person_would_write_them() {
+        assert_eq!(format_bytes(100), "100 B");
+        assert_eq!(format_bytes(12 * 1024), "12 KiB");
+        assert_eq!(format_bytes(1536 * 1024 * 1024), "1.5 GiB");
+        assert_eq!(format_bytes(320 << 20), "320 MiB");
+        assert_eq!(format_bytes(u64::MAX), "16777216 TiB");
+    }
+
+    #[test]
+    fn the_limit_refuses_only_what_exceeds_it() {
+        let mut size = GeometrySize::default();
+        size.add(2, 300, 100);
+        let bytes = size.model_bytes();
+        assert_eq!(bytes, 2 * OBJECT_BYTES + 300 * 48 + 100 * 12);
+        let at = LoadLimits {
+            max_bytes: bytes,
+            source: "--max-memory".into(),
+        };
+        assert!(at.check("f.gltf", &size).is_ok());
+        let under = LoadLimits {
+            max_bytes: bytes - 1,
+            ..at
+        };
+        let e = under.check("f.gltf", &size).unwrap_err().to_string();
+        assert!(
+            e.starts_with("f.gltf: ") && e.contains("100 triangles") && e.contains("--max-memory"),
+            "{e}"
+        );
+    }
+}
