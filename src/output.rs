@@ -115,12 +115,19 @@ pub fn read_image(path: &Path) -> Result<LinearImage, OutputError> {
     };
     let format = ImageFormat::from_path(path)
         .map_err(|_| read_err("the file name must end in .png or .exr".into()))?;
-    let decoded = image::ImageReader::open(path)
-        .map_err(|e| read_err(e.to_string()))?
+    let bytes = std::fs::read(path).map_err(|e| read_err(e.to_string()))?;
+    decode_image(&bytes, format).map_err(read_err)
+}
+
+/// Decodes a PNG or EXR held in memory, as [`read_image`] does a file
+/// (the format is guessed from the bytes; `format` picks the colour
+/// conversion). The error is the decoder's message.
+pub fn decode_image(bytes: &[u8], format: ImageFormat) -> Result<LinearImage, String> {
+    let decoded = image::ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
-        .map_err(|e| read_err(e.to_string()))?
+        .map_err(|e| e.to_string())?
         .decode()
-        .map_err(|e| read_err(e.to_string()))?;
+        .map_err(|e| e.to_string())?;
     let (width, height) = (decoded.width(), decoded.height());
     let pixels = match format {
         ImageFormat::Png => decoded

@@ -87,23 +87,33 @@ fn open(path: &Path) -> Result<GltfFile, SceneError> {
         file: label.clone(),
         reason: e.to_string(),
     })?;
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "mesh".to_string());
+    let base = path.parent().unwrap_or_else(|| Path::new("."));
+    parse(&bytes, label, stem, base)
+}
+
+/// Parses a glTF or GLB held in memory; external buffers are read from
+/// `base`.
+fn parse(bytes: &[u8], label: String, stem: String, base: &Path) -> Result<GltfFile, SceneError> {
     let json_bytes: std::borrow::Cow<[u8]> = if bytes.starts_with(b"glTF") {
-        check_glb_header(&label, &bytes)?;
-        let glb = gltf::Glb::from_slice(&bytes).map_err(|e| {
+        check_glb_header(&label, bytes)?;
+        let glb = gltf::Glb::from_slice(bytes).map_err(|e| {
             SceneError::mesh(&label, format!("not a valid binary glTF (.glb) file ({e})"))
         })?;
         glb.json
     } else {
-        std::borrow::Cow::Borrowed(&bytes)
+        std::borrow::Cow::Borrowed(bytes)
     };
     let raw = raw_parts(&json_bytes).map_err(|e| {
         SceneError::mesh(&label, format!("not a valid glTF 2.0 file (bad JSON: {e})"))
     })?;
     drop(json_bytes);
     check_primitive_references(&label, &raw)?;
-    let gltf::Gltf { document, blob } = gltf::Gltf::from_slice(&bytes)
+    let gltf::Gltf { document, blob } = gltf::Gltf::from_slice(bytes)
         .map_err(|e| SceneError::mesh(&label, format!("not a valid glTF 2.0 file ({e})")))?;
-    let base = path.parent().unwrap_or_else(|| Path::new("."));
     let buffers = gltf::import_buffers(&document, Some(base), blob).map_err(|e| {
         SceneError::mesh(
             &label,
@@ -112,10 +122,6 @@ fn open(path: &Path) -> Result<GltfFile, SceneError> {
             ),
         )
     })?;
-    let stem = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "mesh".to_string());
     Ok(GltfFile {
         label,
         stem,
@@ -883,11 +889,27 @@ pub(crate) fn load_meshes(
 /// its meshes, the first perspective camera of the node tree (else a camera
 /// framing the bounding box), and its point lights.
 pub(crate) fn load_scene(path: &Path, limits: &LoadLimits) -> Result<Scene, SceneError> {
-    let file = open(path)?;
+    scene_of(&open(path)?, limits)
+}
+
+/// A glTF or GLB held in memory as a whole scene, as [`load_scene`] reads a
+/// file; `label` names it in messages, external buffers are read from
+/// `base`.
+pub fn scene_from_slice(
+    bytes: &[u8],
+    label: &str,
+    base: &Path,
+    limits: &LoadLimits,
+) -> Result<Scene, SceneError> {
+    let file = parse(bytes, label.to_string(), "scene".to_string(), base)?;
+    scene_of(&file, limits)
+}
+
+fn scene_of(file: &GltfFile, limits: &LoadLimits) -> Result<Scene, SceneError> {
     let mut materials = Vec::new();
     let mut warnings = Vec::new();
     let Contents { objects, nodes } = contents(
-        &file,
+        file,
         DMat4::IDENTITY,
         None,
         &mut materials,
