@@ -14,7 +14,12 @@ fuzz_target!(|data: &[u8]| {
         max_bytes: 64 << 20,
         source: "fuzz".into(),
     };
-    if let Ok(scene) = scene_from_slice(data, "fuzz.gltf", Path::new("/nonexistent-fuzz-dir"), &limits) {
+    if let Ok(scene) = scene_from_slice(
+        data,
+        "fuzz.gltf",
+        Path::new("/nonexistent-fuzz-dir"),
+        &limits,
+    ) {
         // What a loaded scene promises (`scene::model`): finite numbers,
         // valid material indices, unit normals.
         assert!(scene.camera.position.is_finite());
@@ -24,7 +29,11 @@ fuzz_target!(|data: &[u8]| {
                 assert!(!m.triangles.is_empty());
                 assert!(m.positions.iter().all(|p| p.is_finite()));
                 assert!(m.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-6));
-                assert!(m.triangles.iter().flatten().all(|&i| (i as usize) < m.positions.len()));
+                assert!(m
+                    .triangles
+                    .iter()
+                    .flatten()
+                    .all(|&i| (i as usize) < m.positions.len()));
             }
         }
     }

@@ -114,6 +114,7 @@ fn parse(bytes: &[u8], label: String, stem: String, base: &Path) -> Result<GltfF
     check_primitive_references(&label, &raw)?;
     let gltf::Gltf { document, blob } = gltf::Gltf::from_slice(bytes)
         .map_err(|e| SceneError::mesh(&label, format!("not a valid glTF 2.0 file ({e})")))?;
+    check_buffer_uris(&label, &document)?;
     let buffers = gltf::import_buffers(&document, Some(base), blob).map_err(|e| {
         SceneError::mesh(
             &label,
@@ -141,6 +142,49 @@ fn raw_parts(json: &[u8]) -> serde_json::Result<RawParts> {
     } else {
         serde_json::from_slice::<serde::de::IgnoredAny>(json).map(|_| RawParts::default())
     }
+}
+
+/// The `gltf` crate percent-decodes a relative buffer URI and unwraps the
+/// result as UTF-8, so a URI such as `a%AA.bin` panics inside it (found by
+/// fuzzing, `tests/fuzz_regressions.rs`). Refuse such a URI first.
+fn check_buffer_uris(label: &str, document: &gltf::Document) -> Result<(), SceneError> {
+    for buffer in document.buffers() {
+        let gltf::buffer::Source::Uri(uri) = buffer.source() else {
+            continue;
+        };
+        if uri.contains(':') {
+            continue;
+        }
+        let bytes = uri.as_bytes();
+        let mut decoded = Vec::with_capacity(bytes.len());
+        let mut i = 0;
+        while i < bytes.len() {
+            let hex = bytes
+                .get(i + 1..i + 3)
+                .filter(|h| h.iter().all(u8::is_ascii_hexdigit))
+                .and_then(|h| u8::from_str_radix(std::str::from_utf8(h).ok()?, 16).ok());
+            match (bytes[i], hex) {
+                (b'%', Some(byte)) => {
+                    decoded.push(byte);
+                    i += 3;
+                }
+                (byte, _) => {
+                    decoded.push(byte);
+                    i += 1;
+                }
+            }
+        }
+        if std::str::from_utf8(&decoded).is_err() {
+            return Err(SceneError::mesh(
+                label,
+                format!(
+                    "buffer {}: its uri `{uri}` percent-decodes to bytes that are not UTF-8; expected a file name or a data: URI",
+                    buffer.index()
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The `gltf` crate's validator indexes `accessors` with a primitive's
