@@ -102,5 +102,8 @@ if [ $run_rust = 1 ]; then
     [ -n "$shard" ] && args+=(--shard "$shard")
     # In place: the repository's target folder and its built dependencies
     # (a copy would build everything again); each mutant is undone after.
-    SHADELAB_VALIDATION=1 cargo mutants --in-place --profile release "${args[@]}" -- "${test_args[@]}"
+    # The test arguments go to the build as well (--cargo-arg), so each
+    # mutant builds only the test targets that run: a third of the time.
+    for a in "${test_args[@]}"; do args+=("--cargo-arg=$a"); done
+    SHADELAB_VALIDATION=1 cargo mutants --in-place --profile release "${args[@]}"
 fi

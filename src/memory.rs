@@ -132,12 +132,16 @@ impl MemoryLimit {
     /// (`MemTotal`), or its control group's limit where that is lower, so a
     /// container's limit is respected. 8 GiB where neither can be read.
     pub fn machine_default() -> Self {
-        let total = std::fs::read_to_string("/proc/meminfo")
-            .ok()
-            .and_then(|text| mem_total(&text));
-        let group = std::fs::read_to_string("/sys/fs/cgroup/memory.max")
-            .ok()
-            .and_then(|text| text.trim().parse::<u64>().ok());
+        let meminfo = std::fs::read_to_string("/proc/meminfo").ok();
+        let group = std::fs::read_to_string("/sys/fs/cgroup/memory.max").ok();
+        Self::default_from(meminfo.as_deref(), group.as_deref())
+    }
+
+    /// [`MemoryLimit::machine_default`] from the texts of `/proc/meminfo`
+    /// and the control group's `memory.max` (`"max"` when unlimited).
+    fn default_from(meminfo: Option<&str>, group_max: Option<&str>) -> Self {
+        let total = meminfo.and_then(mem_total);
+        let group = group_max.and_then(|text| text.trim().parse::<u64>().ok());
         match (total, group) {
             (None, None) => MemoryLimit {
                 bytes: 8 << 30,
@@ -275,6 +279,21 @@ mod tests {
         for bad in ["", "G", "0", "-1G", "1X", "1.2.3M", "nanG", "1e400"] {
             assert_eq!(parse_size(bad), None, "{bad}");
         }
+    }
+
+    #[test]
+    fn the_default_is_three_quarters_of_the_machine_or_its_control_group() {
+        let meminfo = "MemTotal:       25165824 kB\n"; // 24 GiB
+        let default = |m, g| MemoryLimit::default_from(m, g).bytes;
+        assert_eq!(default(Some(meminfo), None), 18 << 30);
+        assert_eq!(default(Some(meminfo), Some("max\n")), 18 << 30);
+        assert_eq!(default(Some(meminfo), Some("4294967296\n")), 3 << 30);
+        assert_eq!(default(Some(meminfo), Some("68719476736")), 18 << 30);
+        assert_eq!(default(None, Some("4294967296")), 3 << 30);
+        assert_eq!(default(None, None), 8 << 30);
+        assert_eq!(default(Some("garbage"), Some("max")), 8 << 30);
+        let named = MemoryLimit::default_from(Some(meminfo), None).source;
+        assert!(named.contains("24 GiB"), "{named}");
     }
 
     #[test]

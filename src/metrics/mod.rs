@@ -221,6 +221,18 @@ mod tests {
     use super::*;
 
     #[test]
+    fn figures_switch_to_scientific_notation_below_1e_4_only_when_non_zero() {
+        // cargo-mutants found these unpinned: zero, the boundary itself,
+        // and a value below it.
+        assert_eq!(format_figure(0.0), "0.000000");
+        assert_eq!(format_figure(1e-4), "0.000100");
+        assert_eq!(format_figure(5e-5), "5.00e-5");
+        assert_eq!(format_figure(-5e-5), "-5.00e-5");
+        assert_eq!(format_figure(0.25), "0.250000");
+        assert_eq!(format_figure(f64::NAN), "NaN");
+    }
+
+    #[test]
     fn size_mismatch_names_both_sizes() {
         let a = LinearImage::new(4, 3, [0.0; 3]);
         let b = LinearImage::new(3, 4, [0.0; 3]);
