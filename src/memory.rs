@@ -327,18 +327,20 @@ mod tests {
     #[test]
     fn check_refuses_just_over_the_estimate_and_names_the_work() {
         let scene = default_scene();
-        let unlimited = MemoryLimit {
-            bytes: u64::MAX,
-            source: "test".into(),
-        };
-        let need = unlimited
-            .check(
+        // Ray tracing and Phong on the GPU, flat on the CPU, as `check` would.
+        let check = |limit: &MemoryLimit| {
+            limit.check(
                 "default",
                 &scene,
                 &[Shading::Phong, Shading::Raytrace],
                 &[Shading::Flat],
             )
-            .unwrap();
+        };
+        let unlimited = MemoryLimit {
+            bytes: u64::MAX,
+            source: "test".into(),
+        };
+        let need = check(&unlimited).unwrap();
         let traced = GeometrySize::of_scene(&scene, false);
         let tessellated = GeometrySize::of_scene(&scene, true);
         assert!(traced.triangles < tessellated.triangles);
@@ -352,26 +354,12 @@ mod tests {
             bytes: need,
             source: "--max-memory X".into(),
         };
-        assert!(at
-            .check(
-                "default",
-                &scene,
-                &[Shading::Phong, Shading::Raytrace],
-                &[Shading::Flat]
-            )
-            .is_ok());
+        assert!(check(&at).is_ok());
         let under = MemoryLimit {
             bytes: need - 1,
             ..at
         };
-        let e = under
-            .check(
-                "default",
-                &scene,
-                &[Shading::Phong, Shading::Raytrace],
-                &[Shading::Flat],
-            )
-            .unwrap_err();
+        let e = check(&under).unwrap_err();
         assert_eq!(e.exit_code(), 2);
         let e = e.to_string();
         assert!(

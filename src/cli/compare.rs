@@ -147,8 +147,13 @@ fn render_variants(
     }
     // Each variant (its tessellation may differ) against the references:
     // the global one traced on the CPU, a local one per mode.
+    // Only a tessellation override changes the geometry; copying the scene
+    // for the others would double the memory this check guards.
     for variant in &variants {
-        let varied = variant.apply(&scene)?;
+        let varied = match variant.segments {
+            Some(_) => std::borrow::Cow::Owned(variant.apply(&scene)?),
+            None => std::borrow::Cow::Borrowed(&scene),
+        };
         let modes = [variant.shading];
         let references = [variant.shading, Shading::Raytrace];
         memory.check(&name, &varied, &modes, &references)?;
