@@ -48,13 +48,13 @@ use glam::{DMat3, DMat4, DQuat, DVec3};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 
+use super::defaults::{DEFAULT_FOV_Y_DEG, DEFAULT_MATERIAL};
 use super::error::SceneError;
 use super::footprint::{GeometrySize, LoadLimits};
 use super::model::{
-    Camera, ImageSettings, Interpolation, Lighting, Material, Object, PointLight, RenderSettings,
-    Scene, Shape, TriangleMesh,
+    Camera, ImageSettings, Lighting, Material, Object, PointLight, RenderSettings, Scene, Shape,
+    TriangleMesh,
 };
-use super::toml_format::{DEFAULT_AMBIENT, DEFAULT_BACKGROUND};
 
 /// A parsed glTF file with its buffers loaded (images are never loaded).
 struct GltfFile {
@@ -729,7 +729,7 @@ pub fn map_material(
     let mut out = Material {
         name,
         color: f32x3([base[0], base[1], base[2]]).max(DVec3::ZERO),
-        ka: 0.2,
+        ka: DEFAULT_MATERIAL.ka,
         kd: 0.8 * (1.0 - m * (1.0 - r)),
         ks: (0.04 + 0.96 * m) * (1.0 - r),
         p: (2.0 / r.powi(4).max(1e-4) - 2.0).clamp(1.0, 500.0),
@@ -777,17 +777,12 @@ pub fn map_material(
     Ok(out)
 }
 
+/// The material of a primitive without one, as [`map_material`] states it.
 fn default_material(name: String) -> Material {
     Material {
         name,
         color: DVec3::splat(0.8),
-        ka: 0.2,
-        kd: 0.8,
-        ks: 0.0,
-        p: 32.0,
-        kr: 0.0,
-        kt: 0.0,
-        ior: 1.0,
+        ..DEFAULT_MATERIAL
     }
 }
 
@@ -936,9 +931,9 @@ pub(crate) fn load_scene(path: &Path, limits: &LoadLimits) -> Result<Scene, Scen
     scene_of(&open(path)?, limits)
 }
 
-/// A glTF or GLB held in memory as a whole scene, as [`load_scene`] reads a
-/// file; `label` names it in messages, external buffers are read from
-/// `base`.
+/// A glTF or GLB held in memory as a whole scene, as
+/// [`scene::load_within`](crate::scene::load_within) reads a file; `label`
+/// names it in messages, external buffers are read from `base`.
 pub fn scene_from_slice(
     bytes: &[u8],
     label: &str,
@@ -1004,7 +999,7 @@ fn scene_of(file: &GltfFile, limits: &LoadLimits) -> Result<Scene, SceneError> {
         break;
     }
     let camera = camera.unwrap_or_else(|| {
-        let fov = 40.0f64;
+        let fov = DEFAULT_FOV_Y_DEG;
         let radius = ((hi - lo).length() * 0.5).max(1e-6);
         let distance = radius / (fov.to_radians() * 0.5).sin();
         Camera {
@@ -1062,17 +1057,8 @@ fn scene_of(file: &GltfFile, limits: &LoadLimits) -> Result<Scene, SceneError> {
 
     Ok(Scene {
         camera,
-        image: ImageSettings {
-            width: 640,
-            height: 480,
-            background: DEFAULT_BACKGROUND,
-        },
-        lighting: Lighting {
-            ambient: DVec3::splat(DEFAULT_AMBIENT),
-            k: 1.0,
-            interpolation: Interpolation::Perspective,
-            attenuation: true,
-        },
+        image: ImageSettings::default(),
+        lighting: Lighting::default(),
         lights,
         materials,
         objects,

@@ -3,9 +3,10 @@
 //! This module owns everything between a file on disk and the plain data in
 //! [`model`]: the TOML scene format of `docs/interface.md`
 //! ([`toml_format`]), glTF 2.0 files as meshes or as whole scenes
-//! ([`gltf_import`]), the built-in default scene (`default.toml`), and the
+//! ([`gltf_import`]), the values both use for what a file leaves out
+//! ([`defaults`]), the built-in default scene (`default.toml`), and the
 //! tessellation of the primitive shapes for the raster modes
-//! ([`tessellate`]). It never renders and never prints: non-fatal findings
+//! ([`mod@tessellate`]). It never renders and never prints: non-fatal findings
 //! go to [`Scene::warnings`], fatal ones are a [`SceneError`] whose message
 //! is one sentence naming the file, the line or key, and what was expected.
 //! No input makes it panic.
@@ -26,11 +27,13 @@
 //!   directional lights are skipped with a warning. Without any point light,
 //!   one is placed at the camera with intensity `d` (the distance from the
 //!   camera to the bounding-box centre, so `Il / (d + k)` is about 1 there),
-//!   with a warning. Image 640x480, ambient 0.2, k 1, perspective
-//!   interpolation, attenuation on, default background and render settings.
+//!   with a warning. Image, lighting and render settings are the
+//!   [`defaults`]: 640x480, ambient 0.2, k 1, perspective interpolation,
+//!   attenuation on.
 
 use std::path::Path;
 
+pub mod defaults;
 pub mod error;
 pub mod footprint;
 pub mod gltf_import;
@@ -43,7 +46,6 @@ pub use error::SceneError;
 pub use footprint::{GeometrySize, LoadLimits};
 pub use model::*;
 pub use tessellate::tessellate;
-pub use toml_format::MAX_RESOLUTION;
 
 /// The built-in default scene (TOML), shown when no scene is given.
 pub const DEFAULT_SCENE_TOML: &str = include_str!("default.toml");

@@ -2,7 +2,8 @@
 //!
 //! Everything here is plain data in double precision and world space. Loaders
 //! (`toml_format`, `gltf_import`) produce it; renderers only read it. Nothing
-//! in this file touches a file, Vulkan, or an image.
+//! in this file touches a file, Vulkan, or an image. The values a loader uses
+//! for what a file leaves out are in [`defaults`](super::defaults).
 
 use std::sync::Arc;
 
@@ -163,6 +164,10 @@ pub struct TriangleMesh {
 /// The deepest ray tree a scene or `--depth` may ask for.
 pub const MAX_DEPTH: u32 = 64;
 
+/// The largest image width or height a scene or `--width`/`--height` may ask
+/// for.
+pub const MAX_RESOLUTION: i64 = 16384;
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RenderSettings {
     /// Ray tracing: maximum recursion depth.
@@ -172,17 +177,6 @@ pub struct RenderSettings {
     pub shadows: bool,
     /// Ray tracing: samples per pixel.
     pub samples: u32,
-}
-
-impl Default for RenderSettings {
-    fn default() -> Self {
-        Self {
-            depth: 5,
-            cutoff: 0.001,
-            shadows: true,
-            samples: 1,
-        }
-    }
 }
 
 /// Two unit vectors `(u, v)` spanning the plane with unit normal `n`, with

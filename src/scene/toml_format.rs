@@ -3,7 +3,8 @@
 //!
 //! Every table denies unknown keys; every number must be finite (TOML's
 //! `nan` and `inf` are rejected where they appear); values that parse but
-//! make no sense are reported with the line of the offending key. Defaults:
+//! make no sense are reported with the line of the offending key. Defaults
+//! (those a glTF scene shares are in [`defaults`](super::defaults)):
 //!
 //! | key | default | constraint |
 //! | --- | --- | --- |
@@ -56,20 +57,14 @@ use serde::de::{self, Deserializer, IgnoredAny, SeqAccess, Visitor};
 use serde::Deserialize;
 use toml::Spanned;
 
+use super::defaults::{DEFAULT_FOV_Y_DEG, DEFAULT_MATERIAL};
 use super::error::SceneError;
 use super::footprint::LoadLimits;
 use super::gltf_import;
 use super::model::{
     Camera, ImageSettings, Interpolation, Lighting, Material, Object, PointLight, RenderSettings,
-    Scene, Shape, MAX_DEPTH,
+    Scene, Shape, MAX_DEPTH, MAX_RESOLUTION,
 };
-
-/// Default ambient intensity Ia (each channel).
-pub const DEFAULT_AMBIENT: f64 = 0.2;
-/// Default background colour (linear RGB).
-pub const DEFAULT_BACKGROUND: DVec3 = DVec3::new(0.05, 0.05, 0.08);
-/// Largest accepted image width or height.
-pub const MAX_RESOLUTION: i64 = 16384;
 
 // ---------------------------------------------------------------------------
 // Value types with their own checks (so the TOML parser attaches the line).
@@ -553,7 +548,7 @@ pub fn parse_within(
             }
             v
         }
-        None => 40.0,
+        None => DEFAULT_FOV_Y_DEG,
     };
     let camera = Camera {
         position,
@@ -563,11 +558,7 @@ pub fn parse_within(
     };
 
     // image
-    let mut image = ImageSettings {
-        width: 640,
-        height: 480,
-        background: DEFAULT_BACKGROUND,
-    };
+    let mut image = ImageSettings::default();
     if let Some(img) = &raw.image {
         let why = " (an absurd resolution)";
         if let Some(w) = &img.width {
@@ -582,12 +573,7 @@ pub fn parse_within(
     }
 
     // lighting
-    let mut lighting = Lighting {
-        ambient: DVec3::splat(DEFAULT_AMBIENT),
-        k: 1.0,
-        interpolation: Interpolation::Perspective,
-        attenuation: true,
-    };
+    let mut lighting = Lighting::default();
     if let Some(l) = &raw.lighting {
         if let Some(a) = &l.ambient {
             lighting.ambient =
@@ -625,23 +611,24 @@ pub fn parse_within(
                     cx.non_negative(s, &format!("materials.{name}.{key}"))
                 })
             };
+        let d = &DEFAULT_MATERIAL;
         let color = match &r.color {
             Some(c) => cx.non_negative3(&spanned_map(c, v3), &format!("materials.{name}.color"))?,
-            None => DVec3::ONE,
+            None => d.color,
         };
         let ior = match &r.ior {
             Some(s) => cx.positive(s, &format!("materials.{name}.ior"))?,
-            None => 1.0,
+            None => d.ior,
         };
         materials.push(Material {
             name: name.clone(),
             color,
-            ka: get(&r.ka, "ka", 0.2)?,
-            kd: get(&r.kd, "kd", 0.8)?,
-            ks: get(&r.ks, "ks", 0.0)?,
-            p: get(&r.p, "p", 32.0)?,
-            kr: get(&r.kr, "kr", 0.0)?,
-            kt: get(&r.kt, "kt", 0.0)?,
+            ka: get(&r.ka, "ka", d.ka)?,
+            kd: get(&r.kd, "kd", d.kd)?,
+            ks: get(&r.ks, "ks", d.ks)?,
+            p: get(&r.p, "p", d.p)?,
+            kr: get(&r.kr, "kr", d.kr)?,
+            kt: get(&r.kt, "kt", d.kt)?,
             ior,
         });
     }

@@ -1,0 +1,70 @@
+//! The scene model's defaults: what a scene gets for every setting its file
+//! leaves out, whichever format it came from.
+//!
+//! Both loaders ([`toml_format`](super::toml_format) and
+//! [`gltf_import`](super::gltf_import)) read these, so a TOML scene and a
+//! glTF scene that say nothing about, say, the ambient light are lit alike.
+//! Defaults that only one format's syntax has (the tessellation of a TOML
+//! sphere, a TOML camera's `up`) stay with that format.
+
+use glam::DVec3;
+
+use super::model::{ImageSettings, Interpolation, Lighting, Material, RenderSettings};
+
+/// Vertical field of view in degrees, for a camera that does not give one.
+pub const DEFAULT_FOV_Y_DEG: f64 = 40.0;
+/// Image width in pixels.
+pub const DEFAULT_WIDTH: u32 = 640;
+/// Image height in pixels.
+pub const DEFAULT_HEIGHT: u32 = 480;
+/// Ambient intensity Ia (each channel).
+pub const DEFAULT_AMBIENT: f64 = 0.2;
+/// Background colour (linear RGB): a dark blue-grey rather than black, so
+/// that an unlit object's silhouette still shows.
+pub const DEFAULT_BACKGROUND: DVec3 = DVec3::new(0.05, 0.05, 0.08);
+
+/// A material's coefficients when a file gives none of them: white, mostly
+/// diffuse, no highlight, mirror or glass. Loaders fill in the name.
+pub const DEFAULT_MATERIAL: Material = Material {
+    name: String::new(),
+    color: DVec3::ONE,
+    ka: 0.2,
+    kd: 0.8,
+    ks: 0.0,
+    p: 32.0,
+    kr: 0.0,
+    kt: 0.0,
+    ior: 1.0,
+};
+
+impl Default for ImageSettings {
+    fn default() -> Self {
+        Self {
+            width: DEFAULT_WIDTH,
+            height: DEFAULT_HEIGHT,
+            background: DEFAULT_BACKGROUND,
+        }
+    }
+}
+
+impl Default for Lighting {
+    fn default() -> Self {
+        Self {
+            ambient: DVec3::splat(DEFAULT_AMBIENT),
+            k: 1.0,
+            interpolation: Interpolation::Perspective,
+            attenuation: true,
+        }
+    }
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            depth: 5,
+            cutoff: 0.001,
+            shadows: true,
+            samples: 1,
+        }
+    }
+}
