@@ -1,6 +1,10 @@
+//! The threshold-tuning tool: the measurements behind `check`'s limits
+//! (`shadelab::check::CheckThresholds`), not an introduction to the library
+//! (for that, see `examples/render_and_compare.rs`).
+//!
 //! Prints GPU-vs-CPU error figures for a scene (default: the built-in one)
 //! in every raster mode: interior pixels (3x3 neighbourhood on one object)
-//! and silhouette pixels separately. Used to set `check`'s thresholds.
+//! and silhouette pixels separately.
 
 use shadelab::shading::Shading;
 

@@ -1,10 +1,87 @@
-//! shadelab: a headless renderer for the classic shading models.
+//! shadelab: a headless renderer for the classic shading models (flat,
+//! Gouraud and Phong shading, and Whitted ray tracing) on Vulkan, with a
+//! double-precision CPU reference that every GPU image is measured against.
 //!
-//! Data flows one way: a scene file becomes a validated `scene::Scene`; a
-//! renderer (`gpu` raster today) turns it into a `LinearImage`; `output`
-//! encodes that to PNG or EXR; `metrics` compares two such images. The
-//! lighting model every renderer follows is `docs/lighting-model.md` of the
-//! shared contracts.
+//! # How data flows
+//!
+//! One way, from a scene file to figures. Loaders only produce a
+//! [`scene::Scene`] and renderers only read it; renderers produce a
+//! [`LinearImage`] that encoders and metrics only read:
+//!
+//! ```text
+//! .toml/.gltf/.glb --scene--> Scene --render: gpu | cpu--> LinearImage --output--> .png/.exr
+//!                                                              |
+//!                                                              +--metrics--> figures
+//! ```
+//!
+//! [`check`] and [`compare`] drive that whole path for a scene: both
+//! backends, then the figures.
+//!
+//! # Modules
+//!
+//! - [`scene`] loads TOML scenes and glTF 2.0 files into a validated
+//!   [`scene::Scene`] of plain `f64` data, or gives the built-in default
+//!   scene.
+//! - [`gpu`] renders on Vulkan (Mesa's lavapipe where there is no GPU): the
+//!   raster modes flat, Gouraud and Phong through graphics pipelines, and
+//!   the ray tracer as a compute shader.
+//! - [`cpu`] is the reference: the same raster modes and a twin of the ray
+//!   tracer, in `f64` and independent of the shaders.
+//! - [`render`] is the one entry point for both backends
+//!   ([`render::render_gpu`], [`render::render_cpu`]).
+//! - [`output`] encodes a [`LinearImage`] to PNG (8-bit sRGB) or EXR (linear
+//!   32-bit float) and decodes image files back.
+//! - [`metrics`] compares two images: error statistics, FLIP, heat maps and
+//!   silhouette masks.
+//! - [`check`] renders a scene on both backends and judges the difference
+//!   against thresholds measured on the reference scenes (`shadelab check`).
+//! - [`compare`] runs one scene in many shader variants, each timed and
+//!   measured, and lays the results out as reports (`shadelab compare`).
+//! - [`memory`] estimates the memory a render will take before anything large
+//!   is allocated, and holds it to a limit.
+//!
+//! The rest support these: [`camera`] (the view every renderer shares),
+//! [`shading`] (the modes), [`rt_scene`] (the scene as both ray tracers see
+//! it), [`linear_image`], [`srgb`], [`junit`], [`markup`] and [`error`].
+//!
+//! The lighting model every renderer follows, GPU and CPU alike, is specified
+//! in `docs/lighting-model.md` in this repository; `cpu::lighting` and
+//! `shaders/include/lighting.glsl` are its two implementations.
+//!
+//! # Example
+//!
+//! A scene rendered on the GPU and with the CPU reference, and the
+//! difference measured (`examples/render_and_compare.rs` is the runnable
+//! version):
+//!
+//! ```no_run
+//! use std::path::Path;
+//!
+//! use shadelab::gpu::{GpuContext, GpuOptions};
+//! use shadelab::render::{render_cpu, render_gpu};
+//! use shadelab::shading::Shading;
+//!
+//! fn main() -> Result<(), Box<dyn std::error::Error>> {
+//!     // Or `shadelab::scene::default_scene()`, the built-in scene.
+//!     let scene = shadelab::scene::load(Path::new("assets/spheres.toml"))?;
+//!
+//!     let context = GpuContext::new(&GpuOptions::from_env())?;
+//!     let gpu = render_gpu(&context, &scene, Shading::Phong)?;
+//!     let (cpu, coverage) = render_cpu(&scene, Shading::Phong)?;
+//!
+//!     // The CPU image is the expected one. Pixels near an edge, which two
+//!     // correct rasterizers may cover differently, are measured apart.
+//!     let mask = Some(coverage.near_edge.as_slice());
+//!     let figures = shadelab::metrics::compare(&cpu.image, &gpu.image, mask)?;
+//!     if let Some(interior) = &figures.interior {
+//!         println!("interior max error {:.2e}", interior.max_abs);
+//!     }
+//!     println!("FLIP mean {:.2e}", figures.flip.mean);
+//!
+//!     shadelab::output::write_image(&gpu.image, Path::new("spheres.png"))?;
+//!     Ok(())
+//! }
+//! ```
 
 pub mod camera;
 pub mod check;
