@@ -1,10 +1,14 @@
 #!/usr/bin/env bash
 # Installs what shadelab needs on Debian/Ubuntu, only where it is missing:
 # the Vulkan loader, Mesa lavapipe (software Vulkan), the Khronos validation
-# layer, the C/C++ toolchain and cmake that the glslang crate builds with,
-# and Chromium, which tests/compare_present.rs renders report.html in.
+# layer, and the C/C++ toolchain and cmake that the glslang crate builds with.
 # Safe to run again: it installs nothing that is already there, and runs no
 # apt-get update when nothing is missing.
+#
+# Usage: ci/install-deps.sh [--with-chromium]
+#   --with-chromium  also Chromium, which tests/compare_present.rs renders
+#                    report.html in (ci/test.sh asks for it; building and
+#                    rendering do not need it). Any other argument is an error.
 #
 # Lavapipe: the ray tracer runs about twice as fast on Mesa 24 or newer.
 # Debian 12 (bookworm) ships Mesa 22.3, so on bookworm, where lavapipe is
@@ -27,6 +31,14 @@ set -euo pipefail
 bpo_pin="25.0.7-2~bpo12+1"
 bpo_sources=/etc/apt/sources.list.d/bookworm-backports.sources
 
+with_chromium=0
+for arg in "$@"; do
+    case "$arg" in
+        --with-chromium) with_chromium=1 ;;
+        *) echo "ci/install-deps.sh: unknown argument '$arg' (usage: ci/install-deps.sh [--with-chromium])" >&2; exit 2 ;;
+    esac
+done
+
 lavapipe=${SHADELAB_LAVAPIPE:-backports}
 case "$lavapipe" in
     backports | system) ;;
@@ -43,7 +55,9 @@ have_file '/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json' |
 command -v cmake >/dev/null || missing+=(cmake)
 command -v c++ >/dev/null || missing+=(g++)
 command -v cc >/dev/null || missing+=(gcc)
-command -v chromium >/dev/null || missing+=(chromium)
+if [ "$with_chromium" = 1 ]; then
+    command -v chromium >/dev/null || missing+=(chromium)
+fi
 
 # Version of the installed mesa-vulkan-drivers (native architecture), empty if none.
 mesa_version() {

@@ -1,13 +1,16 @@
 #!/usr/bin/env bash
-# The test suite, as CI runs it: formatting, lints, then every test in release
-# mode with the Khronos validation layer on (a validation message fails the
-# test that caused it).
+# The test suite, as CI runs it: formatting, lints, the API docs (rustdoc
+# warnings are errors), then every test in release mode with the Khronos
+# validation layer on (a validation message fails the test that caused it).
+# Chromium is installed too: tests/compare_present.rs renders report.html in
+# it, and fails (does not skip) where it is missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash ci/install-deps.sh
+bash ci/install-deps.sh --with-chromium
 rustup component list --installed 2>/dev/null | grep -q rustfmt || rustup component add rustfmt clippy 2>/dev/null || true
 cargo fmt --all -- --check
 cargo clippy --release --all-targets -- -D warnings
+RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps
 export SHADELAB_VALIDATION=1
 cargo test --release
 # GPU against the CPU reference on every scene, as a CI job of a user's

@@ -405,7 +405,7 @@ fn chromium() -> PathBuf {
             PathBuf::from(String::from_utf8_lossy(&o.stdout).trim().to_string())
         }
         _ => panic!(
-            "chromium is not installed (`which chromium` fails); run ci/install-deps.sh, which installs Debian's `chromium` package"
+            "chromium is not installed (`which chromium` fails); run `bash ci/install-deps.sh --with-chromium`, which installs Debian's `chromium` package"
         ),
     }
 }
