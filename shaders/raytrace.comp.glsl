@@ -700,7 +700,7 @@ vec3 local_shading(Surfel s, Surface m, vec3 d, bool lit) {
             float reach = length(to_light);
             // Stop short of the light by the offset epsilon at the light, as
             // the ray starts off the surface: a light lying on a surface would
-            // otherwise be hidden by it at random (assets/hard/grazing-light).
+            // otherwise be hidden by it at random (assets/hard/grazing-light.toml).
             vec3 at = abs(lights[j].position.xyz);
             float light_eps = 1.0e-4 * max(1.0, max(at.x, max(at.y, at.z)));
             bool casts = faces && reach > 0.0;

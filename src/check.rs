@@ -29,7 +29,7 @@ use crate::shading::Shading;
 
 /// The limits a GPU render must keep against the CPU reference.
 ///
-/// Defaults from measurement (README, "The CPU reference"): over the default
+/// Defaults from measurement (docs/cpu-reference.md and docs/check.md): over the default
 /// scene and every scene in `assets/` at their own sizes, in every raster
 /// mode, the largest interior error was 8.4e-5 (over 99.6% of the pixels),
 /// at most 2 edge pixels of 307200 (0.00065% of the image) differed by more

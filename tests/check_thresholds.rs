@@ -46,7 +46,7 @@ const FAMILIES: [Shading; 2] = [Shading::Phong, Shading::Raytrace];
 
 #[test]
 fn the_interior_limit_flips_the_verdict_just_over_it() {
-    // The limits as documented (README, "check"), written out so that a
+    // The limits as documented (docs/check.md), written out so that a
     // changed constant fails here as well as a changed comparison.
     for (shading, documented) in [(Shading::Phong, 1e-3), (Shading::Raytrace, 5e-3)] {
         let limits = CheckThresholds::for_shading(shading);

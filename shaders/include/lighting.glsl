@@ -11,7 +11,7 @@
 // - a light must face the surface by more than rounding: N.L <= FACING_EPS
 //   counts as behind the terminator. A light in the surface's own plane
 //   (N.L = 0 exactly, a rounding error either side in f32) would otherwise
-//   switch the whole specular term on at random (assets/hard/grazing-light).
+//   switch the whole specular term on at random (assets/hard/grazing-light.toml).
 
 // 1e-5: ten times f32 rounding of a dot product of unit vectors, and only
 // 0.0006 degrees from the tangent plane.

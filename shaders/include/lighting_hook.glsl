@@ -1,7 +1,7 @@
 // The built-in lighting hook: one light's diffuse and specular terms, as
 // docs/lighting-model.md defines them (its CPU twin: src/cpu/lighting.rs).
 // A user's hook replaces this file (`--lighting FILE`) and is held to the
-// same interface (README, "Your own lighting"):
+// same interface (docs/lighting-hooks.md):
 //   N, V, L: unit normal, unit vector to the viewer, unit vector to the light
 //            (N.L > FACING_EPS: the light faces the surface; shadows decided)
 //   d:       the distance to the light

@@ -47,8 +47,8 @@ impl ImageSize {
 pub struct LightingArg {
     /// GLSL file defining `vec3 shade_light(vec3 N, vec3 V, vec3 L, float d,
     /// vec3 intensity, Surface m, float k)`, one light's contribution, used
-    /// by every GPU mode instead of the built-in formula (see the README,
-    /// "Your own lighting"). The CPU reference keeps the built-in formula.
+    /// by every GPU mode instead of the built-in formula (see docs/lighting-hooks.md).
+    /// The CPU reference keeps the built-in formula.
     #[arg(long, value_name = "FILE")]
     pub lighting: Option<std::path::PathBuf>,
 }

@@ -246,7 +246,7 @@ impl<'a> Tracer<'a> {
                         // Stop short of the light by the offset epsilon at
                         // the light, as the ray starts off the surface: a
                         // light on a surface would otherwise be hidden by
-                        // that surface at random (assets/hard/grazing-light).
+                        // that surface at random (assets/hard/grazing-light.toml).
                         let reach = distance - offset_epsilon(light.position);
                         !self.accel.any(&shadow, reach)
                     };
