@@ -102,6 +102,7 @@ embree_exe=$peers_dir/bin/embree_caster
 # define_jobs runs in three modes: list (print names), plan (collect what to install), run.
 bench_cpu=0  # whether `shadelab bench` has --cpu (times the CPU twin itself)
 bench_uber=0 # whether it has --every-feature (the uber-shader build)
+bench_query=0 # whether it has --traversal (the ray-query engine) and the device runs it
 twin_scenes=()
 for f in "$repo"/assets/*.toml; do twin_scenes+=("$f"); done
 twin_scenes+=(default "$repo/target/bench/mesh.toml")
@@ -117,6 +118,8 @@ define_jobs() {
         s=$scenes/sphere-$seg
         job "rays-sphere$seg.shadelab" shadelab -- \
             "$bin" bench "$s.toml" --shading raytrace --depth 0 "${cpu[@]}" "${size_args[@]}"
+        [ "$bench_query" = 0 ] || job "rays-sphere$seg.shadelab-query" shadelab -- \
+            "$bin" bench "$s.toml" --shading raytrace --depth 0 --traversal query "${size_args[@]}"
         [ "$bench_cpu" = 1 ] || job "rays-sphere$seg.cpu" shadelab -- \
             python3 "$src/cpu_twin.py" "$bin" "$runs" "$size" 0 "$s.toml"
         job "rays-sphere$seg.embree" embree -- "$embree_exe" "$seg" "$size" "$size" "$runs"
@@ -127,6 +130,8 @@ define_jobs() {
     done
     job rt-four-spheres.shadelab shadelab -- \
         "$bin" bench "$src/four-spheres.toml" --shading raytrace "${uber[@]}" "${size_args[@]}"
+    [ "$bench_query" = 0 ] || job rt-four-spheres.shadelab-query shadelab -- \
+        "$bin" bench "$src/four-spheres.toml" --shading raytrace --traversal query "${size_args[@]}"
     job rt-four-spheres.wgpu python -- "$venv_py" "$src/wgpu_rt_peer.py" "$size" "$runs"
     for scene in "${twin_scenes[@]}"; do
         if [ "$scene" = default ]; then
@@ -188,6 +193,8 @@ if [ -x "$bin" ]; then
     bench_help=$("$bin" bench --help 2>&1) || die "$bin bench --help failed: $(tail -n 1 <<<"$bench_help")"
     if [[ $bench_help == *--cpu* ]]; then bench_cpu=1; fi
     if [[ $bench_help == *--every-feature* ]]; then bench_uber=1; fi
+    if [[ $bench_help == *--traversal* ]] &&
+        "$bin" info --json 2>/dev/null | grep -q '"no_ray_query_because":null'; then bench_query=1; fi
 elif [ "$setup_only" = 0 ] && [ "$list" = 0 ]; then
     die "no shadelab binary at $bin (build it: cargo build --release)"
 fi

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what shadelab needs on Debian/Ubuntu, only where it is missing:
 # the Vulkan loader, Mesa lavapipe (software Vulkan), the Khronos validation
-# layer, and the C/C++ toolchain and cmake that the glslang crate builds with.
+# layer, the C/C++ toolchain and cmake that the glslang crate builds with, and
+# spirv-tools (spirv-val checks the ray-query shader at build time).
 # Safe to run again: it installs nothing that is already there, and runs no
 # apt-get update when nothing is missing.
 #
@@ -53,6 +54,8 @@ have_file() { compgen -G "$1" >/dev/null; }
 ldconfig -p 2>/dev/null | grep 'libvulkan\.so\.1' >/dev/null || missing+=(libvulkan1)
 have_file '/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json' || missing+=(vulkan-validationlayers)
 command -v cmake >/dev/null || missing+=(cmake)
+# spirv-val validates at build time the shader naga cannot read (ray queries).
+command -v spirv-val >/dev/null || missing+=(spirv-tools)
 command -v c++ >/dev/null || missing+=(g++)
 command -v cc >/dev/null || missing+=(gcc)
 if [ "$with_chromium" = 1 ]; then

@@ -2,6 +2,9 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_shuffle : require
+#ifdef RAY_QUERY
+#extension GL_EXT_ray_query : require
+#endif
 // Backward (Whitted) ray tracing, exactly as docs/raytracing.md specifies
 // (its CPU twin is src/cpu/raytrace.rs): stratified samples, nearest hits
 // with the object-order tie rule, shadow rays, reflection and refraction
@@ -572,6 +575,7 @@ void walk_bvh(vec3 o, vec3 d, inout Hit best, bool any_hit) {
     }
 }
 
+#ifndef RAY_QUERY
 // Every primitive against the ray: the nearest hit, ties to the lower
 // object, then the lower triangle. Call in uniform control flow; a lane
 // with no ray to trace passes `traces` false and gets no hit.
@@ -627,6 +631,9 @@ bool occluded(vec3 o, vec3 d, float t_max) {
     }
     return blocked;
 }
+#else
+#include "rt_query.glsl"
+#endif
 
 // What shading needs of the nearest hit, read once per ray.
 struct Surfel {

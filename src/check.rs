@@ -152,6 +152,8 @@ pub struct CheckOutcome {
     pub judgement: Judgement,
     pub gpu_ms: f64,
     pub cpu_ms: f64,
+    /// The GPU ray tracer's engine; `None` for the raster modes.
+    pub traversal: Option<crate::scene::Traversal>,
 }
 
 impl CheckOutcome {
@@ -255,6 +257,7 @@ pub fn check(
         shading,
         gpu_ms: actual.timings.total_ms,
         cpu_ms: expected.timings.total_ms,
+        traversal: actual.traversal,
         expected: expected.image,
         actual: actual.image,
         judgement,

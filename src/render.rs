@@ -10,7 +10,7 @@ use crate::gpu::raster::ColorTarget;
 use crate::gpu::{raster, raytrace, GpuContext};
 use crate::linear_image::LinearImage;
 use crate::rt_scene::RayStats;
-use crate::scene::Scene;
+use crate::scene::{Scene, Traversal};
 use crate::shading::{RasterMode, Shading};
 
 /// Where a render spent its time, in milliseconds.
@@ -50,6 +50,8 @@ pub struct Rendered {
     pub timings: Timings,
     /// Rays traced, by kind: ray tracing only.
     pub ray_stats: Option<RayStats>,
+    /// The engine that found the hits: GPU ray tracing only.
+    pub traversal: Option<Traversal>,
 }
 
 /// Renders on the GPU: the raster pipelines, or the ray-tracing compute
@@ -73,14 +75,14 @@ pub fn render_gpu_to(
     count_rays: bool,
     target: ColorTarget,
 ) -> Result<Rendered, Error> {
-    let (image, timings, ray_stats) = match shading.raster_mode() {
+    let (image, timings, ray_stats, traversal) = match shading.raster_mode() {
         Some(mode) => {
             let out = raster::render_to(context, scene, mode, target)?;
-            (out.image, out.timings, None)
+            (out.image, out.timings, None, None)
         }
         None => {
             let out = raytrace::render(context, scene, count_rays)?;
-            (out.image, out.timings, out.stats)
+            (out.image, out.timings, out.stats, Some(out.traversal))
         }
     };
     Ok(Rendered {
@@ -92,6 +94,7 @@ pub fn render_gpu_to(
             pipeline_ms: Some(timings.pipeline_ms),
         },
         ray_stats,
+        traversal,
     })
 }
 
@@ -128,6 +131,7 @@ pub fn render_cpu(scene: &Scene, shading: Shading) -> Result<(Rendered, Coverage
         image: out.image,
         timings: Timings::cpu(started),
         ray_stats: None,
+        traversal: None,
     };
     let surface_ids = if mode == RasterMode::Flat {
         out.triangle_ids
@@ -153,6 +157,7 @@ fn raytrace_cpu(scene: &Scene) -> (Rendered, Coverage) {
         image: out.image,
         timings: Timings::cpu(started),
         ray_stats: Some(out.stats),
+        traversal: None,
     };
     let near_edge = signature_edges(
         scene.image.width as usize,

@@ -150,3 +150,104 @@ pub fn reflect(spirv: &[u8]) -> Result<Reflection, String> {
     reflection.spec_constants.sort();
     Ok(reflection)
 }
+
+/// The (set, binding) of every variable `spirv` decorates with both: read
+/// from its OpDecorate instructions, for a module naga cannot parse.
+// (Here, and in `extend_by_decorations`, for build.rs: the library never
+// reflects a module naga cannot read.)
+#[allow(dead_code)]
+pub fn decorated_bindings(spirv: &[u32]) -> Result<Vec<(u32, u32)>, String> {
+    const OP_DECORATE: u32 = 71;
+    const BINDING: u32 = 33;
+    const DESCRIPTOR_SET: u32 = 34;
+    let mut sets = std::collections::BTreeMap::new();
+    let mut bindings = std::collections::BTreeMap::new();
+    let mut at = 5; // after the header
+    while at < spirv.len() {
+        let count = (spirv[at] >> 16) as usize;
+        let opcode = spirv[at] & 0xffff;
+        if count == 0 || at + count > spirv.len() {
+            return Err(format!("a malformed instruction at word {at}"));
+        }
+        if opcode == OP_DECORATE && count == 4 {
+            let (target, decoration, value) = (spirv[at + 1], spirv[at + 2], spirv[at + 3]);
+            match decoration {
+                DESCRIPTOR_SET => {
+                    sets.insert(target, value);
+                }
+                BINDING => {
+                    bindings.insert(target, value);
+                }
+                _ => {}
+            }
+        }
+        at += count;
+    }
+    let mut out: Vec<(u32, u32)> = sets
+        .iter()
+        .filter_map(|(id, set)| bindings.get(id).map(|b| (*set, *b)))
+        .collect();
+    out.sort();
+    Ok(out)
+}
+
+/// The interface of a module compiled from `base`'s source with more in it
+/// (the ray-query engine): `base`'s bindings, push constants and
+/// specialization constants, plus every binding the module's decorations
+/// add (of a kind naga would call `Other`). Fails if the module lacks one
+/// of `base`'s bindings.
+#[allow(dead_code)]
+pub fn extend_by_decorations(base: &Reflection, spirv: &[u32]) -> Result<Reflection, String> {
+    let decorated = decorated_bindings(spirv)?;
+    let mut bindings = Vec::new();
+    for b in &base.bindings {
+        if !decorated.contains(&(b.set, b.binding)) {
+            return Err(format!("it lacks set {} binding {}", b.set, b.binding));
+        }
+        bindings.push(Binding { ..*b });
+    }
+    for &(set, binding) in &decorated {
+        if !base
+            .bindings
+            .iter()
+            .any(|b| (b.set, b.binding) == (set, binding))
+        {
+            bindings.push(Binding {
+                set,
+                binding,
+                kind: "Other",
+                record_size: 0,
+            });
+        }
+    }
+    bindings.sort_by_key(|b| (b.set, b.binding));
+    Ok(Reflection {
+        bindings,
+        push_constant_size: base.push_constant_size,
+        spec_constants: base.spec_constants.clone(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gpu::shader_catalog::{RAYTRACE_COMP, RAYTRACE_QUERY_COMP};
+
+    /// The decorations of the built ray tracers: the compute one's set 0,
+    /// and the ray-query one's set 0 plus its acceleration structure.
+    #[test]
+    fn decorated_bindings_are_the_modules_bindings() {
+        let base = decorated_bindings(&RAYTRACE_COMP.words()).unwrap();
+        let reflected: Vec<(u32, u32)> = RAYTRACE_COMP
+            .bindings
+            .iter()
+            .map(|b| (b.set, b.binding))
+            .collect();
+        assert_eq!(base, reflected);
+        let query = decorated_bindings(&RAYTRACE_QUERY_COMP.words()).unwrap();
+        let mut expected = reflected.clone();
+        expected.push((1, 0));
+        assert_eq!(query, expected);
+        assert!(decorated_bindings(&[0x0723_0203, 0, 0, 0, 0, 0x0004_0047]).is_err());
+    }
+}

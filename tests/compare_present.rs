@@ -91,6 +91,7 @@ fn fixture(dir: &Path) -> Report {
                 frame_spread_ms: 1.5 + k,
                 pipeline_ms: 2.5 + 0.25 * k,
             },
+            traversal: None,
             pareto: false,
         });
     }

@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use common::*;
 use glam::DVec3;
 use shadelab::check::{check, scaled, CheckThresholds};
-use shadelab::scene::{self, Object, Scene, Shape, TriangleMesh};
+use shadelab::scene::{self, Object, Scene, Shape, Traversal, TriangleMesh};
 use shadelab::shading::Shading;
 
 const MODES: [Shading; 4] = [
@@ -50,6 +50,17 @@ fn every_hard_case_is_finite_and_within_thresholds_in_every_mode() {
                 "{name} {mode}: CPU non-finite"
             );
             assert!(o.passed(), "{name} {mode}: {:?}", o.judgement.failures);
+        }
+        // The ray-query engine, held to the same limits.
+        for engine in engines(&context).into_iter().skip(1) {
+            let q = with_engine(&s, engine);
+            let limits = CheckThresholds::for_shading(Shading::Raytrace);
+            let o = check(&context, &q, &q, Shading::Raytrace, &limits).unwrap();
+            assert!(
+                o.actual.pixels.iter().flatten().all(|v| v.is_finite()),
+                "{name} {engine:?}: GPU non-finite"
+            );
+            assert!(o.passed(), "{name} {engine:?}: {:?}", o.judgement.failures);
         }
     }
 }
@@ -136,6 +147,13 @@ fn coincident_surfaces_have_a_deterministic_winner() {
             render(&context, &first_only, mode),
         );
         assert_eq!(a, b, "{mode}: the second plane shows through on the GPU");
+        if mode == Shading::Raytrace {
+            for engine in engines(&context).into_iter().skip(1) {
+                let a = render(&context, &with_engine(&both, engine), mode);
+                let b = render(&context, &with_engine(&first_only, engine), mode);
+                assert_eq!(a, b, "{engine:?}: the second plane shows through");
+            }
+        }
         let (ca, _) = shadelab::render::render_cpu(&both, mode).unwrap();
         let (cb, _) = shadelab::render::render_cpu(&first_only, mode).unwrap();
         assert_eq!(
@@ -184,15 +202,17 @@ fn equal_distances_go_to_the_lower_object_whatever_its_kind() {
     for (name, both) in [("one by one", both), ("in the BVH", in_bvh)] {
         let mut no_plane = both.clone();
         no_plane.objects.remove(1);
-        let (a, b) = (
-            render(&context, &both, Shading::Raytrace),
-            render(&context, &no_plane, Shading::Raytrace),
-        );
-        assert!(
-            a == b,
-            "{name}: the plane shows through the box's face on the GPU (by up to {})",
-            worst_difference(&a, &b)
-        );
+        for engine in engines(&context) {
+            let (a, b) = (
+                render(&context, &with_engine(&both, engine), Shading::Raytrace),
+                render(&context, &with_engine(&no_plane, engine), Shading::Raytrace),
+            );
+            assert!(
+                a == b,
+                "{name}, {engine:?}: the plane shows through the box's face on the GPU (by up to {})",
+                worst_difference(&a, &b)
+            );
+        }
         let (ca, _) = shadelab::render::render_cpu(&both, Shading::Raytrace).unwrap();
         let (cb, _) = shadelab::render::render_cpu(&no_plane, Shading::Raytrace).unwrap();
         assert!(
@@ -253,9 +273,13 @@ fn dark_specks(
 fn secondary_rays_do_not_rehit_their_own_surface() {
     let s = hard("shadow-acne.toml");
     let context = gpu();
-    let gpu_image = render(&context, &s, Shading::Raytrace);
     let (cpu, coverage) = shadelab::render::render_cpu(&s, Shading::Raytrace).unwrap();
-    for (side, image) in [("GPU", &gpu_image), ("CPU", &cpu.image)] {
+    let mut sides = vec![("CPU".to_string(), cpu.image)];
+    for engine in engines(&context) {
+        let image = render(&context, &with_engine(&s, engine), Shading::Raytrace);
+        sides.push((format!("GPU {engine:?}"), image));
+    }
+    for (side, image) in &sides {
         // Objects 0 and 1: the floor and the wall.
         let (speckles, examined) = dark_specks(image, &coverage.object_ids, &[0, 1]);
         // 16803 of the 19200 pixels see the floor or the wall across their
@@ -291,14 +315,15 @@ fn rays_starting_on_a_surface_cross_it_once() {
     let context = gpu();
     let (cpu_glass, _) = shadelab::render::render_cpu(&glass, Shading::Raytrace).unwrap();
     let (cpu_without, _) = shadelab::render::render_cpu(&without, Shading::Raytrace).unwrap();
-    for (side, a, b) in [
-        (
-            "GPU",
-            render(&context, &glass, Shading::Raytrace),
-            render(&context, &without, Shading::Raytrace),
-        ),
-        ("CPU", cpu_glass.image, cpu_without.image),
-    ] {
+    let mut sides = vec![("CPU".to_string(), cpu_glass.image, cpu_without.image)];
+    for engine in engines(&context) {
+        sides.push((
+            format!("GPU {engine:?}"),
+            render(&context, &with_engine(&glass, engine), Shading::Raytrace),
+            render(&context, &with_engine(&without, engine), Shading::Raytrace),
+        ));
+    }
+    for (side, a, b) in sides {
         let worst = worst_difference(&a, &b);
         // Each crossing moves the ray sideways by at most the offset
         // (1e-4 * |p|, ~5e-4 here), and the wall behind (whose rim is out of
@@ -554,27 +579,105 @@ fn grid_on_pixel_centres() -> (
 
 /// No ray leaks through a mesh between its triangles: on a grid whose every
 /// pixel centre lies exactly on a shared edge or vertex, no pixel inside
-/// shows the background, GPU or CPU.
+/// shows the background, GPU or CPU (the ray-query engine: a few, below).
 #[test]
 fn rays_along_shared_edges_do_not_leak() {
     let (s, xs, ys) = grid_on_pixel_centres();
     let context = gpu();
     let (cpu, _) = shadelab::render::render_cpu(&s, Shading::Raytrace).unwrap();
-    for (side, image) in [
-        ("GPU", render(&context, &s, Shading::Raytrace)),
-        ("CPU", cpu.image),
-    ] {
+    let mut sides = vec![("CPU".to_string(), cpu.image)];
+    for engine in engines(&context) {
+        let image = render(&context, &with_engine(&s, engine), Shading::Raytrace);
+        sides.push((format!("GPU {engine:?}"), image));
+    }
+    for (side, image) in sides {
         let leaks: Vec<(u32, u32)> = ys
             .clone()
             .flat_map(|y| xs.clone().map(move |x| (x, y)))
             .filter(|&(x, y)| image.get(x, y) == [0.0, 0.0, 1.0])
             .collect();
+        // The ray-query engine uses the driver's triangle test, which on
+        // lavapipe 25 is not watertight: measured 3 of the 7029 rays leak
+        // (Möller-Trumbore: 611). Bounded here at 10 so a worse driver shows;
+        // the compute BVH and the CPU twin leak none.
+        let allowed = if side.ends_with("Query") { 10 } else { 0 };
         assert!(
-            leaks.is_empty(),
+            leaks.len() <= allowed,
             "{side}: {} of {} rays leak, first at {:?}",
             leaks.len(),
             xs.clone().count() * ys.clone().count(),
             leaks.first()
         );
+    }
+}
+
+/// Two coincident meshes (the same triangles, listed twice with different
+/// materials): every ray meets both at exactly the same distance, and the
+/// first listed must win everywhere, as for coincident planes. The CPU twin
+/// and the compute BVH apply the tie rule to every candidate. The ray-query
+/// engine can apply it only to the candidates the driver reports, and
+/// lavapipe does not report a triangle at the distance already committed:
+/// there each pixel shows one of the two meshes, whole (measured: the
+/// second at 3654 of the 12288 pixels; docs/raytracing.md, "The
+/// ray-query engine").
+#[test]
+fn coincident_meshes_go_to_the_first_listed() {
+    let (mut both, _, _) = grid_on_pixel_centres();
+    let mut green = both.materials[0].clone();
+    green.color = DVec3::new(0.1, 0.9, 0.1);
+    both.materials.push(green);
+    let mut second = both.objects[0].clone();
+    second.material = 1;
+    both.objects.push(second);
+    let mut first_only = both.clone();
+    first_only.objects.truncate(1);
+    let mut second_only = both.clone();
+    second_only.objects.remove(0);
+    let context = gpu();
+    let (cpu_both, _) = shadelab::render::render_cpu(&both, Shading::Raytrace).unwrap();
+    let (cpu_first, _) = shadelab::render::render_cpu(&first_only, Shading::Raytrace).unwrap();
+    assert!(
+        cpu_both.image == cpu_first.image,
+        "CPU: the second mesh shows"
+    );
+    for engine in engines(&context) {
+        let traced = |s: &Scene| render(&context, &with_engine(s, engine), Shading::Raytrace);
+        let (a, first, second) = (traced(&both), traced(&first_only), traced(&second_only));
+        let n = (a.width * a.height) as usize;
+        // "Shows" to float rounding: a pixel centre on a shared edge may be
+        // shaded from either triangle there, which differ in the last bits.
+        let close = |p: [f32; 3], q: [f32; 3]| (0..3).all(|c| (p[c] - q[c]).abs() < 1e-5);
+        let differs: Vec<usize> = (0..n)
+            .filter(|&i| !close(a.pixels[i], first.pixels[i]))
+            .collect();
+        let shows_second = differs
+            .iter()
+            .filter(|&&i| close(a.pixels[i], second.pixels[i]))
+            .count();
+        // Where the driver's test lets a ray through one mesh's triangles
+        // (`rays_along_shared_edges_do_not_leak`) the other may catch it:
+        // as many pixels as leak may show neither image alone.
+        let neither: Vec<usize> = differs
+            .iter()
+            .copied()
+            .filter(|&i| !close(a.pixels[i], second.pixels[i]))
+            .collect();
+        assert!(
+            neither.len() <= if engine == Traversal::Query { 10 } else { 0 },
+            "{engine:?}: {} pixels show neither mesh alone, first {:?}: {:?} (first mesh {:?}, second {:?})",
+            neither.len(),
+            neither.first(),
+            neither.first().map(|&i| a.pixels[i]),
+            neither.first().map(|&i| first.pixels[i]),
+            neither.first().map(|&i| second.pixels[i]),
+        );
+        eprintln!("{engine:?}: the second mesh shows at {shows_second} of {n} pixels");
+        match engine {
+            Traversal::Query => assert!(
+                shows_second < n / 2,
+                "{engine:?}: the second mesh shows at {shows_second} of {n} pixels"
+            ),
+            _ => assert_eq!(shows_second, 0, "{engine:?}: the second mesh shows"),
+        }
     }
 }

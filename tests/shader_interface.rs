@@ -54,6 +54,15 @@ fn every_shader_binding_is_declared_by_the_host_with_the_same_type_and_record() 
     for shader in ALL_SHADERS {
         let host = host_for(shader);
         for b in shader.bindings {
+            let ray_query = shader.defines.iter().any(|(d, _)| *d == "RAY_QUERY");
+            if b.set == rt_layout::QUERY_SET && ray_query {
+                // The ray-query engine's second set: its structure alone.
+                let (binding, ty) = rt_layout::QUERY_BINDINGS[0];
+                assert_eq!(b.binding, binding, "{}", shader.name);
+                assert_eq!(host_kind(ty), b.kind, "{}", shader.name);
+                assert_eq!(rt_layout::QUERY_BINDINGS.len(), 1);
+                continue;
+            }
             assert_eq!(b.set, 0, "{}: only set 0 exists on the host", shader.name);
             let Some(&(_, ty)) = host
                 .bindings
@@ -194,8 +203,13 @@ fn every_stage_is_present() {
             count(ShaderStage::Fragment),
             count(ShaderStage::Compute)
         ),
-        (5, 5, 1)
+        (5, 5, 2)
     );
+    // The second ray tracer is the ray-query engine, and it has its set.
+    assert!(ALL_SHADERS.iter().any(|s| {
+        s.defines.iter().any(|(d, _)| *d == "RAY_QUERY")
+            && s.bindings.iter().any(|b| b.set == rt_layout::QUERY_SET)
+    }));
     for s in ALL_SHADERS {
         assert_eq!(
             &s.spirv[..4],

@@ -204,6 +204,44 @@ class Report:
                 self.add(section, work, f"Mitsuba 3 {variant} (CPU)", self.missing(m_job), sl_fig, None,
                          m_job, sl_job, unit="ms", shadelab_value=sl_gpu)
 
+    def query_engine(self):
+        """The ray-query engine (`--traversal query`) on the jobs that ran it: against
+        the peer of the same work, and against shadelab's own compute BVH."""
+        size = self.args.size
+        works = [(f"rays-sphere{seg}", f"{human_count(4 * seg * seg)}-triangle sphere, primary + shadow rays "
+                  f"(depth 0), {size}x{size}") for seg in self.args.segs]
+        works.append(("rt-four-spheres", f"4 spheres + plane, shadows, mirror to depth 2, {size}x{size}"))
+        section = "Ray tracer: the ray-query engine (--traversal query)"
+        for prefix, work in works:
+            q_job, b_job = f"{prefix}.shadelab-query", f"{prefix}.shadelab"
+            if not self.res.ran(q_job):
+                continue
+            q = bench_row(self.res.get(q_job), "raytrace")
+            b = bench_row(self.res.get(b_job), "raytrace")
+            q_gpu = num(q.get("gpu_ms")) if q else None
+            b_gpu = num(b.get("gpu_ms")) if b else None
+            q_fig = f"{fmt_ms(q_gpu)} gpu_ms (query)" if q_gpu else self.missing(q_job)
+            b_fig = f"{fmt_ms(b_gpu)} gpu_ms (bvh)" if b_gpu else self.missing(b_job)
+            self.add(section, work, "shadelab's compute BVH (--traversal bvh)", b_fig, q_fig,
+                     b_gpu / q_gpu if b_gpu and q_gpu else None, b_job, q_job, unit="ms",
+                     peer_value=b_gpu, shadelab_value=q_gpu)
+            if prefix.startswith("rays-sphere"):
+                e_job = prefix + ".embree"
+                e = self.res.get(e_job)
+                rate = num(q.get("rays_per_second")) if q else None
+                if e and rate:
+                    self.add(section, work, f"Embree {e.get('version', '3')}, 8-wide packets (CPU)",
+                             f"{e['mrays_per_s']:.1f} Mrays/s", f"{rate / 1e6:.2f} Mrays/s (query)",
+                             rate / 1e6 / e["mrays_per_s"], e_job, q_job, unit="Mrays/s",
+                             peer_value=e["mrays_per_s"], shadelab_value=rate / 1e6)
+            else:
+                p_job = prefix + ".wgpu"
+                p = self.res.get(p_job)
+                if p and q_gpu:
+                    self.add(section, work, "wgpu compute tracer, brute force", fmt_range(p), q_fig,
+                             p["median_ms"] / q_gpu, p_job, q_job, unit="ms",
+                             peer_value=p["median_ms"], shadelab_value=q_gpu)
+
     def four_spheres(self):
         size = self.args.size
         sl_job, p_job = "rt-four-spheres.shadelab", "rt-four-spheres.wgpu"
@@ -299,6 +337,7 @@ class Report:
         for seg in self.args.segs:
             self.rays(seg)
         self.four_spheres()
+        self.query_engine()
         self.twins()
         self.specialisation()
         for seg in self.args.segs:

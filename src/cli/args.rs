@@ -4,7 +4,7 @@
 //! other bad input.
 
 use clap::Args;
-use shadelab::scene::{LightingHook, Scene, MAX_DEPTH, MAX_RESOLUTION};
+use shadelab::scene::{LightingHook, Scene, Traversal, MAX_DEPTH, MAX_RESOLUTION};
 
 use super::Failure;
 
@@ -81,4 +81,29 @@ pub fn check_runs(runs: usize) -> Result<usize, Failure> {
         )));
     }
     Ok(runs)
+}
+
+/// `--traversal`: the GPU ray tracer's engine, overriding the scene's
+/// `render.traversal`.
+#[derive(Args)]
+pub struct TraversalArg {
+    /// The GPU ray tracer's engine: `bvh` (the compute shader's own BVH
+    /// walk), `query` (VK_KHR_ray_query through an acceleration structure
+    /// the driver builds) or `auto` (chosen per device: the compute BVH on
+    /// lavapipe; see docs/raytracing.md). Overrides the scene's
+    /// render.traversal.
+    #[arg(long, value_name = "ENGINE")]
+    pub traversal: Option<String>,
+}
+
+impl TraversalArg {
+    /// Sets the engine on `scene`; an unknown name is a usage error.
+    pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
+        if let Some(name) = &self.traversal {
+            scene.render.traversal = name
+                .parse::<Traversal>()
+                .map_err(|e| Failure::usage(format!("--traversal: {e}")))?;
+        }
+        Ok(())
+    }
 }

@@ -19,7 +19,7 @@ use shadelab::memory::MemoryLimit;
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
-use super::args::{check_depth, check_runs, ImageSize, LightingArg};
+use super::args::{check_depth, check_runs, ImageSize, LightingArg, TraversalArg};
 use super::render::load_scene;
 use super::Failure;
 
@@ -41,6 +41,8 @@ pub struct BenchArgs {
     size: ImageSize,
     #[command(flatten)]
     lighting: LightingArg,
+    #[command(flatten)]
+    traversal: TraversalArg,
     /// Ray tracing: maximum depth (overrides the scene).
     #[arg(long)]
     depth: Option<u32>,
@@ -116,6 +118,8 @@ struct Row {
     shading: Shading,
     /// The colour target timed (`ColorTarget::name`).
     color_target: &'static str,
+    /// The ray tracer's engine (`bvh` or `query`); raster modes have none.
+    traversal: Option<&'static str>,
     total_ms: f64,
     /// Median wall time from queue submission to completion.
     gpu_ms: f64,
@@ -141,6 +145,7 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     let (mut scene, name) = load_scene(args.scene.as_deref(), memory)?;
     args.size.apply(&mut scene)?;
     args.lighting.apply(&mut scene)?;
+    args.traversal.apply(&mut scene)?;
     let hook_path = scene.lighting_hook.as_ref().map(|h| h.path.clone());
     if let Some(d) = args.depth {
         scene.render.depth = check_depth(d)?;
@@ -185,12 +190,14 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
             time(shading, false)?
         };
         // Rays are counted in a separate run: counting costs atomics.
-        let rays = if traced {
-            raytrace::render(&context, &scene, true)?
-                .stats
-                .map(|s| s.total())
+        let (rays, traversal) = if traced {
+            let counted = raytrace::render(&context, &scene, true)?;
+            (
+                counted.stats.map(|s| s.total()),
+                Some(counted.traversal.name()),
+            )
         } else {
-            None
+            (None, None)
         };
         let cpu_ms = if args.cpu {
             let runs = (0..args.runs)
@@ -208,6 +215,7 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
         rows.push(Row {
             shading,
             color_target: target_of(shading).name(),
+            traversal,
             total_ms,
             gpu_ms,
             total_spread_ms,
@@ -249,6 +257,9 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     );
     if let Some(path) = &hook_path {
         println!("lighting hook: {path} (the GPU modes; --cpu times the built-in formula)");
+    }
+    if let Some(engine) = rows.iter().find_map(|r| r.traversal) {
+        println!("ray tracer's traversal: {engine}");
     }
     let mut header = format!(
         "{:<10} {:>10} {:>10} {:>10} {:>8} {:>10}",

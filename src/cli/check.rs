@@ -13,7 +13,7 @@ use shadelab::metrics::heatmap::flip_heatmap;
 use shadelab::output::{write_atomically, write_image};
 use shadelab::shading::Shading;
 
-use super::args::{ImageSize, LightingArg};
+use super::args::{ImageSize, LightingArg, TraversalArg};
 use super::render::load_scene;
 use super::Failure;
 
@@ -41,6 +41,8 @@ pub struct CheckArgs {
     size: ImageSize,
     #[command(flatten)]
     lighting: LightingArg,
+    #[command(flatten)]
+    traversal: TraversalArg,
     /// Largest error allowed at an interior pixel [default: 1e-3, and 5e-3
     /// for raytrace].
     #[arg(long)]
@@ -93,6 +95,7 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
         let (mut scene, stem) = load_scene(path, memory)?;
         args.size.apply(&mut scene)?;
         args.lighting.apply(&mut scene)?;
+        args.traversal.apply(&mut scene)?;
         memory.check(&stem, &scene, &args.shading, &args.shading)?;
         let mut name = stem;
         if scenes.iter().any(|(_, n): &(_, String)| *n == name) {
@@ -168,6 +171,7 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
                 "flip_p99": outcome.judgement.flip.p99,
                 "scale": outcome.judgement.scale,
                 "gpu_ms": outcome.gpu_ms,
+                "traversal": outcome.traversal.map(|t| t.name()),
                 "cpu_ms": outcome.cpu_ms,
                 "images": folder.join(shading.to_string()),
             }));
@@ -216,8 +220,12 @@ fn summary(o: &CheckOutcome) -> String {
             o.judgement.scale
         )
     };
+    let engine = o
+        .traversal
+        .map(|t| format!(", traversal {}", t.name()))
+        .unwrap_or_default();
     format!(
-        "interior max {:.1e}  differing edge pixels {:.4}%  FLIP mean {:.1e}  (GPU {:.0} ms, CPU {:.0} ms){unit}",
+        "interior max {:.1e}  differing edge pixels {:.4}%  FLIP mean {:.1e}  (GPU {:.0} ms{engine}, CPU {:.0} ms){unit}",
         o.judgement.interior.max_abs,
         o.judgement.edge_share * 100.0,
         o.judgement.flip.mean,

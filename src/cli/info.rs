@@ -32,7 +32,10 @@ pub fn run(args: InfoArgs, options: &GpuOptions) -> Result<(), Failure> {
             let note = match (&d.unusable_because, &d.no_ray_tracer_because) {
                 (Some(w), _) => format!(" (unusable: {w})"),
                 (None, Some(w)) => format!(" (no GPU ray tracer: {w})"),
-                (None, None) => String::new(),
+                (None, None) => match &d.no_ray_query_because {
+                    None => " (ray tracer: --traversal bvh or query)".to_string(),
+                    Some(w) => format!(" (ray tracer: --traversal bvh; no ray queries: {w})"),
+                },
             };
             println!(
                 "{mark} {}: {} [{}] Vulkan {} - {}{note}",

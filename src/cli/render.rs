@@ -11,7 +11,7 @@ use shadelab::rt_scene::RayStats;
 use shadelab::scene::{self, Scene};
 use shadelab::shading::Shading;
 
-use super::args::{check_depth, ImageSize, LightingArg};
+use super::args::{check_depth, ImageSize, LightingArg, TraversalArg};
 use super::Failure;
 
 #[derive(Args)]
@@ -28,6 +28,8 @@ pub struct RenderArgs {
     size: ImageSize,
     #[command(flatten)]
     lighting: LightingArg,
+    #[command(flatten)]
+    traversal: TraversalArg,
     /// Ray tracing: maximum recursion depth.
     #[arg(long)]
     depth: Option<u32>,
@@ -79,6 +81,7 @@ fn apply_overrides(scene: &mut Scene, args: &RenderArgs) -> Result<(), Failure> 
         ));
     }
     args.lighting.apply(scene)?;
+    args.traversal.apply(scene)?;
     if let Some(d) = args.depth {
         scene.render.depth = check_depth(d)?;
     }
@@ -145,6 +148,7 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
             "driver": driver,
             "color_target": (args.backend != "cpu" && args.shading.raster_mode().is_some())
                 .then(|| target.name()),
+            "traversal": rendered.traversal.map(|t| t.name()),
             "timings_ms": rendered.timings,
             "memory": {
                 "estimate_bytes": estimate,
@@ -159,8 +163,12 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
         }
         println!("{value}");
     } else {
+        let engine = rendered
+            .traversal
+            .map(|t| format!(", traversal {}", t.name()))
+            .unwrap_or_default();
         println!(
-            "wrote {} ({}x{}, {}, {:.1} ms on {})",
+            "wrote {} ({}x{}, {}{engine}, {:.1} ms on {})",
             out.display(),
             rendered.image.width,
             rendered.image.height,

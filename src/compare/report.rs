@@ -54,6 +54,10 @@ pub struct VariantResult {
     #[serde(default)]
     pub local_error: Option<Errors>,
     pub timing: Timing,
+    /// The GPU ray tracer's engine (`bvh` or `query`, never `auto`); `None`
+    /// for the raster modes and in reports written before it existed.
+    #[serde(default)]
+    pub traversal: Option<crate::scene::Traversal>,
     /// On the Pareto front of (gpu_ms, plotted RMSE, `Report::error_of`):
     /// no other variant is at least as fast and at least as accurate, and
     /// strictly better in one.
@@ -299,6 +303,7 @@ mod tests {
                 frame_spread_ms: 0.0,
                 pipeline_ms: 0.0,
             },
+            traversal: None,
             pareto: false,
         }
     }

@@ -142,12 +142,14 @@ pub fn run(
         render_gpu(context, scene_v, variant.shading)?; // warm-up
         let (mut gpu, mut frame, mut pipeline) = (Vec::new(), Vec::new(), Vec::new());
         let mut image = None;
+        let mut traversal = None;
         for _ in 0..options.runs.max(1) {
             let r = render_gpu(context, scene_v, variant.shading)?;
             gpu.push(r.timings.work_ms());
             frame.push(r.timings.total_ms);
             pipeline.push(r.timings.pipeline_ms.unwrap_or(0.0));
             image = Some(r.image);
+            traversal = r.traversal;
         }
         let image = image.expect("at least one run");
         let (cpu, _) = render_cpu(scene_v, variant.shading)?;
@@ -175,6 +177,7 @@ pub fn run(
                 frame_spread_ms,
                 pipeline_ms: median_and_spread(pipeline).0,
             },
+            traversal,
             pareto: false,
         });
     }

@@ -1,14 +1,15 @@
 //! A variant: a shading mode plus its settings, written
 //! `mode[:key=value,...]`, e.g. `flat`, `gouraud:segments=16`,
 //! `phong:interpolation=screen`, `raytrace:depth=3,cutoff=0.01,samples=4`,
-//! `phong:lighting=blinn.glsl` (a lighting hook, any mode).
+//! `phong:lighting=blinn.glsl` (a lighting hook, any mode),
+//! `raytrace:traversal=query` (the GPU ray tracer's engine).
 
 use std::fmt;
 use std::path::Path;
 use std::str::FromStr;
 use std::sync::Arc;
 
-use crate::scene::{Interpolation, LightingHook, Scene, SceneError, Shape, MAX_DEPTH};
+use crate::scene::{Interpolation, LightingHook, Scene, SceneError, Shape, Traversal, MAX_DEPTH};
 use crate::shading::Shading;
 
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -24,6 +25,9 @@ pub struct Variant {
     /// A lighting hook's file (`--lighting`), for every mode.
     #[serde(default)]
     pub lighting: Option<String>,
+    /// The GPU ray tracer's engine (`--traversal`).
+    #[serde(default)]
+    pub traversal: Option<Traversal>,
 }
 
 impl Variant {
@@ -37,6 +41,7 @@ impl Variant {
             samples: None,
             shadows: None,
             lighting: None,
+            traversal: None,
         }
     }
 
@@ -69,6 +74,9 @@ impl Variant {
         if let Some(on) = self.shadows {
             s.render.shadows = on;
         }
+        if let Some(t) = self.traversal {
+            s.render.traversal = t;
+        }
         Ok(s)
     }
 }
@@ -97,6 +105,9 @@ impl fmt::Display for Variant {
         }
         if let Some(path) = &self.lighting {
             keys.push(format!("lighting={path}"));
+        }
+        if let Some(t) = self.traversal {
+            keys.push(format!("traversal={}", t.name()));
         }
         if keys.is_empty() {
             write!(f, "{}", self.shading)
@@ -177,9 +188,13 @@ impl FromStr for Variant {
                     }
                     v.lighting = Some(value.to_string());
                 }
+                "traversal" => {
+                    only(!raster, "raytrace")?;
+                    v.traversal = Some(value.parse().map_err(|_| bad("auto, bvh or query"))?);
+                }
                 _ => {
                     return Err(format!(
-                        "variant `{text}`: unknown setting `{key}`; expected segments, interpolation, depth, cutoff, samples, shadows or lighting"
+                        "variant `{text}`: unknown setting `{key}`; expected segments, interpolation, depth, cutoff, samples, shadows, lighting or traversal"
                     ))
                 }
             }
@@ -239,6 +254,8 @@ mod tests {
             "raytrace:shadows=false",
             "phong:lighting=examples/lighting/blinn-phong.glsl",
             "raytrace:depth=2,lighting=hook.glsl",
+            "raytrace:depth=1,traversal=query",
+            "raytrace:traversal=bvh",
         ] {
             let v: Variant = text.parse().unwrap();
             assert_eq!(v.to_string(), text);
@@ -256,6 +273,8 @@ mod tests {
             ("raytrace:cutoff=-1", ">= 0"),
             ("phong:shiny=1", "unknown setting"),
             ("phong:segments", "key=value"),
+            ("phong:traversal=query", "raytrace only"),
+            ("raytrace:traversal=rtx", "auto, bvh or query"),
         ] {
             let e = text.parse::<Variant>().unwrap_err();
             assert!(e.contains(word), "{text}: {e}");
@@ -265,6 +284,8 @@ mod tests {
     #[test]
     fn the_default_list_sweeps_the_interesting_axes() {
         let list = default_variants(&crate::scene::default_scene());
+        // The engine is the device's choice unless asked for.
+        assert!(list.iter().all(|v| v.traversal.is_none()));
         let names: Vec<String> = list.iter().map(|v| v.to_string()).collect();
         for want in [
             "flat:segments=8",

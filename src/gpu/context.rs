@@ -12,6 +12,7 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
 use super::error::{GpuError, VkContext};
+use super::ray_query;
 use super::validation::{messenger_info, MessageLog};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
@@ -54,6 +55,9 @@ pub struct DeviceInfo {
     /// `None` when the GPU ray tracer runs on the device, else why not
     /// (the raster modes may still run).
     pub no_ray_tracer_because: Option<String>,
+    /// `None` when the ray-query engine (`--traversal query`) runs on the
+    /// device, else why not (`ray_query::missing`).
+    pub no_ray_query_because: Option<String>,
 }
 
 /// An open device. Shared (`Arc`) by every resource made on it, so it is
@@ -71,6 +75,9 @@ pub struct GpuContext {
     pub(crate) queue_lock: Mutex<()>,
     pub(crate) allocator: ManuallyDrop<Mutex<Allocator>>,
     pub(crate) limits: vk::PhysicalDeviceLimits,
+    /// The ray-query engine's entry points and limits, where the device
+    /// offers it (`info.no_ray_query_because` is `None`).
+    pub(crate) ray_query: Option<ray_query::Support>,
     pub info: DeviceInfo,
     pub validation: bool,
 }
@@ -196,6 +203,7 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
                     "lacks subgroup shuffles in compute shaders, 4 or more invocations wide"
                         .to_string()
                 }),
+                no_ray_query_because: ray_query::missing(instance, physical),
             },
             physical,
             queue_family,
@@ -300,7 +308,7 @@ impl GpuContext {
             device: device.clone(),
             physical_device: physical,
             debug_settings: Default::default(),
-            buffer_device_address: false,
+            buffer_device_address: info.no_ray_query_because.is_none(),
             allocation_sizes: Default::default(),
         }) {
             Ok(a) => a,
@@ -318,6 +326,10 @@ impl GpuContext {
         };
         // SAFETY: the queue family was requested at device creation.
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
+        let ray_query = info
+            .no_ray_query_because
+            .is_none()
+            .then(|| ray_query::Support::new(&instance, physical, &device));
         let context = Self {
             _entry: entry,
             instance,
@@ -329,6 +341,7 @@ impl GpuContext {
             queue_lock: Mutex::new(()),
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             limits,
+            ray_query,
             info,
             validation: options.validation,
         };
@@ -361,13 +374,28 @@ impl GpuContext {
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
             .synchronization2(true);
-        // Optional: what a lighting hook in half precision needs.
+        // Optional: what a lighting hook in half precision needs, and what
+        // the ray-query engine needs, wherever the device offers it.
+        let ray_query = chosen.info.no_ray_query_because.is_none();
         let mut f12 = vk::PhysicalDeviceVulkan12Features::default()
-            .shader_float16(chosen.info.shader_float16);
-        let create = vk::DeviceCreateInfo::default()
+            .shader_float16(chosen.info.shader_float16)
+            .buffer_device_address(ray_query);
+        let mut structures = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default()
+            .acceleration_structure(true);
+        let mut query = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
+        let extensions: Vec<*const c_char> = if ray_query {
+            ray_query::EXTENSIONS.iter().map(|n| n.as_ptr()).collect()
+        } else {
+            Vec::new()
+        };
+        let mut create = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
+            .enabled_extension_names(&extensions)
             .push_next(&mut f13)
             .push_next(&mut f12);
+        if ray_query {
+            create = create.push_next(&mut structures).push_next(&mut query);
+        }
         // SAFETY: the create info refers to locals that outlive the call and
         // the features were checked as supported in describe_devices.
         let device = unsafe { instance.create_device(chosen.physical, &create, None) }

@@ -98,6 +98,52 @@ impl Descriptors {
     }
 }
 
+impl Descriptors {
+    /// A set for `layout` (one acceleration structure at binding 0) holding
+    /// `structure`.
+    pub fn for_structure(
+        context: &Arc<GpuContext>,
+        layout: vk::DescriptorSetLayout,
+        structure: vk::AccelerationStructureKHR,
+    ) -> Result<Self, GpuError> {
+        let device = &context.device;
+        let sizes = [vk::DescriptorPoolSize::default()
+            .ty(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)
+            .descriptor_count(1)];
+        let pool_info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(1)
+            .pool_sizes(&sizes);
+        // SAFETY: valid device and create info.
+        let pool = unsafe { device.create_descriptor_pool(&pool_info, None) }
+            .during("vkCreateDescriptorPool")?;
+        let mut d = Descriptors {
+            context: context.clone(),
+            pool,
+            set: vk::DescriptorSet::null(),
+        };
+        let layouts = [layout];
+        let alloc = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(pool)
+            .set_layouts(&layouts);
+        // SAFETY: the pool has room for exactly this set.
+        d.set = unsafe { device.allocate_descriptor_sets(&alloc) }
+            .during("vkAllocateDescriptorSets")?[0];
+        let structures = [structure];
+        let mut write_structure = vk::WriteDescriptorSetAccelerationStructureKHR::default()
+            .acceleration_structures(&structures);
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(d.set)
+            .dst_binding(0)
+            .descriptor_type(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)
+            .descriptor_count(1)
+            .push_next(&mut write_structure);
+        // SAFETY: the write matches the layout's one binding; `structure`
+        // outlives the set (the caller drops the set first).
+        unsafe { device.update_descriptor_sets(&[write], &[]) };
+        Ok(d)
+    }
+}
+
 impl Drop for Descriptors {
     fn drop(&mut self) {
         // SAFETY: the GPU work using the set has completed.

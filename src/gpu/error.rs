@@ -23,6 +23,8 @@ pub enum GpuError {
     BvhTooDeep { depth: usize, limit: usize },
     #[error("the GPU ray tracer cannot run on `{device}`: it {why}; render with --backend cpu")]
     NoRayTracer { device: String, why: String },
+    #[error("--traversal query needs ray queries, and the device `{device}` {why}; use --traversal bvh (or auto)")]
+    NoRayQuery { device: String, why: String },
     #[error("the scene holds {0}; render it with --backend cpu")]
     SceneTooLarge(String),
     /// A lighting hook that does not compile or oversteps its interface:
@@ -50,6 +52,7 @@ impl GpuError {
                 | GpuError::DeviceNotFound { .. }
                 | GpuError::BvhTooDeep { .. }
                 | GpuError::SceneTooLarge(_)
+                | GpuError::NoRayQuery { .. }
         )
     }
 }

@@ -303,6 +303,7 @@ mod tests {
             shader_float16: true,
             unusable_because: None,
             no_ray_tracer_because: None,
+            no_ray_query_because: None,
         };
         let words = module_words(&PHONG_FRAG, Some(&hook), &device).unwrap();
         assert!(declares_capability(&words, FLOAT16_CAPABILITY));

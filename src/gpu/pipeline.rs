@@ -11,6 +11,8 @@ use super::error::GpuError;
 pub struct PipelineObjects {
     context: Arc<GpuContext>,
     pub set_layout: vk::DescriptorSetLayout,
+    /// A second set's layout, where the pipeline has one (null otherwise).
+    pub extra_set_layout: vk::DescriptorSetLayout,
     pub layout: vk::PipelineLayout,
     pub pipeline: vk::Pipeline,
     pub modules: Vec<vk::ShaderModule>,
@@ -23,6 +25,7 @@ impl PipelineObjects {
         Self {
             context: context.clone(),
             set_layout: vk::DescriptorSetLayout::null(),
+            extra_set_layout: vk::DescriptorSetLayout::null(),
             layout: vk::PipelineLayout::null(),
             pipeline: vk::Pipeline::null(),
             modules: Vec::new(),
@@ -50,6 +53,7 @@ impl Drop for PipelineObjects {
             device.destroy_pipeline(self.pipeline, None);
             device.destroy_pipeline_layout(self.layout, None);
             device.destroy_descriptor_set_layout(self.set_layout, None);
+            device.destroy_descriptor_set_layout(self.extra_set_layout, None);
             for m in &self.modules {
                 device.destroy_shader_module(*m, None);
             }

@@ -12,6 +12,7 @@ use gpu_allocator::MemoryLocation;
 
 use super::buffer::Buffer;
 use super::commands::OneShot;
+use super::context::DeviceInfo;
 use super::context::GpuContext;
 use super::descriptors::{create_set_layout, Descriptors};
 use super::error::{GpuError, VkContext};
@@ -19,40 +20,82 @@ use super::hook;
 use super::pipeline::{single_pipeline, PipelineObjects};
 use super::raster::check_image_size;
 use super::raster_scene;
+use super::rt_accel::{self, SceneStructure};
 use super::rt_bvh::BvhKinds;
 use super::rt_layout::*;
 use super::rt_records::{records, tile_order, v4};
-use super::shader_catalog::RAYTRACE_COMP;
+use super::shader_catalog::{RAYTRACE_COMP, RAYTRACE_QUERY_COMP};
 use super::timestamps::{GpuTimings, Timestamps};
 use crate::camera::View;
 use crate::linear_image::LinearImage;
 use crate::rt_scene::{sample_grid, RayStats, RtScene};
-use crate::scene::{LightingHook, Scene};
+use crate::scene::{LightingHook, Scene, Traversal};
 
 pub struct TraceOutput {
     pub image: LinearImage,
     pub timings: GpuTimings,
     /// Present when rays were counted.
     pub stats: Option<RayStats>,
+    /// The engine that found the hits: `Bvh` or `Query`, never `Auto`.
+    pub traversal: Traversal,
+}
+
+/// The engine a render uses: the one asked for, or for `Auto` the rule
+/// measured in docs/raytracing.md ("The ray-query engine"): ray queries on
+/// a device that offers them and is not a CPU (where the driver's traversal
+/// runs in hardware), else the compute BVH. On lavapipe the compute BVH is
+/// the faster of the two on every scene measured. Asking for `Query` on a
+/// device without it is an error that says why.
+pub fn engine_for(asked: Traversal, info: &DeviceInfo) -> Result<Traversal, GpuError> {
+    let query_why_not = || info.no_ray_query_because.clone();
+    match asked {
+        Traversal::Bvh => Ok(Traversal::Bvh),
+        Traversal::Query => match query_why_not() {
+            None => Ok(Traversal::Query),
+            Some(why) => Err(GpuError::NoRayQuery {
+                device: info.name.clone(),
+                why,
+            }),
+        },
+        Traversal::Auto => {
+            let hardware = info.device_type != format!("{:?}", vk::PhysicalDeviceType::CPU);
+            Ok(if hardware && query_why_not().is_none() {
+                Traversal::Query
+            } else {
+                Traversal::Bvh
+            })
+        }
+    }
 }
 
 fn create_pipeline(
     context: &Arc<GpuContext>,
     spec: &TraceSpecialization,
     lighting_hook: Option<&LightingHook>,
+    traversal: Traversal,
 ) -> Result<PipelineObjects, GpuError> {
     let device = &context.device;
     let mut p = PipelineObjects::new(context);
     p.set_layout = create_set_layout(context, BINDINGS, vk::ShaderStageFlags::COMPUTE)?;
-    let set_layouts = [p.set_layout];
+    let mut set_layouts = vec![p.set_layout];
+    let shader = if traversal == Traversal::Query {
+        // Set 1 holds the acceleration structure alone.
+        p.extra_set_layout =
+            create_set_layout(context, QUERY_BINDINGS, vk::ShaderStageFlags::COMPUTE)?;
+        set_layouts.push(p.extra_set_layout);
+        &RAYTRACE_QUERY_COMP
+    } else {
+        &RAYTRACE_COMP
+    };
     let layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
     // SAFETY: valid device and create infos throughout this function.
     p.layout = unsafe { device.create_pipeline_layout(&layout_info, None) }
         .during("vkCreatePipelineLayout")?;
-    let words = hook::module_words(&RAYTRACE_COMP, lighting_hook, &context.info)?;
+    let words = hook::module_words(shader, lighting_hook, &context.info)?;
     let module_info = vk::ShaderModuleCreateInfo::default().code(&words);
     // SAFETY: the words are SPIR-V validated by naga (at build time, or with
-    // the hook by `hook::module_words`).
+    // the hook by `hook::module_words`), or for the ray-query engine by
+    // spirv-val at build time.
     let module = unsafe { device.create_shader_module(&module_info, None) }
         .during("vkCreateShaderModule")?;
     p.modules.push(module);
@@ -146,12 +189,20 @@ pub fn render_with(
     let (width, height) = (scene.image.width, scene.image.height);
     check_image_size(context, width, height)?;
     let view = View::new(scene, width, height);
+    let traversal = engine_for(scene.render.traversal, &context.info)?;
+    if let (Traversal::Query, Some(hook)) = (traversal, &scene.lighting_hook) {
+        return Err(GpuError::LightingHook(format!(
+            "{} cannot run with --traversal query: a hook's module is checked by naga, which cannot \
+             read ray queries; use --traversal bvh",
+            hook.path
+        )));
+    }
     let rt = RtScene::new(scene);
     // Refuses what the records cannot hold before building the pipeline.
     let mut r = records(&rt)?;
     let spec = specialization(scene, &rt, options);
     let pipeline_started = Instant::now();
-    let pipeline = create_pipeline(context, &spec, scene.lighting_hook.as_deref())?;
+    let pipeline = create_pipeline(context, &spec, scene.lighting_hook.as_deref(), traversal)?;
     let pipeline_ms = pipeline_started.elapsed().as_secs_f64() * 1e3;
 
     if spec.has_bvh != 0 && r.bvh.root.is_none() {
@@ -232,6 +283,17 @@ pub fn render_with(
         ],
     )?;
 
+    // The ray-query engine's structures, built (and waited for) before the
+    // timed work, as the compute BVH is built on the host before it.
+    let structure: Option<(SceneStructure, Descriptors)> = match traversal {
+        Traversal::Query => {
+            let built = rt_accel::build(context, &r)?;
+            let set = Descriptors::for_structure(context, pipeline.extra_set_layout, built.top)?;
+            Some((built, set))
+        }
+        _ => None,
+    };
+
     let timestamps = Timestamps::new(context)?;
     let commands = OneShot::begin(context)?;
     let cmd = commands.cmd;
@@ -250,6 +312,25 @@ pub fn render_with(
             &[descriptors.set],
             &[],
         );
+        if let Some((_, structure_set)) = &structure {
+            // The structures were built by an earlier submission on this
+            // queue: their writes must reach the shader's reads.
+            let built = [vk::MemoryBarrier2::default()
+                .src_stage_mask(vk::PipelineStageFlags2::ACCELERATION_STRUCTURE_BUILD_KHR)
+                .src_access_mask(vk::AccessFlags2::ACCELERATION_STRUCTURE_WRITE_KHR)
+                .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+                .dst_access_mask(vk::AccessFlags2::ACCELERATION_STRUCTURE_READ_KHR)];
+            device
+                .cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&built));
+            device.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                pipeline.layout,
+                QUERY_SET,
+                &[structure_set.set],
+                &[],
+            );
+        }
         device.cmd_dispatch(cmd, tiles_across, tiles_down, 1);
         let to_host = [vk::MemoryBarrier2::default()
             .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
@@ -286,6 +367,7 @@ pub fn render_with(
             total_ms: started.elapsed().as_secs_f64() * 1e3,
         },
         stats,
+        traversal,
     })
 }
 
@@ -293,6 +375,54 @@ pub fn render_with(
 mod tests {
     use super::*;
     use crate::scene::{default_scene, Shape};
+
+    fn device(device_type: vk::PhysicalDeviceType, ray_query: bool) -> DeviceInfo {
+        DeviceInfo {
+            index: 0,
+            name: "test device".into(),
+            driver: String::new(),
+            device_type: format!("{device_type:?}"),
+            api_version: "1.3.0".into(),
+            is_lavapipe: false,
+            shader_float16: false,
+            unusable_because: None,
+            no_ray_tracer_because: None,
+            no_ray_query_because: (!ray_query).then(|| "lacks VK_KHR_ray_query".into()),
+        }
+    }
+
+    /// `auto`: ray queries on a GPU that has them, the compute BVH on a CPU
+    /// device (lavapipe) or without them; an engine asked for is the one
+    /// used, and `query` without support is refused with the reason.
+    #[test]
+    fn the_engine_follows_the_request_and_the_rule() {
+        use vk::PhysicalDeviceType as T;
+        let cases = [
+            (T::DISCRETE_GPU, true, Traversal::Query),
+            (T::INTEGRATED_GPU, true, Traversal::Query),
+            (T::DISCRETE_GPU, false, Traversal::Bvh),
+            (T::CPU, true, Traversal::Bvh),
+            (T::CPU, false, Traversal::Bvh),
+        ];
+        for (ty, query, auto) in cases {
+            let info = device(ty, query);
+            assert_eq!(
+                engine_for(Traversal::Auto, &info).unwrap(),
+                auto,
+                "{ty:?} {query}"
+            );
+            assert_eq!(engine_for(Traversal::Bvh, &info).unwrap(), Traversal::Bvh);
+            match engine_for(Traversal::Query, &info) {
+                Ok(engine) => assert!(query && engine == Traversal::Query),
+                Err(e) => {
+                    assert!(!query);
+                    let message = e.to_string();
+                    assert!(message.contains("lacks VK_KHR_ray_query"), "{message}");
+                    assert!(e.is_bad_input());
+                }
+            }
+        }
+    }
 
     /// `every_feature` turns on every switch that leaves the image alone and
     /// none that would change it; without it, only what the scene uses.

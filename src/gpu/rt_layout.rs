@@ -43,6 +43,12 @@ pub const BINDINGS: &[(u32, vk::DescriptorType)] = &[
 /// `BVH_STACK_SIZE`; tests/shader_interface.rs holds the two equal). The
 /// walk stacks one far child per inner node on its path, so a tree `d`
 /// nodes deep needs fewer than `d` entries.
+/// The ray-query engine's second set (`--traversal query`): the top-level
+/// acceleration structure alone (`shaders/include/rt_query.glsl`).
+pub const QUERY_SET: u32 = 1;
+pub const QUERY_BINDINGS: &[(u32, vk::DescriptorType)] =
+    &[(0, vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)];
+
 pub const BVH_STACK_SIZE: usize = 64;
 
 /// The edge of the square tile one workgroup traces: 64 invocations of 16

@@ -9,7 +9,7 @@
 
 use glam::DVec3;
 
-use super::model::{ImageSettings, Interpolation, Lighting, Material, RenderSettings};
+use super::model::{ImageSettings, Interpolation, Lighting, Material, RenderSettings, Traversal};
 
 /// Vertical field of view in degrees, for a camera that does not give one.
 pub const DEFAULT_FOV_Y_DEG: f64 = 40.0;
@@ -65,6 +65,7 @@ impl Default for RenderSettings {
             cutoff: 0.001,
             shadows: true,
             samples: 1,
+            traversal: Traversal::Auto,
         }
     }
 }

@@ -168,6 +168,45 @@ pub const MAX_DEPTH: u32 = 64;
 /// for.
 pub const MAX_RESOLUTION: i64 = 16384;
 
+/// Which engine finds the ray tracer's hits on the GPU (`--traversal`,
+/// `render.traversal`); the CPU reference has one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Traversal {
+    /// The device decides, by the measured rule of `gpu::raytrace::engine_for`.
+    #[default]
+    Auto,
+    /// The compute shader's own BVH walk, in packets of a subgroup.
+    Bvh,
+    /// `VK_KHR_ray_query` through an acceleration structure the driver builds.
+    Query,
+}
+
+impl Traversal {
+    /// The spelling of scene files, flags and variants.
+    pub fn name(self) -> &'static str {
+        match self {
+            Traversal::Auto => "auto",
+            Traversal::Bvh => "bvh",
+            Traversal::Query => "query",
+        }
+    }
+}
+
+impl std::str::FromStr for Traversal {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "auto" => Ok(Traversal::Auto),
+            "bvh" => Ok(Traversal::Bvh),
+            "query" => Ok(Traversal::Query),
+            _ => Err(format!(
+                "unknown traversal `{s}`; expected auto, bvh or query"
+            )),
+        }
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RenderSettings {
     /// Ray tracing: maximum recursion depth.
@@ -177,6 +216,8 @@ pub struct RenderSettings {
     pub shadows: bool,
     /// Ray tracing: samples per pixel.
     pub samples: u32,
+    /// Ray tracing on the GPU: the engine that finds hits.
+    pub traversal: Traversal,
 }
 
 /// Two unit vectors `(u, v)` spanning the plane with unit normal `n`, with

@@ -25,6 +25,7 @@
 //! | `render.cutoff` | `0.001` | >= 0 |
 //! | `render.shadows` | `true` | |
 //! | `render.samples` | `1` | 1..=1024 |
+//! | `render.traversal` | `"auto"` | or `"bvh"`, `"query"`: the GPU ray tracer's engine |
 //!
 //! Objects (`[[objects]]`, `shape` selects the kind; a key that belongs to
 //! another shape is an error):
@@ -63,7 +64,7 @@ use super::footprint::LoadLimits;
 use super::gltf_import;
 use super::model::{
     Camera, ImageSettings, Interpolation, Lighting, Material, Object, PointLight, RenderSettings,
-    Scene, Shape, MAX_DEPTH, MAX_RESOLUTION,
+    Scene, Shape, Traversal, MAX_DEPTH, MAX_RESOLUTION,
 };
 
 // ---------------------------------------------------------------------------
@@ -252,6 +253,7 @@ struct RenderRaw {
     cutoff: Option<Spanned<Finite>>,
     shadows: Option<bool>,
     samples: Option<Spanned<i64>>,
+    traversal: Option<Traversal>,
 }
 
 // ---------------------------------------------------------------------------
@@ -665,6 +667,9 @@ pub fn parse_within(
         if let Some(s) = &r.samples {
             render.samples = cx.int_in(s, "render.samples", 1, 1024, "")?;
         }
+        if let Some(t) = r.traversal {
+            render.traversal = t;
+        }
     }
 
     Ok(Scene {
@@ -1072,7 +1077,8 @@ samples = 1                       # ray tracing: samples per pixel
                 depth: 5,
                 cutoff: 0.001,
                 shadows: true,
-                samples: 1
+                samples: 1,
+                traversal: Traversal::Auto,
             }
         );
         assert!(s.warnings.is_empty());
@@ -1150,7 +1156,7 @@ samples = 1                       # ray tracing: samples per pixel
             "[lighting]\nambient = [0.1, 0.2, 0.3]\nk = 0\ninterpolation = \"screen\"\nattenuation = false\n\
              [[lights]]\nposition = [1, 2, 3]\nintensity = [1, 0.5, 0]\n\
              [materials.m]\n[[objects]]\nshape = \"box\"\ncenter = [0, 0, 0]\nsize = [2, 4, 6]\nrotate_deg = [0, 90, 0]\nmaterial = \"m\"\n\
-             [render]\ndepth = 0\ncutoff = 0\nshadows = false\nsamples = 16\n",
+             [render]\ndepth = 0\ncutoff = 0\nshadows = false\nsamples = 16\ntraversal = \"query\"\n",
         ));
         assert_eq!(s.lighting.ambient, DVec3::new(0.1, 0.2, 0.3));
         assert_eq!(s.lighting.k, 0.0);
@@ -1174,7 +1180,8 @@ samples = 1                       # ray tracing: samples per pixel
                 depth: 0,
                 cutoff: 0.0,
                 shadows: false,
-                samples: 16
+                samples: 16,
+                traversal: Traversal::Query,
             }
         );
     }

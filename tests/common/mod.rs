@@ -24,6 +24,27 @@ pub fn gpu() -> Arc<GpuContext> {
     GpuContext::new(&options).expect("a Vulkan device with the validation layer")
 }
 
+/// The GPU ray tracer's engines this device runs: the compute BVH always,
+/// and the ray-query engine where the device offers ray queries (Mesa 24
+/// and newer lavapipe does; Mesa 22.3 does not, and then the tests say so
+/// on stderr and check the compute BVH alone).
+pub fn engines(context: &Arc<GpuContext>) -> Vec<Traversal> {
+    match &context.info.no_ray_query_because {
+        None => vec![Traversal::Bvh, Traversal::Query],
+        Some(why) => {
+            eprintln!("ray-query engine not tested: `{}` {why}", context.info.name);
+            vec![Traversal::Bvh]
+        }
+    }
+}
+
+/// `scene` traced by `engine`.
+pub fn with_engine(scene: &Scene, engine: Traversal) -> Scene {
+    let mut s = scene.clone();
+    s.render.traversal = engine;
+    s
+}
+
 pub fn render(context: &Arc<GpuContext>, scene: &Scene, shading: Shading) -> LinearImage {
     match shadelab::render::render_gpu(context, scene, shading) {
         Ok(r) => r.image,

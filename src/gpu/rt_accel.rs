@@ -1,0 +1,436 @@
+//! The ray-query engine's acceleration structures, built by the driver from
+//! the same records the compute tracer reads (`rt_records`): one bottom
+//! level for the triangles (their positions read straight from the
+//! triangle records, in BVH leaf order, so a primitive index is a record
+//! index), one of bounding boxes per analytic kind that the scene has
+//! (spheres, planes, boxes: procedural primitives the shader intersects
+//! with the compute tracer's exact formulas), and a top level holding one
+//! instance of each, its custom index naming the kind.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::buffer::Buffer;
+use super::commands::OneShot;
+use super::context::GpuContext;
+use super::error::{GpuError, VkContext};
+use super::rt_layout::{GpuBox, GpuPlane, GpuSphere};
+use super::rt_records::SceneRecords;
+
+/// Instance custom indices: which records an instance's primitives index
+/// (the shader's `QUERY_*`).
+pub const QUERY_SPHERES: u32 = 0;
+pub const QUERY_PLANES: u32 = 1;
+pub const QUERY_BOXES: u32 = 2;
+pub const QUERY_TRIANGLES: u32 = 3;
+
+/// The built structures, destroyed with their buffers when dropped.
+pub struct SceneStructure {
+    context: Arc<GpuContext>,
+    structures: Vec<(vk::AccelerationStructureKHR, Buffer)>,
+    /// The top level, which the shader's `scene_structure` binds.
+    pub top: vk::AccelerationStructureKHR,
+}
+
+impl Drop for SceneStructure {
+    fn drop(&mut self) {
+        let Some(support) = &self.context.ray_query else {
+            return;
+        };
+        for (structure, _buffer) in self.structures.drain(..) {
+            // SAFETY: the GPU work that read the structure has completed
+            // (every submission waits on its fence); its buffer outlives it.
+            unsafe {
+                support
+                    .structures
+                    .destroy_acceleration_structure(structure, None)
+            };
+        }
+    }
+}
+
+/// A box around a point set, widened on every side by a margin relative to
+/// its size and distance from the eye, so that rounding to f32 never cuts
+/// off a surface the exact test in the shader would hit (and a plane's box
+/// is never flat).
+fn widened(lo: [f32; 3], hi: [f32; 3]) -> vk::AabbPositionsKHR {
+    let reach = (0..3)
+        .map(|i| lo[i].abs().max(hi[i].abs()).max(hi[i] - lo[i]))
+        .fold(1.0f32, f32::max);
+    let m = 1e-4 * reach;
+    vk::AabbPositionsKHR {
+        min_x: lo[0] - m,
+        min_y: lo[1] - m,
+        min_z: lo[2] - m,
+        max_x: hi[0] + m,
+        max_y: hi[1] + m,
+        max_z: hi[2] + m,
+    }
+}
+
+fn sphere_box(s: &GpuSphere) -> vk::AabbPositionsKHR {
+    let [x, y, z, r] = s.center_radius;
+    widened([x - r, y - r, z - r], [x + r, y + r, z + r])
+}
+
+/// A plane is a square: centre plus or minus half its edge along u and v.
+fn plane_box(p: &GpuPlane) -> vk::AabbPositionsKHR {
+    let h = p.center_half[3];
+    let reach: [f32; 3] = std::array::from_fn(|i| h * (p.u[i].abs() + p.v[i].abs()));
+    let c = &p.center_half;
+    widened(
+        std::array::from_fn(|i| c[i] - reach[i]),
+        std::array::from_fn(|i| c[i] + reach[i]),
+    )
+}
+
+/// An oriented box: its centre plus or minus the projections of its half
+/// edges onto each world axis.
+fn box_box(b: &GpuBox) -> vk::AabbPositionsKHR {
+    let h = b.half_extents;
+    let axes = [b.axis_x, b.axis_y, b.axis_z];
+    let reach: [f32; 3] =
+        std::array::from_fn(|i| (0..3).map(|k| h[k] * axes[k][i].abs()).sum::<f32>());
+    widened(
+        std::array::from_fn(|i| b.center[i] - reach[i]),
+        std::array::from_fn(|i| b.center[i] + reach[i]),
+    )
+}
+
+const INPUT: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
+    vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR.as_raw()
+        | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS.as_raw(),
+);
+
+fn address(context: &GpuContext, buffer: &Buffer) -> vk::DeviceAddress {
+    let info = vk::BufferDeviceAddressInfo::default().buffer(buffer.raw);
+    // SAFETY: the buffer was created with SHADER_DEVICE_ADDRESS on a device
+    // with bufferDeviceAddress enabled (the engine's requirement).
+    unsafe { context.device.get_buffer_device_address(&info) }
+}
+
+/// One structure to build: its geometries and their primitive counts.
+struct Level<'a> {
+    ty: vk::AccelerationStructureTypeKHR,
+    geometries: Vec<vk::AccelerationStructureGeometryKHR<'a>>,
+    counts: Vec<u32>,
+}
+
+/// A structure created with room for `level`, and the scratch memory its
+/// build needs (aligned as the device asks).
+struct Prepared {
+    structure: vk::AccelerationStructureKHR,
+    buffer: Buffer,
+    scratch: Buffer,
+    scratch_address: vk::DeviceAddress,
+}
+
+fn prepare(context: &Arc<GpuContext>, level: &Level) -> Result<Prepared, GpuError> {
+    let support = context.ray_query.as_ref().expect("checked by build");
+    let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
+        .ty(level.ty)
+        .flags(vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE)
+        .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
+        .geometries(&level.geometries);
+    let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
+    // SAFETY: the build info and counts describe the same geometries.
+    unsafe {
+        support.structures.get_acceleration_structure_build_sizes(
+            vk::AccelerationStructureBuildTypeKHR::DEVICE,
+            &info,
+            &level.counts,
+            &mut sizes,
+        )
+    };
+    let buffer = Buffer::new(
+        context,
+        "acceleration structure",
+        sizes.acceleration_structure_size,
+        vk::BufferUsageFlags::ACCELERATION_STRUCTURE_STORAGE_KHR
+            | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS,
+        MemoryLocation::GpuOnly,
+    )?;
+    let create = vk::AccelerationStructureCreateInfoKHR::default()
+        .buffer(buffer.raw)
+        .size(sizes.acceleration_structure_size)
+        .ty(level.ty);
+    // SAFETY: the buffer is at least `size` bytes and made for structures.
+    let structure = unsafe {
+        support
+            .structures
+            .create_acceleration_structure(&create, None)
+    }
+    .during("vkCreateAccelerationStructureKHR")?;
+    let align = support.scratch_alignment;
+    let scratch = Buffer::new(
+        context,
+        "acceleration structure scratch",
+        sizes.build_scratch_size + align,
+        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS,
+        MemoryLocation::GpuOnly,
+    );
+    let scratch = match scratch {
+        Ok(s) => s,
+        Err(e) => {
+            // SAFETY: the structure is unused.
+            unsafe {
+                support
+                    .structures
+                    .destroy_acceleration_structure(structure, None)
+            };
+            return Err(e);
+        }
+    };
+    let scratch_address = address(context, &scratch).next_multiple_of(align);
+    Ok(Prepared {
+        structure,
+        buffer,
+        scratch,
+        scratch_address,
+    })
+}
+
+/// Records the build of `level` into `prepared`.
+fn record_build(context: &GpuContext, cmd: vk::CommandBuffer, level: &Level, prepared: &Prepared) {
+    let support = context.ray_query.as_ref().expect("checked by build");
+    let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
+        .ty(level.ty)
+        .flags(vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE)
+        .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
+        .dst_acceleration_structure(prepared.structure)
+        .geometries(&level.geometries)
+        .scratch_data(vk::DeviceOrHostAddressKHR {
+            device_address: prepared.scratch_address,
+        });
+    let ranges: Vec<vk::AccelerationStructureBuildRangeInfoKHR> = level
+        .counts
+        .iter()
+        .map(|&n| vk::AccelerationStructureBuildRangeInfoKHR::default().primitive_count(n))
+        .collect();
+    // SAFETY: every address in `info` is a live buffer of this device made
+    // for its use; the command buffer is recording.
+    unsafe {
+        support
+            .structures
+            .cmd_build_acceleration_structures(cmd, &[info], &[&ranges])
+    };
+}
+
+/// Builds the scene's structures on `context` (which must offer the
+/// engine) and waits for the build to finish.
+pub fn build(context: &Arc<GpuContext>, r: &SceneRecords) -> Result<SceneStructure, GpuError> {
+    let Some(support) = &context.ray_query else {
+        return Err(GpuError::NoRayQuery {
+            device: context.info.name.clone(),
+            why: context
+                .info
+                .no_ray_query_because
+                .clone()
+                .unwrap_or_default(),
+        });
+    };
+    let mut inputs: Vec<Buffer> = Vec::new();
+    let mut bottoms: Vec<(u32, Level)> = Vec::new();
+    if !r.triangles.is_empty() {
+        // The records' p0, p1, p2 are vertices 16 bytes apart (xyz, then a
+        // word the build ignores): three per triangle, not indexed.
+        let vertices = Buffer::with_data(
+            context,
+            "query triangles",
+            bytemuck::cast_slice(&r.triangles),
+            INPUT,
+        )?;
+        let triangles = vk::AccelerationStructureGeometryTrianglesDataKHR::default()
+            .vertex_format(vk::Format::R32G32B32_SFLOAT)
+            .vertex_data(vk::DeviceOrHostAddressConstKHR {
+                device_address: address(context, &vertices),
+            })
+            .vertex_stride(16)
+            .max_vertex(3 * r.triangles.len() as u32 - 1)
+            .index_type(vk::IndexType::NONE_KHR);
+        inputs.push(vertices);
+        bottoms.push((
+            QUERY_TRIANGLES,
+            Level {
+                ty: vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL,
+                // Opaque: the driver commits the nearest triangle itself,
+                // without a trip back to the shader for every candidate
+                // (11 times slower on the 40k sphere when it made one).
+                geometries: vec![vk::AccelerationStructureGeometryKHR::default()
+                    .geometry_type(vk::GeometryTypeKHR::TRIANGLES)
+                    .flags(vk::GeometryFlagsKHR::OPAQUE)
+                    .geometry(vk::AccelerationStructureGeometryDataKHR { triangles })],
+                counts: vec![r.triangles.len() as u32],
+            },
+        ));
+    }
+    let kinds: [(u32, Vec<vk::AabbPositionsKHR>); 3] = [
+        (QUERY_SPHERES, r.spheres.iter().map(sphere_box).collect()),
+        (QUERY_PLANES, r.planes.iter().map(plane_box).collect()),
+        (QUERY_BOXES, r.boxes.iter().map(box_box).collect()),
+    ];
+    for (kind, boxes) in kinds {
+        if boxes.is_empty() {
+            continue;
+        }
+        let data = Buffer::with_data(context, "query boxes", aabb_bytes(&boxes), INPUT)?;
+        let aabbs = vk::AccelerationStructureGeometryAabbsDataKHR::default()
+            .data(vk::DeviceOrHostAddressConstKHR {
+                device_address: address(context, &data),
+            })
+            .stride(std::mem::size_of::<vk::AabbPositionsKHR>() as u64);
+        inputs.push(data);
+        bottoms.push((
+            kind,
+            Level {
+                ty: vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL,
+                geometries: vec![vk::AccelerationStructureGeometryKHR::default()
+                    .geometry_type(vk::GeometryTypeKHR::AABBS)
+                    .geometry(vk::AccelerationStructureGeometryDataKHR { aabbs })],
+                counts: vec![boxes.len() as u32],
+            },
+        ));
+    }
+
+    let mut structure = SceneStructure {
+        context: context.clone(),
+        structures: Vec::new(),
+        top: vk::AccelerationStructureKHR::null(),
+    };
+    let mut scratches = Vec::new();
+    let mut instances = Vec::new();
+    let commands = OneShot::begin(context)?;
+    for (kind, level) in &bottoms {
+        let prepared = prepare(context, level)?;
+        record_build(context, commands.cmd, level, &prepared);
+        let info = vk::AccelerationStructureDeviceAddressInfoKHR::default()
+            .acceleration_structure(prepared.structure);
+        // SAFETY: the structure was just created on this device.
+        let reference = unsafe {
+            support
+                .structures
+                .get_acceleration_structure_device_address(&info)
+        };
+        instances.push(instance(*kind, reference));
+        structure
+            .structures
+            .push((prepared.structure, prepared.buffer));
+        scratches.push(prepared.scratch);
+    }
+    // The top level reads the bottom levels the builds above write.
+    let built = [vk::MemoryBarrier2::default()
+        .src_stage_mask(vk::PipelineStageFlags2::ACCELERATION_STRUCTURE_BUILD_KHR)
+        .src_access_mask(vk::AccessFlags2::ACCELERATION_STRUCTURE_WRITE_KHR)
+        .dst_stage_mask(vk::PipelineStageFlags2::ACCELERATION_STRUCTURE_BUILD_KHR)
+        .dst_access_mask(vk::AccessFlags2::ACCELERATION_STRUCTURE_READ_KHR)];
+    // SAFETY: the command buffer is recording.
+    unsafe {
+        context.device.cmd_pipeline_barrier2(
+            commands.cmd,
+            &vk::DependencyInfo::default().memory_barriers(&built),
+        )
+    };
+    let instance_data = Buffer::with_data(
+        context,
+        "query instances",
+        instance_bytes(&instances),
+        INPUT,
+    )?;
+    let top = Level {
+        ty: vk::AccelerationStructureTypeKHR::TOP_LEVEL,
+        geometries: vec![vk::AccelerationStructureGeometryKHR::default()
+            .geometry_type(vk::GeometryTypeKHR::INSTANCES)
+            .geometry(vk::AccelerationStructureGeometryDataKHR {
+                instances: vk::AccelerationStructureGeometryInstancesDataKHR::default().data(
+                    vk::DeviceOrHostAddressConstKHR {
+                        device_address: address(context, &instance_data),
+                    },
+                ),
+            })],
+        counts: vec![instances.len() as u32],
+    };
+    let prepared = prepare(context, &top)?;
+    record_build(context, commands.cmd, &top, &prepared);
+    structure.top = prepared.structure;
+    structure
+        .structures
+        .push((prepared.structure, prepared.buffer));
+    scratches.push(prepared.scratch);
+    commands.submit_and_wait()?;
+    drop((scratches, inputs, instance_data));
+    Ok(structure)
+}
+
+/// An instance of a bottom level at its place (identity transform: the
+/// records are in the scene's camera-relative coordinates already), both
+/// faces of its triangles visible, its custom index naming its kind.
+fn instance(kind: u32, reference: vk::DeviceAddress) -> vk::AccelerationStructureInstanceKHR {
+    vk::AccelerationStructureInstanceKHR {
+        transform: vk::TransformMatrixKHR {
+            matrix: [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0],
+        },
+        instance_custom_index_and_mask: vk::Packed24_8::new(kind, 0xff),
+        instance_shader_binding_table_record_offset_and_flags: vk::Packed24_8::new(
+            0,
+            vk::GeometryInstanceFlagsKHR::TRIANGLE_FACING_CULL_DISABLE.as_raw() as u8,
+        ),
+        acceleration_structure_reference: vk::AccelerationStructureReferenceKHR {
+            device_handle: reference,
+        },
+    }
+}
+
+fn aabb_bytes(boxes: &[vk::AabbPositionsKHR]) -> &[u8] {
+    // SAFETY: AabbPositionsKHR is six f32s, repr(C), with no padding.
+    unsafe { std::slice::from_raw_parts(boxes.as_ptr().cast(), std::mem::size_of_val(boxes)) }
+}
+
+fn instance_bytes(instances: &[vk::AccelerationStructureInstanceKHR]) -> &[u8] {
+    // SAFETY: the instance record is repr(C), 64 bytes with no padding, as
+    // Vulkan defines VkAccelerationStructureInstanceKHR.
+    unsafe {
+        std::slice::from_raw_parts(instances.as_ptr().cast(), std::mem::size_of_val(instances))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A box around each primitive holds every point of it, with room.
+    #[test]
+    fn bounding_boxes_hold_their_primitives() {
+        let s = GpuSphere {
+            center_radius: [1.0, -2.0, 3.0, 0.5],
+            material_object: [0; 4],
+        };
+        let b = sphere_box(&s);
+        assert!(b.min_x < 0.5 && b.max_x > 1.5 && b.min_y < -2.5 && b.max_z > 3.5);
+        // A floor facing +Y: flat in Y, but its box is not.
+        let p = GpuPlane {
+            center_half: [0.0, -1.0, 0.0, 5.0],
+            normal: [0.0, 1.0, 0.0, 0.0],
+            u: [1.0, 0.0, 0.0, 0.0],
+            v: [0.0, 0.0, 1.0, 0.0],
+            material_object: [0; 4],
+        };
+        let b = plane_box(&p);
+        assert!(b.min_y < -1.0 && b.max_y > -1.0);
+        assert!(b.min_x <= -5.0 && b.max_z >= 5.0);
+        // A unit cube turned 45 degrees about Y reaches sqrt(2)/2 along X.
+        let c = std::f32::consts::FRAC_1_SQRT_2;
+        let cube = GpuBox {
+            center: [0.0; 4],
+            half_extents: [0.5, 0.5, 0.5, 0.0],
+            axis_x: [c, 0.0, -c, 0.0],
+            axis_y: [0.0, 1.0, 0.0, 0.0],
+            axis_z: [c, 0.0, c, 0.0],
+            material_object: [0; 4],
+        };
+        let b = box_box(&cube);
+        assert!(b.max_x >= c && b.max_x < c + 0.01, "{}", b.max_x);
+        assert!(b.max_y >= 0.5 && b.max_y < 0.51);
+    }
+}

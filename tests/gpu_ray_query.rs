@@ -1,0 +1,120 @@
+//! The ray tracer's two engines (`--traversal bvh|query|auto`): each one
+//! asked for is the one used, `auto` follows its rule, and the ray-query
+//! engine holds `check`'s ray-tracing limits against the CPU twin on every
+//! scene in `assets/` (the hard cases: tests/hard_cases.rs). On a device
+//! without ray queries (Mesa 22.3's lavapipe) the query engine's tests say
+//! so on stderr and check only that it is refused with a reason.
+
+mod common;
+
+use std::path::PathBuf;
+
+use common::cli::shadelab;
+use common::*;
+use shadelab::check::{check, CheckThresholds};
+use shadelab::gpu::raytrace::engine_for;
+use shadelab::render::render_gpu;
+use shadelab::scene::{self, Traversal};
+use shadelab::shading::Shading;
+
+#[test]
+fn each_engine_asked_for_is_the_engine_used() {
+    let context = gpu();
+    let mut small = scene::default_scene();
+    (small.image.width, small.image.height) = (64, 48);
+    for engine in engines(&context) {
+        let r = render_gpu(&context, &with_engine(&small, engine), Shading::Raytrace).unwrap();
+        assert_eq!(r.traversal, Some(engine));
+    }
+    // `auto` is the device's rule, the same every time; on lavapipe (a CPU
+    // device) the compute BVH, the faster engine there.
+    let auto = engine_for(Traversal::Auto, &context.info).unwrap();
+    for _ in 0..2 {
+        let r = render_gpu(
+            &context,
+            &with_engine(&small, Traversal::Auto),
+            Shading::Raytrace,
+        );
+        assert_eq!(r.unwrap().traversal, Some(auto));
+    }
+    if context.info.is_lavapipe {
+        assert_eq!(auto, Traversal::Bvh);
+    }
+    // The raster modes trace nothing and name no engine.
+    let r = render_gpu(&context, &small, Shading::Phong).unwrap();
+    assert_eq!(r.traversal, None);
+}
+
+#[test]
+fn the_query_engine_holds_checks_limits_on_every_asset() {
+    let context = gpu();
+    if !engines(&context).contains(&Traversal::Query) {
+        // `engines` said why on stderr.
+        let refused = engine_for(Traversal::Query, &context.info).unwrap_err();
+        assert!(refused.to_string().contains("lacks"), "{refused}");
+        return;
+    }
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets");
+    let mut names: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 5, "assets/ lost scenes: {names:?}");
+    let limits = CheckThresholds::for_shading(Shading::Raytrace);
+    for path in names {
+        let s = with_engine(&scene::load(&path).unwrap(), Traversal::Query);
+        let o = check(&context, &s, &s, Shading::Raytrace, &limits).unwrap();
+        assert_eq!(o.traversal, Some(Traversal::Query));
+        assert!(o.passed(), "{}: {:?}", path.display(), o.judgement.failures);
+    }
+}
+
+#[test]
+fn the_command_line_names_the_engine_and_refuses_an_unknown_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = shadelab(
+        dir.path(),
+        &[
+            "render",
+            "--shading",
+            "raytrace",
+            "--traversal",
+            "bvh",
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "--out",
+            "a.png",
+            "--json",
+        ],
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let json: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
+    assert_eq!(json["traversal"], "bvh");
+
+    let run = shadelab(
+        dir.path(),
+        &["render", "--traversal", "rtx", "--out", "b.png"],
+    );
+    assert_eq!(run.code, 2);
+    assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    assert!(
+        run.stderr.contains("expected auto, bvh or query"),
+        "{}",
+        run.stderr
+    );
+    assert!(!dir.path().join("b.png").exists());
+
+    // A raster render has no engine to name.
+    let run = shadelab(
+        dir.path(),
+        &[
+            "render", "--width", "32", "--height", "24", "--out", "c.png", "--json",
+        ],
+    );
+    let json: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
+    assert!(json["traversal"].is_null());
+}
