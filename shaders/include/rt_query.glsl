@@ -14,12 +14,13 @@
 
 layout(set = 1, binding = 0) uniform accelerationStructureEXT scene_structure;
 
-// Instance custom indices (rt_accel::QUERY_*): the records an instance's
-// primitive indices point into.
+// Instance custom indices (rt_accel::QUERY_*): the records an analytic
+// instance's primitive indices point into. A mesh's instance has its first
+// triangle record instead: a triangle hit's record is that plus the
+// primitive index.
 const uint QUERY_SPHERES = 0u;
 const uint QUERY_PLANES = 1u;
 const uint QUERY_BOXES = 2u;
-const uint QUERY_TRIANGLES = 3u;
 
 // A candidate as a hit record: its distance (0 for none) and what shading
 // will need. Each lane reads its own records: the query loop is not in
@@ -58,14 +59,18 @@ bool query_wins(Hit h, Hit best) {
     query_candidate(uint(rayQueryGetIntersectionInstanceCustomIndexEXT(q, false)),             \
                     uint(rayQueryGetIntersectionPrimitiveIndexEXT(q, false)), o, d)
 
+// The triangle record of the hit the query has committed.
+#define QUERY_RECORD(q)                                                                      \
+    (uint(rayQueryGetIntersectionInstanceCustomIndexEXT(q, true))                            \
+     + uint(rayQueryGetIntersectionPrimitiveIndexEXT(q, true)))
+
 // The nearest hit so far: the triangle the driver committed, if it did,
 // else `best` (an analytic hit the shader generated, or none).
 #define QUERY_COMMITTED(q, best)                                                                   \
     (rayQueryGetIntersectionTypeEXT(q, true) == gl_RayQueryCommittedIntersectionTriangleEXT         \
-         ? Hit(rayQueryGetIntersectionTEXT(q, true),                                                \
-               KIND_TRIANGLE | uint(rayQueryGetIntersectionPrimitiveIndexEXT(q, true)),             \
+         ? Hit(rayQueryGetIntersectionTEXT(q, true), KIND_TRIANGLE | QUERY_RECORD(q),               \
                rayQueryGetIntersectionBarycentricsEXT(q, true), vec3(0.0), 0.0, 0u,                 \
-               triangle_word(uint(rayQueryGetIntersectionPrimitiveIndexEXT(q, true)), TRI_OBJECT))  \
+               triangle_word(QUERY_RECORD(q), TRI_OBJECT))                                          \
          : best)
 
 // The nearest hit, as the compute tracer's `nearest`; `traces` false asks

@@ -200,6 +200,10 @@ pub fn render_with(
     let rt = RtScene::new(scene);
     // Refuses what the records cannot hold before building the pipeline.
     let mut r = records(&rt)?;
+    let meshes = match traversal {
+        Traversal::Query => rt_accel::group_by_mesh(&mut r),
+        _ => Vec::new(),
+    };
     let spec = specialization(scene, &rt, options);
     let pipeline_started = Instant::now();
     let pipeline = create_pipeline(context, &spec, scene.lighting_hook.as_deref(), traversal)?;
@@ -287,7 +291,7 @@ pub fn render_with(
     // timed work, as the compute BVH is built on the host before it.
     let structure: Option<(SceneStructure, Descriptors)> = match traversal {
         Traversal::Query => {
-            let built = rt_accel::build(context, &r)?;
+            let built = rt_accel::build(context, &r, &meshes)?;
             let set = Descriptors::for_structure(context, pipeline.extra_set_layout, built.top)?;
             Some((built, set))
         }

@@ -1,11 +1,13 @@
 //! The ray-query engine's acceleration structures, built by the driver from
 //! the same records the compute tracer reads (`rt_records`): one bottom
-//! level for the triangles (their positions read straight from the
-//! triangle records, in BVH leaf order, so a primitive index is a record
-//! index), one of bounding boxes per analytic kind that the scene has
-//! (spheres, planes, boxes: procedural primitives the shader intersects
-//! with the compute tracer's exact formulas), and a top level holding one
-//! instance of each, its custom index naming the kind.
+//! level per mesh (its triangles' positions read straight from the
+//! triangle records, which `group_by_mesh` has made contiguous per mesh),
+//! one of bounding boxes per analytic kind that the scene has (spheres,
+//! planes, boxes: procedural primitives the shader intersects with the
+//! compute tracer's exact formulas), and a top level holding one instance
+//! of each. A mesh's instance has as custom index its first record, so a
+//! hit's record is that plus the primitive index; an analytic kind's names
+//! the kind.
 
 use std::sync::Arc;
 
@@ -16,15 +18,38 @@ use super::buffer::Buffer;
 use super::commands::OneShot;
 use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
-use super::rt_layout::{GpuBox, GpuPlane, GpuSphere};
+use super::rt_layout::{GpuBox, GpuPlane, GpuSphere, GpuTriangleGeometry};
 use super::rt_records::SceneRecords;
 
-/// Instance custom indices: which records an instance's primitives index
-/// (the shader's `QUERY_*`).
+/// Instance custom indices of the analytic kinds: which records their
+/// primitives index (the shader's `QUERY_*`). A mesh's instance has its
+/// first triangle record instead (told apart by the hit's type).
 pub const QUERY_SPHERES: u32 = 0;
 pub const QUERY_PLANES: u32 = 1;
 pub const QUERY_BOXES: u32 = 2;
-pub const QUERY_TRIANGLES: u32 = 3;
+
+/// A custom index has 24 bits: the first record of the last mesh must fit.
+const MAX_CUSTOM_INDEX: usize = (1 << 24) - 1;
+
+/// Reorders the triangle records (geometry and shading alike) so that each
+/// mesh's are contiguous, in leaf order within a mesh (a stable sort by
+/// object), and returns each mesh's run as (first record, count). The
+/// compute BVH's leaves no longer match the records afterwards: for the
+/// ray-query engine only, which does not walk them.
+pub fn group_by_mesh(r: &mut SceneRecords) -> Vec<(u32, u32)> {
+    let mut order: Vec<usize> = (0..r.triangles.len()).collect();
+    order.sort_by_key(|&i| r.triangles[i].object);
+    r.triangles = order.iter().map(|&i| r.triangles[i]).collect();
+    r.triangle_shading = order.iter().map(|&i| r.triangle_shading[i]).collect();
+    let mut runs: Vec<(u32, u32)> = Vec::new();
+    for (i, t) in r.triangles.iter().enumerate() {
+        match runs.last_mut() {
+            Some((first, count)) if r.triangles[*first as usize].object == t.object => *count += 1,
+            _ => runs.push((i as u32, 1)),
+        }
+    }
+    runs
+}
 
 /// The built structures, destroyed with their buffers when dropped.
 pub struct SceneStructure {
@@ -219,8 +244,13 @@ fn record_build(context: &GpuContext, cmd: vk::CommandBuffer, level: &Level, pre
 }
 
 /// Builds the scene's structures on `context` (which must offer the
-/// engine) and waits for the build to finish.
-pub fn build(context: &Arc<GpuContext>, r: &SceneRecords) -> Result<SceneStructure, GpuError> {
+/// engine) and waits for the build to finish; `meshes` are the runs of
+/// `group_by_mesh`.
+pub fn build(
+    context: &Arc<GpuContext>,
+    r: &SceneRecords,
+    meshes: &[(u32, u32)],
+) -> Result<SceneStructure, GpuError> {
     let Some(support) = &context.ray_query else {
         return Err(GpuError::NoRayQuery {
             device: context.info.name.clone(),
@@ -233,26 +263,40 @@ pub fn build(context: &Arc<GpuContext>, r: &SceneRecords) -> Result<SceneStructu
     };
     let mut inputs: Vec<Buffer> = Vec::new();
     let mut bottoms: Vec<(u32, Level)> = Vec::new();
-    if !r.triangles.is_empty() {
-        // The records' p0, p1, p2 are vertices 16 bytes apart (xyz, then a
-        // word the build ignores): three per triangle, not indexed.
-        let vertices = Buffer::with_data(
+    if let Some(&(last, _)) = meshes.last() {
+        if last as usize > MAX_CUSTOM_INDEX {
+            return Err(GpuError::SceneTooLarge(format!(
+                "{} triangles, more than the ray-query engine's {MAX_CUSTOM_INDEX} before the last mesh; \
+                 use --traversal bvh",
+                last
+            )));
+        }
+    }
+    let vertices = if meshes.is_empty() {
+        None
+    } else {
+        Some(Buffer::with_data(
             context,
             "query triangles",
             bytemuck::cast_slice(&r.triangles),
             INPUT,
-        )?;
+        )?)
+    };
+    for &(first, count) in meshes {
+        // The records' p0, p1, p2 are vertices 16 bytes apart (xyz, then a
+        // word the build ignores): three per triangle, not indexed.
+        let record = std::mem::size_of::<GpuTriangleGeometry>() as u64;
+        let base = address(context, vertices.as_ref().expect("a mesh has triangles"));
         let triangles = vk::AccelerationStructureGeometryTrianglesDataKHR::default()
             .vertex_format(vk::Format::R32G32B32_SFLOAT)
             .vertex_data(vk::DeviceOrHostAddressConstKHR {
-                device_address: address(context, &vertices),
+                device_address: base + u64::from(first) * record,
             })
             .vertex_stride(16)
-            .max_vertex(3 * r.triangles.len() as u32 - 1)
+            .max_vertex(3 * count - 1)
             .index_type(vk::IndexType::NONE_KHR);
-        inputs.push(vertices);
         bottoms.push((
-            QUERY_TRIANGLES,
+            first,
             Level {
                 ty: vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL,
                 // Opaque: the driver commits the nearest triangle itself,
@@ -262,10 +306,11 @@ pub fn build(context: &Arc<GpuContext>, r: &SceneRecords) -> Result<SceneStructu
                     .geometry_type(vk::GeometryTypeKHR::TRIANGLES)
                     .flags(vk::GeometryFlagsKHR::OPAQUE)
                     .geometry(vk::AccelerationStructureGeometryDataKHR { triangles })],
-                counts: vec![r.triangles.len() as u32],
+                counts: vec![count],
             },
         ));
     }
+    inputs.extend(vertices);
     let kinds: [(u32, Vec<vk::AabbPositionsKHR>); 3] = [
         (QUERY_SPHERES, r.spheres.iter().map(sphere_box).collect()),
         (QUERY_PLANES, r.planes.iter().map(plane_box).collect()),
@@ -365,13 +410,14 @@ pub fn build(context: &Arc<GpuContext>, r: &SceneRecords) -> Result<SceneStructu
 
 /// An instance of a bottom level at its place (identity transform: the
 /// records are in the scene's camera-relative coordinates already), both
-/// faces of its triangles visible, its custom index naming its kind.
-fn instance(kind: u32, reference: vk::DeviceAddress) -> vk::AccelerationStructureInstanceKHR {
+/// faces of its triangles visible, with its custom index (a kind, or a
+/// mesh's first record).
+fn instance(custom: u32, reference: vk::DeviceAddress) -> vk::AccelerationStructureInstanceKHR {
     vk::AccelerationStructureInstanceKHR {
         transform: vk::TransformMatrixKHR {
             matrix: [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0],
         },
-        instance_custom_index_and_mask: vk::Packed24_8::new(kind, 0xff),
+        instance_custom_index_and_mask: vk::Packed24_8::new(custom, 0xff),
         instance_shader_binding_table_record_offset_and_flags: vk::Packed24_8::new(
             0,
             vk::GeometryInstanceFlagsKHR::TRIANGLE_FACING_CULL_DISABLE.as_raw() as u8,
@@ -398,6 +444,48 @@ fn instance_bytes(instances: &[vk::AccelerationStructureInstanceKHR]) -> &[u8] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Each mesh's records become one run, leaf order kept within it, and a
+    /// triangle's shading record moves with its geometry.
+    #[test]
+    fn group_by_mesh_makes_each_mesh_one_run() {
+        use super::super::rt_bvh::GpuBvh;
+        use super::super::rt_layout::GpuTriangleShading;
+        use bytemuck::Zeroable;
+        let objects = [1u32, 0, 1, 2, 0];
+        let mut r = SceneRecords {
+            spheres: Vec::new(),
+            planes: Vec::new(),
+            boxes: Vec::new(),
+            triangles: objects
+                .iter()
+                .enumerate()
+                .map(|(i, &object)| GpuTriangleGeometry {
+                    index: i as u32,
+                    object,
+                    ..GpuTriangleGeometry::zeroed()
+                })
+                .collect(),
+            triangle_shading: (0..objects.len())
+                .map(|i| GpuTriangleShading {
+                    material: 100 + i as u32,
+                    ..GpuTriangleShading::zeroed()
+                })
+                .collect(),
+            bvh: GpuBvh::default(),
+            materials: Vec::new(),
+        };
+        let runs = group_by_mesh(&mut r);
+        assert_eq!(runs, [(0, 2), (2, 2), (4, 1)]);
+        let index: Vec<u32> = r.triangles.iter().map(|t| t.index).collect();
+        assert_eq!(index, [1, 4, 0, 2, 3]);
+        let shading: Vec<u32> = r
+            .triangle_shading
+            .iter()
+            .map(|s| s.material - 100)
+            .collect();
+        assert_eq!(shading, index);
+    }
 
     /// A box around each primitive holds every point of it, with room.
     #[test]
