@@ -118,3 +118,41 @@ fn the_command_line_names_the_engine_and_refuses_an_unknown_one() {
     let json: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
     assert!(json["traversal"].is_null());
 }
+
+/// A lighting hook runs on the compute BVH only (naga checks a hook's
+/// module and cannot read ray queries): asked for with `query`, one line
+/// and exit status 2, nothing written; with `bvh` it renders.
+#[test]
+fn a_lighting_hook_with_the_query_engine_is_refused_in_one_line() {
+    let context = gpu();
+    if !engines(&context).contains(&Traversal::Query) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let hook = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/lighting/phong.glsl");
+    let hook = hook.to_str().unwrap();
+    let args = |engine: &'static str, out: &'static str| {
+        [
+            "render",
+            "--shading",
+            "raytrace",
+            "--lighting",
+            hook,
+            "--traversal",
+            engine,
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "--out",
+            out,
+        ]
+    };
+    let run = shadelab(dir.path(), &args("query", "q.png"));
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    assert!(run.stderr.contains("--traversal bvh"), "{}", run.stderr);
+    assert!(!dir.path().join("q.png").exists());
+    let run = shadelab(dir.path(), &args("bvh", "b.png"));
+    assert_eq!(run.code, 0, "{}", run.stderr);
+}
