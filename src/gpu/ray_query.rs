@@ -8,12 +8,13 @@ use std::ffi::CStr;
 
 use ash::vk;
 
-/// The device extensions the engine needs, in the order Vulkan lists their
-/// dependencies (acceleration structures need deferred host operations).
+/// The device extensions the engine needs: ray queries, and what they
+/// depend on (acceleration structures, which need deferred host
+/// operations). A device lacking several is said to lack the first.
 pub const EXTENSIONS: [&CStr; 3] = [
-    ash::khr::deferred_host_operations::NAME,
-    ash::khr::acceleration_structure::NAME,
     ash::khr::ray_query::NAME,
+    ash::khr::acceleration_structure::NAME,
+    ash::khr::deferred_host_operations::NAME,
 ];
 
 /// `None` when `physical` can run the ray-query engine, else why not (the
