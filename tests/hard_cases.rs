@@ -615,11 +615,11 @@ fn rays_along_shared_edges_do_not_leak() {
 /// materials): every ray meets both at exactly the same distance, and the
 /// first listed must win everywhere, as for coincident planes. The CPU twin
 /// and the compute BVH apply the tie rule to every candidate. The ray-query
-/// engine can apply it only to the candidates the driver reports, and
-/// lavapipe does not report a triangle at the distance already committed:
-/// there each pixel shows one of the two meshes, whole (measured: the
-/// second at 3654 of the 12288 pixels; docs/raytracing.md, "The
-/// ray-query engine").
+/// engine leaves triangles to the driver, which keeps the first of equal
+/// hits it meets: each pixel must show one of the two meshes, whole
+/// (measured on lavapipe: the first everywhere with a structure per mesh,
+/// visited in object order; the second at 3654 of the 12288 pixels when
+/// both were one structure; docs/raytracing.md, "The ray-query engine").
 #[test]
 fn coincident_meshes_go_to_the_first_listed() {
     let (mut both, _, _) = grid_on_pixel_centres();
