@@ -179,13 +179,18 @@ fn every_mentioned_repository_path_exists() {
     );
 }
 
+/// The folder beside the repository that the project's contracts came
+/// from, which a clone lacks, and its docs: written in pieces so that this
+/// file does not name them itself.
+const OUTSIDE: [[&str; 2]; 2] = [["../sha", "red"], ["sha", "red/docs"]];
+
 #[test]
 fn nothing_points_outside_the_repository() {
     let mut outside = BTreeSet::new();
     for file in text_files(&root()) {
         let text = fs::read_to_string(&file).unwrap();
         for (n, line) in text.lines().enumerate() {
-            if line.contains("../shared") || line.contains("shared/docs") {
+            if OUTSIDE.iter().any(|o| line.contains(&o.concat())) {
                 outside.insert(format!("{}:{}: {line}", rel(&file), n + 1));
             }
         }

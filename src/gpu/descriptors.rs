@@ -39,14 +39,13 @@ pub struct Descriptors {
 }
 
 impl Descriptors {
-    /// A set for `layout` with `buffers[i]` bound whole at `bindings[i]`.
-    pub fn new(
+    /// A pool with room for one set of `layout` holding `bindings`' types,
+    /// and that set, not yet written.
+    fn allocate(
         context: &Arc<GpuContext>,
         layout: vk::DescriptorSetLayout,
         bindings: &[(u32, vk::DescriptorType)],
-        buffers: &[&Buffer],
     ) -> Result<Self, GpuError> {
-        assert_eq!(bindings.len(), buffers.len(), "one buffer per binding");
         let device = &context.device;
         let mut sizes: Vec<vk::DescriptorPoolSize> = Vec::new();
         for &(_, ty) in bindings {
@@ -73,6 +72,18 @@ impl Descriptors {
         // SAFETY: the pool has room for exactly this set.
         d.set = unsafe { device.allocate_descriptor_sets(&alloc) }
             .during("vkAllocateDescriptorSets")?[0];
+        Ok(d)
+    }
+
+    /// A set for `layout` with `buffers[i]` bound whole at `bindings[i]`.
+    pub fn new(
+        context: &Arc<GpuContext>,
+        layout: vk::DescriptorSetLayout,
+        bindings: &[(u32, vk::DescriptorType)],
+        buffers: &[&Buffer],
+    ) -> Result<Self, GpuError> {
+        assert_eq!(bindings.len(), buffers.len(), "one buffer per binding");
+        let d = Self::allocate(context, layout, bindings)?;
         let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
             .iter()
             .map(|b| {
@@ -93,53 +104,39 @@ impl Descriptors {
             })
             .collect();
         // SAFETY: the writes match the layout built from the same bindings.
-        unsafe { device.update_descriptor_sets(&writes, &[]) };
+        unsafe { context.device.update_descriptor_sets(&writes, &[]) };
         Ok(d)
     }
-}
 
-impl Descriptors {
-    /// A set for `layout` (one acceleration structure at binding 0) holding
+    /// A set for `layout` (`bindings`: one acceleration structure) holding
     /// `structure`.
     pub fn for_structure(
         context: &Arc<GpuContext>,
         layout: vk::DescriptorSetLayout,
+        bindings: &[(u32, vk::DescriptorType)],
         structure: vk::AccelerationStructureKHR,
     ) -> Result<Self, GpuError> {
-        let device = &context.device;
-        let sizes = [vk::DescriptorPoolSize::default()
-            .ty(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)
-            .descriptor_count(1)];
-        let pool_info = vk::DescriptorPoolCreateInfo::default()
-            .max_sets(1)
-            .pool_sizes(&sizes);
-        // SAFETY: valid device and create info.
-        let pool = unsafe { device.create_descriptor_pool(&pool_info, None) }
-            .during("vkCreateDescriptorPool")?;
-        let mut d = Descriptors {
-            context: context.clone(),
-            pool,
-            set: vk::DescriptorSet::null(),
-        };
-        let layouts = [layout];
-        let alloc = vk::DescriptorSetAllocateInfo::default()
-            .descriptor_pool(pool)
-            .set_layouts(&layouts);
-        // SAFETY: the pool has room for exactly this set.
-        d.set = unsafe { device.allocate_descriptor_sets(&alloc) }
-            .during("vkAllocateDescriptorSets")?[0];
+        assert_eq!(
+            bindings,
+            [(
+                bindings[0].0,
+                vk::DescriptorType::ACCELERATION_STRUCTURE_KHR
+            )],
+            "one acceleration structure"
+        );
+        let d = Self::allocate(context, layout, bindings)?;
         let structures = [structure];
         let mut write_structure = vk::WriteDescriptorSetAccelerationStructureKHR::default()
             .acceleration_structures(&structures);
         let write = vk::WriteDescriptorSet::default()
             .dst_set(d.set)
-            .dst_binding(0)
+            .dst_binding(bindings[0].0)
             .descriptor_type(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)
             .descriptor_count(1)
             .push_next(&mut write_structure);
         // SAFETY: the write matches the layout's one binding; `structure`
         // outlives the set (the caller drops the set first).
-        unsafe { device.update_descriptor_sets(&[write], &[]) };
+        unsafe { context.device.update_descriptor_sets(&[write], &[]) };
         Ok(d)
     }
 }

@@ -294,7 +294,12 @@ pub fn render_with(
     let structure: Option<(SceneStructure, Descriptors)> = match traversal {
         Traversal::Query => {
             let built = rt_accel::build(context, &r, &meshes)?;
-            let set = Descriptors::for_structure(context, pipeline.extra_set_layout, built.top)?;
+            let set = Descriptors::for_structure(
+                context,
+                pipeline.extra_set_layout,
+                QUERY_BINDINGS,
+                built.top,
+            )?;
             Some((built, set))
         }
         _ => None,

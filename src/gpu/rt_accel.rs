@@ -152,13 +152,20 @@ struct Prepared {
     scratch_address: vk::DeviceAddress,
 }
 
+impl Level<'_> {
+    /// The build of this level, as sized and as recorded alike.
+    fn build_info(&self) -> vk::AccelerationStructureBuildGeometryInfoKHR<'_> {
+        vk::AccelerationStructureBuildGeometryInfoKHR::default()
+            .ty(self.ty)
+            .flags(vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE)
+            .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
+            .geometries(&self.geometries)
+    }
+}
+
 fn prepare(context: &Arc<GpuContext>, level: &Level) -> Result<Prepared, GpuError> {
     let support = context.ray_query.as_ref().expect("checked by build");
-    let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
-        .ty(level.ty)
-        .flags(vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE)
-        .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
-        .geometries(&level.geometries);
+    let info = level.build_info();
     let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
     // SAFETY: the build info and counts describe the same geometries.
     unsafe {
@@ -220,12 +227,9 @@ fn prepare(context: &Arc<GpuContext>, level: &Level) -> Result<Prepared, GpuErro
 /// Records the build of `level` into `prepared`.
 fn record_build(context: &GpuContext, cmd: vk::CommandBuffer, level: &Level, prepared: &Prepared) {
     let support = context.ray_query.as_ref().expect("checked by build");
-    let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
-        .ty(level.ty)
-        .flags(vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE)
-        .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
+    let info = level
+        .build_info()
         .dst_acceleration_structure(prepared.structure)
-        .geometries(&level.geometries)
         .scratch_data(vk::DeviceOrHostAddressKHR {
             device_address: prepared.scratch_address,
         });
