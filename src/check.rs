@@ -73,16 +73,17 @@ pub const MIN_EDGE_PIXELS: u32 = 4;
 /// Ray tracing's interior limit. Secondary rays carry f32 rounding of their
 /// direction over their whole length, and curved mirrors and glass magnify
 /// it: over the default scene and every scene in `assets/` the largest
-/// interior error was 1.06e-3 (the default scene's glass and metal spheres).
-/// 5e-3 is 4.7x that and still about one 8-bit step.
+/// interior error is 1.2e-3 (the default scene's glass and metal spheres),
+/// and 1.6e-3 in `assets/hard/energy-gain.toml` (mirrors ten bounces deep).
+/// 5e-3 is 4.2x and 3.1x those and still about one 8-bit step.
 pub const RAYTRACE_INTERIOR_MAX_ABS: f64 = 5e-3;
 
 /// Ray tracing's edge-pixel and FLIP limits. Reflections multiply edges: in
 /// `assets/hard/energy-gain.toml` (two facing mirrors and a glass ball at
 /// depth 10, weights growing as 1.3^n) box faces and corners seen several
-/// bounces deep put 0.18% of the image on the other side of an edge, with a
-/// FLIP mean of 2.0e-3, against at most 0.0007% and 1e-5 on the ordinary
-/// scenes. 0.5% and 5e-3 are 2.8x and 2.5x that worst case; the interior
+/// bounces deep put up to 0.19% of the image on the other side of an edge,
+/// with a FLIP mean of up to 2.0e-3, against at most 0.0007% and 1e-5 on the ordinary
+/// scenes. 0.5% and 5e-3 are 2.7x and 2.5x that worst case; the interior
 /// limit stays as strict as measured.
 pub const RAYTRACE_EDGE_FRACTION: f64 = 5e-3;
 pub const RAYTRACE_FLIP_MEAN: f64 = 5e-3;

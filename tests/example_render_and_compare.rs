@@ -38,7 +38,7 @@ fn figure(report: &str, pixels: &str, name: &str) -> f64 {
 /// requires: the example measures interior pixels exactly as `check` does
 /// (the CPU reference's `near_edge` mask), so `check`'s thresholds for the
 /// mode apply. Those were measured on the default scene and every scene in
-/// `assets/` (largest interior error 8.4e-5 raster, 1.06e-3 ray tracing;
+/// `assets/` (largest interior error 8.4e-5 raster, 1.2e-3 ray tracing;
 /// see `CheckThresholds`), so a failure here is a real disagreement, not
 /// noise. Elsewhere a figure must merely be a finite number: at a
 /// silhouette one side may cover a pixel the other leaves as background.
