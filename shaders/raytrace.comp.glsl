@@ -319,6 +319,10 @@ BoxGeometry box_geometry(int i) {
 }
 
 // Distance to a sphere along the ray, or 0 for none (the stable form).
+// The square root and the division sit in one branch, which the driver
+// skips when no lane's line meets the sphere, as for most spheres most
+// packets test (two early returns let it flatten the square root into
+// straight-line code that every test paid).
 float sphere_t(vec3 o, vec3 d, SphereGeometry s) {
     vec3 c = s.center;
     float r = s.radius;
@@ -326,16 +330,15 @@ float sphere_t(vec3 o, vec3 d, SphereGeometry s) {
     float b = -dot(f, d);
     vec3 l = f + b * d;
     float disc = r * r - dot(l, l);
-    if (disc < 0.0) {
-        return 0.0;
+    float t = 0.0;
+    if (disc >= 0.0) {
+        float q = b + (b >= 0.0 ? 1.0 : -1.0) * sqrt(disc);
+        float t0 = (dot(f, f) - r * r) / q;
+        float t1 = q;
+        float nearer = min(t0, t1) > 0.0 ? min(t0, t1) : max(t0, t1);
+        t = q == 0.0 ? 0.0 : nearer;
     }
-    float q = b + (b >= 0.0 ? 1.0 : -1.0) * sqrt(disc);
-    if (q == 0.0) {
-        return 0.0;
-    }
-    float t0 = (dot(f, f) - r * r) / q;
-    float t1 = q;
-    return min(t0, t1) > 0.0 ? min(t0, t1) : max(t0, t1);
+    return t;
 }
 
 float plane_t(vec3 o, vec3 d, PlaneGeometry p) {
@@ -435,8 +438,15 @@ float triangle_t(vec3 o, RayFrame frame, Shared tri, out vec2 uv) {
     precise float w = b.x * a.y - b.y * a.x;
     bool inside = (u >= 0.0 && v >= 0.0 && w >= 0.0) || (u <= 0.0 && v <= 0.0 && w <= 0.0);
     float det = u + v + w;
-    uv = vec2(v, w) / det;
-    return inside && det != 0.0 ? (u * a.z + v * b.z + w * c.z) / det : 0.0;
+    // The three divisions in a branch the driver skips when no lane's ray
+    // crosses the triangle, as for most triangles a packet tests.
+    float t = 0.0;
+    uv = vec2(0.0);
+    if (inside && det != 0.0) {
+        uv = vec2(v, w) / det;
+        t = (u * a.z + v * b.z + w * c.z) / det;
+    }
+    return t;
 }
 
 // Entry distance of the ray into a box (the slab test against [0, t_max]),
