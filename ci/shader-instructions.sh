@@ -44,6 +44,9 @@ for bin in "${bins[@]}"; do
     count "$bin" 1 >/dev/null
     one=$(count "$bin" 1)
     two=$(count "$bin" 2)
-    [ -n "$one" ] && [ -n "$two" ] || { echo "shader-instructions: valgrind gave no count for $bin" >&2; exit 1; }
+    if [ -z "$one" ] || [ -z "$two" ]; then
+        echo "shader-instructions: valgrind gave no count for $bin" >&2
+        exit 1
+    fi
     printf '%-40s %16d\n' "$bin" $((two - one))
 done
