@@ -63,6 +63,7 @@ impl glslang::include::IncludeHandler for Includes<'_, '_> {
     }
 }
 
+#[derive(Clone, Copy)]
 pub struct Binding {
     pub set: u32,
     pub binding: u32,
@@ -204,7 +205,7 @@ pub fn extend_by_decorations(base: &Reflection, spirv: &[u32]) -> Result<Reflect
         if !decorated.contains(&(b.set, b.binding)) {
             return Err(format!("it lacks set {} binding {}", b.set, b.binding));
         }
-        bindings.push(Binding { ..*b });
+        bindings.push(*b);
     }
     for &(set, binding) in &decorated {
         if !base

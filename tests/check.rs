@@ -5,9 +5,7 @@
 
 mod common;
 
-use std::path::PathBuf;
-
-use common::gpu;
+use common::{asset_scenes, gpu};
 use shadelab::check::{check, CheckThresholds};
 use shadelab::scene::{self, tessellate, Interpolation, Scene, Shape};
 use shadelab::shading::Shading;
@@ -27,20 +25,9 @@ fn small(mut scene: Scene) -> Scene {
 }
 
 fn assets() -> Vec<(String, Scene)> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets");
-    let mut out = vec![("default".to_string(), scene::default_scene())];
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    paths.sort();
-    assert!(!paths.is_empty(), "assets/ holds example scenes");
-    for p in paths {
-        let s = scene::load(&p).unwrap_or_else(|e| panic!("{e}"));
-        out.push((p.display().to_string(), s));
-    }
-    out
+    let scenes = asset_scenes();
+    assert!(scenes.len() > 1, "assets/ holds example scenes");
+    scenes
 }
 
 #[test]

@@ -54,20 +54,14 @@ fn the_query_engine_holds_checks_limits_on_every_asset() {
         assert!(refused.to_string().contains("lacks"), "{refused}");
         return;
     }
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets");
-    let mut names: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    names.sort();
-    assert!(names.len() >= 5, "assets/ lost scenes: {names:?}");
+    let scenes = asset_scenes();
+    assert!(scenes.len() >= 6, "assets/ lost scenes: {}", scenes.len());
     let limits = CheckThresholds::for_shading(Shading::Raytrace);
-    for path in names {
-        let s = with_engine(&scene::load(&path).unwrap(), Traversal::Query);
+    for (name, scene) in scenes {
+        let s = with_engine(&scene, Traversal::Query);
         let o = check(&context, &s, &s, Shading::Raytrace, &limits).unwrap();
         assert_eq!(o.traversal, Some(Traversal::Query));
-        assert!(o.passed(), "{}: {:?}", path.display(), o.judgement.failures);
+        assert!(o.passed(), "{name}: {:?}", o.judgement.failures);
     }
 }
 

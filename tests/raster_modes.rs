@@ -229,15 +229,7 @@ fn the_8_bit_png_path_gives_the_float_paths_png_within_one_step() {
     use shadelab::gpu::raster::ColorTarget;
     use shadelab::render::render_gpu_to;
     use shadelab::srgb::linear_to_srgb8;
-    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets");
-    let mut scenes = vec![("default".to_string(), shadelab::scene::default_scene())];
-    for entry in std::fs::read_dir(&dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.extension().is_some_and(|e| e == "toml") {
-            let scene = shadelab::scene::load(&path).unwrap();
-            scenes.push((path.display().to_string(), scene));
-        }
-    }
+    let scenes = asset_scenes();
     assert!(scenes.len() >= 6, "assets/ lost scenes");
     let context = gpu();
     for (name, scene) in &scenes {

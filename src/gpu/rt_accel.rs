@@ -12,14 +12,16 @@
 use std::sync::Arc;
 
 use ash::vk;
+use glam::DVec3;
 use gpu_allocator::MemoryLocation;
 
 use super::buffer::Buffer;
 use super::commands::OneShot;
 use super::context::GpuContext;
 use super::error::{GpuError, VkContext};
-use super::rt_layout::{GpuBox, GpuPlane, GpuSphere, GpuTriangleGeometry};
-use super::rt_records::SceneRecords;
+use super::rt_layout::GpuTriangleGeometry;
+use super::rt_records::{in_order, SceneRecords};
+use crate::rt_scene::{RtBox, RtPlane, RtScene, RtSphere};
 
 /// Instance custom indices of the analytic kinds: which records their
 /// primitives index (the shader's `QUERY_*`). A mesh's instance has its
@@ -76,55 +78,56 @@ impl Drop for SceneStructure {
     }
 }
 
-/// A box around a point set, widened on every side by a margin relative to
-/// its size and distance from the eye, so that rounding to f32 never cuts
-/// off a surface the exact test in the shader would hit (and a plane's box
-/// is never flat).
-fn widened(lo: [f32; 3], hi: [f32; 3]) -> vk::AabbPositionsKHR {
-    let reach = (0..3)
-        .map(|i| lo[i].abs().max(hi[i].abs()).max(hi[i] - lo[i]))
-        .fold(1.0f32, f32::max);
-    let m = 1e-4 * reach;
+/// An object's bounds (`RtSphere::bounds` and its kin, in f64) as the
+/// structure's f32 box, widened on every side by a margin relative to its
+/// size and distance from the eye, so that neither this rounding nor the
+/// records' (which the shader's exact test reads) cuts off a surface the
+/// test would hit, and a plane's box is never flat.
+fn widened((lo, hi): (DVec3, DVec3)) -> vk::AabbPositionsKHR {
+    let reach = lo.abs().max(hi.abs()).max(hi - lo).max_element().max(1.0);
+    let (lo, hi) = ((lo - 1e-4 * reach).as_vec3(), (hi + 1e-4 * reach).as_vec3());
     vk::AabbPositionsKHR {
-        min_x: lo[0] - m,
-        min_y: lo[1] - m,
-        min_z: lo[2] - m,
-        max_x: hi[0] + m,
-        max_y: hi[1] + m,
-        max_z: hi[2] + m,
+        min_x: lo.x,
+        min_y: lo.y,
+        min_z: lo.z,
+        max_x: hi.x,
+        max_y: hi.y,
+        max_z: hi.z,
     }
 }
 
-fn sphere_box(s: &GpuSphere) -> vk::AabbPositionsKHR {
-    let [x, y, z, r] = s.center_radius;
-    widened([x - r, y - r, z - r], [x + r, y + r, z + r])
+/// The boxes of each analytic kind the scene has, in the records' order
+/// (the primitive index of a hit is its record), with the kind's custom
+/// index.
+fn object_boxes(rt: &RtScene, r: &SceneRecords) -> [(u32, Vec<vk::AabbPositionsKHR>); 3] {
+    fn boxes<T: Copy>(
+        list: &[T],
+        order: &[u32],
+        bounds: fn(&T) -> (DVec3, DVec3),
+    ) -> Vec<vk::AabbPositionsKHR> {
+        in_order(list, order)
+            .iter()
+            .map(|o| widened(bounds(o)))
+            .collect()
+    }
+    let bvh = &r.bvh;
+    [
+        (
+            QUERY_SPHERES,
+            boxes(&rt.spheres, &bvh.sphere_order, RtSphere::bounds),
+        ),
+        (
+            QUERY_PLANES,
+            boxes(&rt.planes, &bvh.plane_order, RtPlane::bounds),
+        ),
+        (QUERY_BOXES, boxes(&rt.boxes, &bvh.box_order, RtBox::bounds)),
+    ]
 }
 
-/// A plane is a square: centre plus or minus half its edge along u and v.
-fn plane_box(p: &GpuPlane) -> vk::AabbPositionsKHR {
-    let h = p.center_half[3];
-    let reach: [f32; 3] = std::array::from_fn(|i| h * (p.u[i].abs() + p.v[i].abs()));
-    let c = &p.center_half;
-    widened(
-        std::array::from_fn(|i| c[i] - reach[i]),
-        std::array::from_fn(|i| c[i] + reach[i]),
-    )
-}
-
-/// An oriented box: its centre plus or minus the projections of its half
-/// edges onto each world axis.
-fn box_box(b: &GpuBox) -> vk::AabbPositionsKHR {
-    let h = b.half_extents;
-    let axes = [b.axis_x, b.axis_y, b.axis_z];
-    let reach: [f32; 3] =
-        std::array::from_fn(|i| (0..3).map(|k| h[k] * axes[k][i].abs()).sum::<f32>());
-    widened(
-        std::array::from_fn(|i| b.center[i] - reach[i]),
-        std::array::from_fn(|i| b.center[i] + reach[i]),
-    )
-}
-
-const INPUT: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
+/// What a buffer the builds read needs: the triangle records' storage
+/// buffer, made with it by `raytrace` for this engine, and the boxes and
+/// instances here.
+pub const INPUT: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
     vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR.as_raw()
         | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS.as_raw(),
 );
@@ -152,7 +155,16 @@ struct Prepared {
     scratch_address: vk::DeviceAddress,
 }
 
-impl Level<'_> {
+impl<'a> Level<'a> {
+    /// A bottom level of one geometry with `count` primitives.
+    fn bottom(geometry: vk::AccelerationStructureGeometryKHR<'a>, count: u32) -> Self {
+        Level {
+            ty: vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL,
+            geometries: vec![geometry],
+            counts: vec![count],
+        }
+    }
+
     /// The build of this level, as sized and as recorded alike.
     fn build_info(&self) -> vk::AccelerationStructureBuildGeometryInfoKHR<'_> {
         vk::AccelerationStructureBuildGeometryInfoKHR::default()
@@ -249,11 +261,14 @@ fn record_build(context: &GpuContext, cmd: vk::CommandBuffer, level: &Level, pre
 
 /// Builds the scene's structures on `context` (which must offer the
 /// engine) and waits for the build to finish; `meshes` are the runs of
-/// `group_by_mesh`.
+/// `group_by_mesh`, and `triangles` the buffer holding `r.triangles` (made
+/// with `INPUT` among its uses), whose positions the builds read in place.
 pub fn build(
     context: &Arc<GpuContext>,
+    rt: &RtScene,
     r: &SceneRecords,
     meshes: &[(u32, u32)],
+    triangles: &Buffer,
 ) -> Result<SceneStructure, GpuError> {
     let Some(support) = &context.ray_query else {
         return Err(GpuError::NoRayQuery {
@@ -276,21 +291,11 @@ pub fn build(
             )));
         }
     }
-    let vertices = if meshes.is_empty() {
-        None
-    } else {
-        Some(Buffer::with_data(
-            context,
-            "query triangles",
-            bytemuck::cast_slice(&r.triangles),
-            INPUT,
-        )?)
-    };
+    // The records' p0, p1, p2 are vertices 16 bytes apart (xyz, then a word
+    // the build ignores): three per triangle, not indexed.
+    let record = std::mem::size_of::<GpuTriangleGeometry>() as u64;
+    let base = address(context, triangles);
     for &(first, count) in meshes {
-        // The records' p0, p1, p2 are vertices 16 bytes apart (xyz, then a
-        // word the build ignores): three per triangle, not indexed.
-        let record = std::mem::size_of::<GpuTriangleGeometry>() as u64;
-        let base = address(context, vertices.as_ref().expect("a mesh has triangles"));
         let triangles = vk::AccelerationStructureGeometryTrianglesDataKHR::default()
             .vertex_format(vk::Format::R32G32B32_SFLOAT)
             .vertex_data(vk::DeviceOrHostAddressConstKHR {
@@ -299,29 +304,16 @@ pub fn build(
             .vertex_stride(16)
             .max_vertex(3 * count - 1)
             .index_type(vk::IndexType::NONE_KHR);
-        bottoms.push((
-            first,
-            Level {
-                ty: vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL,
-                // Opaque: the driver commits the nearest triangle itself,
-                // without a trip back to the shader for every candidate
-                // (on lavapipe within the noise of the trips; on hardware
-                // the trips are what costs).
-                geometries: vec![vk::AccelerationStructureGeometryKHR::default()
-                    .geometry_type(vk::GeometryTypeKHR::TRIANGLES)
-                    .flags(vk::GeometryFlagsKHR::OPAQUE)
-                    .geometry(vk::AccelerationStructureGeometryDataKHR { triangles })],
-                counts: vec![count],
-            },
-        ));
+        // Opaque: the driver commits the nearest triangle itself, without a
+        // trip back to the shader for every candidate (on lavapipe within
+        // the noise of the trips; on hardware the trips are what costs).
+        let geometry = vk::AccelerationStructureGeometryKHR::default()
+            .geometry_type(vk::GeometryTypeKHR::TRIANGLES)
+            .flags(vk::GeometryFlagsKHR::OPAQUE)
+            .geometry(vk::AccelerationStructureGeometryDataKHR { triangles });
+        bottoms.push((first, Level::bottom(geometry, count)));
     }
-    inputs.extend(vertices);
-    let kinds: [(u32, Vec<vk::AabbPositionsKHR>); 3] = [
-        (QUERY_SPHERES, r.spheres.iter().map(sphere_box).collect()),
-        (QUERY_PLANES, r.planes.iter().map(plane_box).collect()),
-        (QUERY_BOXES, r.boxes.iter().map(box_box).collect()),
-    ];
-    for (kind, boxes) in kinds {
+    for (kind, boxes) in object_boxes(rt, r) {
         if boxes.is_empty() {
             continue;
         }
@@ -332,16 +324,10 @@ pub fn build(
             })
             .stride(std::mem::size_of::<vk::AabbPositionsKHR>() as u64);
         inputs.push(data);
-        bottoms.push((
-            kind,
-            Level {
-                ty: vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL,
-                geometries: vec![vk::AccelerationStructureGeometryKHR::default()
-                    .geometry_type(vk::GeometryTypeKHR::AABBS)
-                    .geometry(vk::AccelerationStructureGeometryDataKHR { aabbs })],
-                counts: vec![boxes.len() as u32],
-            },
-        ));
+        let geometry = vk::AccelerationStructureGeometryKHR::default()
+            .geometry_type(vk::GeometryTypeKHR::AABBS)
+            .geometry(vk::AccelerationStructureGeometryDataKHR { aabbs });
+        bottoms.push((kind, Level::bottom(geometry, boxes.len() as u32)));
     }
 
     let mut structure = SceneStructure {
@@ -492,37 +478,45 @@ mod tests {
         assert_eq!(shading, index);
     }
 
-    /// A box around each primitive holds every point of it, with room.
+    /// A structure's box holds its object's bounds, with room, and is never
+    /// flat; the bounds are the objects' own (`RtSphere::bounds` and kin,
+    /// which the compute BVH uses too).
     #[test]
-    fn bounding_boxes_hold_their_primitives() {
-        let s = GpuSphere {
-            center_radius: [1.0, -2.0, 3.0, 0.5],
-            material_object: [0; 4],
+    fn boxes_hold_their_objects_with_room() {
+        use glam::DMat3;
+        let s = RtSphere {
+            center: DVec3::new(1.0, -2.0, 3.0),
+            radius: 0.5,
+            material: 0,
+            object: 0,
         };
-        let b = sphere_box(&s);
+        let b = widened(s.bounds());
         assert!(b.min_x < 0.5 && b.max_x > 1.5 && b.min_y < -2.5 && b.max_z > 3.5);
+        // The margin is small: a ten-thousandth of the reach, here 3.5.
+        assert!(b.max_x < 1.5 + 1e-3 && b.min_y > -2.5 - 1e-3);
         // A floor facing +Y: flat in Y, but its box is not.
-        let p = GpuPlane {
-            center_half: [0.0, -1.0, 0.0, 5.0],
-            normal: [0.0, 1.0, 0.0, 0.0],
-            u: [1.0, 0.0, 0.0, 0.0],
-            v: [0.0, 0.0, 1.0, 0.0],
-            material_object: [0; 4],
+        let p = RtPlane {
+            center: DVec3::new(0.0, -1.0, 0.0),
+            normal: DVec3::Y,
+            u: DVec3::X,
+            v: DVec3::Z,
+            half_size: 5.0,
+            material: 0,
+            object: 0,
         };
-        let b = plane_box(&p);
+        let b = widened(p.bounds());
         assert!(b.min_y < -1.0 && b.max_y > -1.0);
         assert!(b.min_x <= -5.0 && b.max_z >= 5.0);
         // A unit cube turned 45 degrees about Y reaches sqrt(2)/2 along X.
         let c = std::f32::consts::FRAC_1_SQRT_2;
-        let cube = GpuBox {
-            center: [0.0; 4],
-            half_extents: [0.5, 0.5, 0.5, 0.0],
-            axis_x: [c, 0.0, -c, 0.0],
-            axis_y: [0.0, 1.0, 0.0, 0.0],
-            axis_z: [c, 0.0, c, 0.0],
-            material_object: [0; 4],
+        let cube = RtBox {
+            center: DVec3::ZERO,
+            half_extents: DVec3::splat(0.5),
+            rotation: DMat3::from_rotation_y(std::f64::consts::FRAC_PI_4),
+            material: 0,
+            object: 0,
         };
-        let b = box_box(&cube);
+        let b = widened(cube.bounds());
         assert!(b.max_x >= c && b.max_x < c + 0.01, "{}", b.max_x);
         assert!(b.max_y >= 0.5 && b.max_y < 0.51);
     }

@@ -58,7 +58,7 @@ fn ids(material: u32, object: u32) -> [u32; 4] {
 
 /// `list` in the BVH's leaf order when it holds the kind (`order` not
 /// empty), else as it is.
-fn in_order<T: Copy>(list: &[T], order: &[u32]) -> Vec<T> {
+pub(super) fn in_order<T: Copy>(list: &[T], order: &[u32]) -> Vec<T> {
     if order.is_empty() {
         list.to_vec()
     } else {

@@ -38,6 +38,24 @@ pub fn engines(context: &Arc<GpuContext>) -> Vec<Traversal> {
     }
 }
 
+/// The built-in default scene and every scene file in `assets/`, each with
+/// its name ("default", or the file's path), the files in path order.
+pub fn asset_scenes() -> Vec<(String, Scene)> {
+    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets");
+    let mut paths: Vec<std::path::PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    paths.sort();
+    let mut out = vec![("default".to_string(), default_scene())];
+    for p in paths {
+        let s = load(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+        out.push((p.display().to_string(), s));
+    }
+    out
+}
+
 /// `scene` traced by `engine`.
 pub fn with_engine(scene: &Scene, engine: Traversal) -> Scene {
     let mut s = scene.clone();
