@@ -25,7 +25,7 @@
 // ended, a light behind the surface) takes part with a negative distance
 // limit, which no box or primitive passes.
 
-// 64 invocations for a TILE x TILE tile (see main).
+// 64 invocations; how many workgroups run does not matter (see main).
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
 #include "rt_interface.glsl"
@@ -34,8 +34,9 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 // Depth is at most 64 (checked on the host). Only a ray that both reflects
 // and refracts leaves a ray waiting, one per level.
 const int STACK_SIZE = 64;
-// The edge of a workgroup's tile (rt_layout::TILE).
-const uint TILE = 32u;
+// Packets each subgroup traces per work item (rt_layout::ITEM_PACKETS): a
+// 4 x 4 arrangement of packets, each packet 4 pixels wide.
+const uint ITEM_PACKETS = 16u;
 const int BVH_STACK_SIZE = 64;
 const float NO_HIT = 3.0e38;
 
@@ -850,22 +851,20 @@ vec3 trace_sample(vec3 dir, bool live) {
 }
 
 void main() {
-    // Workgroups take the TILE x TILE tiles in the host's order
-    // (`tile_order`): along rows of tiles, with the rows in a spread order,
-    // so that every contiguous run of workgroups covers the whole height of
-    // the image. Lavapipe hands each thread one contiguous run (in the order
-    // x, then y), and in image order one thread would get the sky and the
-    // other the scene. A tile is given as its column and row (16 bits
-    // each): integer division is a scalar loop over the lanes on lavapipe.
-    uint tile = tile_order[gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x];
-    uvec2 origin = uvec2(tile & 0xffffu, tile >> 16) * TILE;
-    // Each invocation traces 16 pixels, one in each 8x8 block of the tile:
-    // every subgroup has a fixed cost on lavapipe (its state set up and
-    // torn down), paid once for 16 packets. A subgroup's 8 lanes are a 4x2
-    // patch of a block.
-    uint lane = gl_LocalInvocationIndex;
-    uint block = lane >> 3;
-    uvec2 in_block = uvec2((block & 1u) * 4u + (lane & 3u), (block >> 1) * 2u + ((lane >> 2) & 1u));
+    // Subgroups take work items from a queue (one atomic counter) until it
+    // runs dry, so the image's pixels are shared out as the work goes, not
+    // by workgroup id: lavapipe hands each of its threads a fixed half of
+    // the workgroups, and a thread that was slower (a busier core, or the
+    // half of the image with the scene in it) left the other one idle at
+    // the end. An item is 16 packets, each packet a 4 x (S/4) patch of
+    // pixels for a subgroup of S lanes (4 x 2 on lavapipe): 16 x S pixels,
+    // in rows of items from the top. Each lane's colour depends on its own
+    // ray alone (see walk_bvh), so which subgroup traces a pixel, and with
+    // which neighbours, leaves the image as it is.
+    uint lane = gl_SubgroupInvocationID;
+    uint size = gl_SubgroupSize;
+    uvec2 in_patch = uvec2(lane & 3u, lane >> 2);
+    uint rows_per_patch = size >> 2;
     uint width = frame.image.x;
     uint height = frame.image.y;
     for (int k = 0; k < 5; ++k) {
@@ -884,25 +883,40 @@ void main() {
     float inv_focal = 1.0 / frame.right_focal.w;
     vec3 right_per_ndc = frame.right_focal.xyz * (frame.up_aspect.w * inv_focal);
     vec3 up_per_ndc = frame.up_aspect.xyz * inv_focal;
-    for (uint b = 0u; b < (TILE / 8u) * (TILE / 8u); ++b) {
-        uvec2 pixel = origin + uvec2(b % (TILE / 8u), b / (TILE / 8u)) * 8u + in_block;
-        // No early return: the lanes of a pixel off the image still take
-        // part in their subgroup's packets, with nothing to trace.
-        bool on_image = pixel.x < width && pixel.y < height;
-        vec3 sum = vec3(0.0);
-        for (uint i = 0u; i < samples; ++i) {
-            // Sample i's cell: row i / kx and column i % kx, in floats
-            // (exact for any sample count the host allows: (i + 0.5) / kx is
-            // at least 0.5 / kx from an integer, far more than a rounding).
-            float row = floor((float(i) + 0.5) * inv_kx);
-            float column = float(i) - row * kx;
-            vec2 cell = vec2(column + 0.5, row + 0.5) * vec2(inv_kx, inv_ky);
-            vec2 ndc = (vec2(pixel) + cell) * ndc_per_pixel - 1.0;
-            vec3 dir = frame.forward_cutoff.xyz + right_per_ndc * ndc.x - up_per_ndc * ndc.y;
-            sum += trace_sample(dir * inversesqrt(dot(dir, dir)), on_image);
+    uint items_across = (width + 15u) >> 4;
+    uint item_count = items_across * ((height + size - 1u) / size);
+    for (;;) {
+        // Uniform control flow: lane 0 takes the item, every lane gets it.
+        uint item = 0u;
+        if (lane == 0u) {
+            item = atomicAdd(next_item, 1u);
         }
-        if (on_image) {
-            pixels[pixel.y * width + pixel.x] = vec4(sum / float(samples), 1.0);
+        item = subgroupShuffle(item, 0u);
+        if (item >= item_count) {
+            break;
+        }
+        uvec2 origin = uvec2(item % items_across * 16u, item / items_across * size);
+        for (uint b = 0u; b < ITEM_PACKETS; ++b) {
+            uvec2 pixel = origin + uvec2((b & 3u) * 4u, (b >> 2) * rows_per_patch) + in_patch;
+            // No early return: the lanes of a pixel off the image still take
+            // part in their subgroup's packets, with nothing to trace.
+            bool on_image = pixel.x < width && pixel.y < height;
+            vec3 sum = vec3(0.0);
+            for (uint i = 0u; i < samples; ++i) {
+                // Sample i's cell: row i / kx and column i % kx, in floats
+                // (exact for any sample count the host allows: (i + 0.5) / kx
+                // is at least 0.5 / kx from an integer, far more than a
+                // rounding).
+                float row = floor((float(i) + 0.5) * inv_kx);
+                float column = float(i) - row * kx;
+                vec2 cell = vec2(column + 0.5, row + 0.5) * vec2(inv_kx, inv_ky);
+                vec2 ndc = (vec2(pixel) + cell) * ndc_per_pixel - 1.0;
+                vec3 dir = frame.forward_cutoff.xyz + right_per_ndc * ndc.x - up_per_ndc * ndc.y;
+                sum += trace_sample(dir * inversesqrt(dot(dir, dir)), on_image);
+            }
+            if (on_image) {
+                pixels[pixel.y * width + pixel.x] = vec4(sum / float(samples), 1.0);
+            }
         }
     }
     if (COUNT_RAYS) {

@@ -409,3 +409,31 @@ fn every_feature_build_traces_the_same_image() {
         assert!(worst <= 1e-6, "worst difference {worst}");
     }
 }
+
+/// The shader's subgroups take the image from a work queue, a counter the
+/// host zeroes on the device before each dispatch. Renders in a row on one
+/// context (whose allocator hands a freed buffer's memory to the next
+/// render) must each write every pixel: a counter left at the last
+/// render's end would write none, and the image would be the memory's old
+/// contents. Odd sizes leave work items partly off the image.
+#[test]
+fn every_render_writes_every_pixel_of_its_own_image() {
+    let context = gpu();
+    let backgrounds = [DVec3::new(1.0, 0.0, 0.0), DVec3::new(0.0, 1.0, 0.0)];
+    for (width, height) in [(37, 29), (1, 1), (300, 7)] {
+        for round in 0..4 {
+            let background = backgrounds[round % 2];
+            let mut s = scene(width, height, 30.0);
+            s.image.background = background;
+            let out = raytrace::render(&context, &s, false).unwrap_or_else(|e| panic!("{e}"));
+            for (i, p) in out.image.pixels.iter().enumerate() {
+                // Every ray misses: exactly the background, in f32.
+                assert_eq!(
+                    to_dvec(*p),
+                    background,
+                    "{width}x{height}, render {round}, pixel {i}"
+                );
+            }
+        }
+    }
+}

@@ -221,14 +221,16 @@ fn every_stage_is_present() {
 }
 
 /// The host refuses a BVH deeper than the shader's traversal stack, and
-/// dispatches a workgroup per tile of the shader's size; the constants must
-/// agree (the shader's are plain `const`s, not reflected).
+/// sizes its dispatch by the shader's workgroup and work item; the
+/// constants must agree (the shader's are plain `const`s and a layout
+/// qualifier, not reflected).
 #[test]
-fn the_bvh_stack_size_and_tile_are_the_shaders() {
+fn the_bvh_stack_size_and_work_item_are_the_shaders() {
     let source = include_str!("../shaders/raytrace.comp.glsl");
     for declared in [
         format!("const int BVH_STACK_SIZE = {};", rt_layout::BVH_STACK_SIZE),
-        format!("const uint TILE = {}u;", rt_layout::TILE),
+        format!("const uint ITEM_PACKETS = {}u;", rt_layout::ITEM_PACKETS),
+        format!("layout(local_size_x = {},", rt_layout::WORKGROUP_SIZE),
     ] {
         assert!(
             source.contains(&declared),

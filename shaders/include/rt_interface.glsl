@@ -135,5 +135,6 @@ layout(std430, set = 0, binding = 8) readonly buffer MaterialBuffer { RtMaterial
 layout(std430, set = 0, binding = 9) buffer OutputBuffer { vec4 pixels[]; };
 // primary, shadow, reflected, refracted, pruned, deepest level, 2 unused.
 layout(std430, set = 0, binding = 10) buffer StatsBuffer { uint counters[8]; };
-// The order in which workgroups take the image's tiles (see main).
-layout(std430, set = 0, binding = 11) readonly buffer TileOrderBuffer { uint tile_order[]; };
+// The work queue: the next work item to take (zeroed before each dispatch;
+// see main).
+layout(std430, set = 0, binding = 11) buffer WorkQueueBuffer { uint next_item; };

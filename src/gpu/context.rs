@@ -60,6 +60,14 @@ pub struct DeviceInfo {
     pub no_ray_query_because: Option<String>,
 }
 
+impl DeviceInfo {
+    /// A CPU device (lavapipe): it runs a dispatch's workgroups on a few
+    /// threads, not across a GPU's many cores.
+    pub fn is_cpu(&self) -> bool {
+        self.device_type == format!("{:?}", vk::PhysicalDeviceType::CPU)
+    }
+}
+
 /// An open device. Shared (`Arc`) by every resource made on it, so it is
 /// destroyed only after the last of them.
 pub struct GpuContext {

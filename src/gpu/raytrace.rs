@@ -1,5 +1,6 @@
-//! The ray tracer: `shaders/raytrace.comp.glsl` dispatched once per 32x32
-//! tile over the scene's `RtScene` (exact primitives, triangles and BVH
+//! The ray tracer: `shaders/raytrace.comp.glsl`, whose subgroups take the
+//! image from a work queue, over the scene's `RtScene` (exact primitives,
+//! triangles and BVH
 //! uploaded as storage buffers in the layouts of `rt_records`), writing
 //! linear float pixels to a buffer the host reads back. The algorithm is
 //! docs/raytracing.md. Its hits come from the shader's own BVH walk or,
@@ -25,7 +26,7 @@ use super::raster_scene;
 use super::rt_accel::{self, SceneStructure};
 use super::rt_bvh::BvhKinds;
 use super::rt_layout::*;
-use super::rt_records::{records, tile_order, v4};
+use super::rt_records::{records, v4};
 use super::shader_catalog::{RAYTRACE_COMP, RAYTRACE_QUERY_COMP};
 use super::timestamps::{GpuTimings, Timestamps};
 use crate::camera::View;
@@ -59,14 +60,11 @@ pub fn engine_for(asked: Traversal, info: &DeviceInfo) -> Result<Traversal, GpuE
                 why,
             }),
         },
-        Traversal::Auto => {
-            let hardware = info.device_type != format!("{:?}", vk::PhysicalDeviceType::CPU);
-            Ok(if hardware && query_why_not().is_none() {
-                Traversal::Query
-            } else {
-                Traversal::Bvh
-            })
-        }
+        Traversal::Auto => Ok(if !info.is_cpu() && query_why_not().is_none() {
+            Traversal::Query
+        } else {
+            Traversal::Bvh
+        }),
     }
 }
 
@@ -217,7 +215,6 @@ pub fn render_with(
         r.add_unhittable_triangle();
     }
     let (kx, ky) = sample_grid(rt.render.samples);
-    let (tiles_across, tiles_down) = (width.div_ceil(TILE), height.div_ceil(TILE));
     let uniforms = TraceUniforms {
         ambient_k: v4(rt.lighting.ambient, rt.lighting.k as f32),
         background: v4(rt.background, 0.0),
@@ -259,9 +256,14 @@ pub fn render_with(
         "triangle shading",
         bytemuck::cast_slice(&r.triangle_shading),
     )?;
-    let tile_order = upload(
-        "tile order",
-        bytemuck::cast_slice(&tile_order(tiles_across, tiles_down)),
+    // Zeroed on the device before the dispatch (below), whatever memory
+    // the allocator hands out.
+    let work_queue = Buffer::new(
+        context,
+        "work queue",
+        4,
+        storage | vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuOnly,
     )?;
     let materials = upload("materials", bytemuck::cast_slice(&r.materials))?;
     let uniform_buffer = Buffer::with_data(
@@ -296,7 +298,7 @@ pub fn render_with(
             &materials,
             &output,
             &stats,
-            &tile_order,
+            &work_queue,
         ],
     )?;
 
@@ -316,6 +318,8 @@ pub fn render_with(
         _ => None,
     };
 
+    let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let (groups_x, groups_y) = workgroups(width, height, context.info.is_cpu(), cpus);
     let timestamps = Timestamps::new(context)?;
     let commands = OneShot::begin(context)?;
     let cmd = commands.cmd;
@@ -324,6 +328,18 @@ pub fn render_with(
     // completes (dropped at the end of this function); the barrier orders
     // the shader's writes before the host reads.
     unsafe {
+        device.cmd_fill_buffer(cmd, work_queue.raw, 0, vk::WHOLE_SIZE, 0);
+        let queue_zeroed = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::CLEAR)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .dst_access_mask(
+                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            )];
+        device.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().memory_barriers(&queue_zeroed),
+        );
         timestamps.start(cmd);
         device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.pipeline);
         device.cmd_bind_descriptor_sets(
@@ -353,7 +369,7 @@ pub fn render_with(
                 &[],
             );
         }
-        device.cmd_dispatch(cmd, tiles_across, tiles_down, 1);
+        device.cmd_dispatch(cmd, groups_x, groups_y, 1);
         let to_host = [vk::MemoryBarrier2::default()
             .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
             .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)

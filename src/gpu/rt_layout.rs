@@ -19,7 +19,7 @@ pub const TRIANGLE_SHADING: u32 = 7;
 pub const MATERIALS: u32 = 8;
 pub const OUTPUT: u32 = 9;
 pub const STATS: u32 = 10;
-pub const TILE_ORDER: u32 = 11;
+pub const WORK_QUEUE: u32 = 11;
 
 const STORAGE: vk::DescriptorType = vk::DescriptorType::STORAGE_BUFFER;
 
@@ -36,25 +36,49 @@ pub const BINDINGS: &[(u32, vk::DescriptorType)] = &[
     (MATERIALS, STORAGE),
     (OUTPUT, STORAGE),
     (STATS, STORAGE),
-    (TILE_ORDER, STORAGE),
+    (WORK_QUEUE, STORAGE),
 ];
 
-/// Entries of the BVH traversal stack in raytrace.comp.glsl (its
-/// `BVH_STACK_SIZE`; tests/shader_interface.rs holds the two equal). The
-/// walk stacks one far child per inner node on its path, so a tree `d`
-/// nodes deep needs fewer than `d` entries.
 /// The ray-query engine's second set (`--traversal query`): the top-level
 /// acceleration structure alone (`shaders/include/rt_query.glsl`).
 pub const QUERY_SET: u32 = 1;
 pub const QUERY_BINDINGS: &[(u32, vk::DescriptorType)] =
     &[(0, vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)];
 
+/// Entries of the BVH traversal stack in raytrace.comp.glsl (its
+/// `BVH_STACK_SIZE`; tests/shader_interface.rs holds the two equal). The
+/// walk stacks one far child per inner node on its path, so a tree `d`
+/// nodes deep needs fewer than `d` entries.
 pub const BVH_STACK_SIZE: usize = 64;
 
-/// The edge of the square tile one workgroup traces: 64 invocations of 16
-/// pixels each (the shader's `TILE`; tests/shader_interface.rs holds the
-/// two equal).
-pub const TILE: u32 = 32;
+/// Invocations in one of the ray tracer's workgroups (its `local_size_x`).
+pub const WORKGROUP_SIZE: u32 = 64;
+
+/// Pixels each lane traces per work item the shader takes from its queue
+/// (the shader's `ITEM_PACKETS`; tests/shader_interface.rs holds the two
+/// equal).
+pub const ITEM_PACKETS: u32 = 16;
+
+/// Workgroups to dispatch for a `width` x `height` image. The shader's
+/// subgroups take work from a queue until it is empty, so any count
+/// covers the image; this one decides only how many can work at once. On
+/// a GPU: enough for one work item per subgroup. On a CPU device
+/// (lavapipe), whose threads each run a fixed share of the workgroups one
+/// after another, a subgroup that starts drains the queue with the
+/// others running beside it, and every further workgroup only pays its
+/// start-up to find the queue empty: a few per CPU thread (`cpus`) are
+/// enough.
+pub fn workgroups(width: u32, height: u32, on_cpu: bool, cpus: usize) -> (u32, u32) {
+    let pixels_per_group = WORKGROUP_SIZE * ITEM_PACKETS;
+    // Square groups of pixels: 64 x 16 = 1024 pixels, 32 x 32.
+    let edge = pixels_per_group.isqrt();
+    let (across, down) = (width.div_ceil(edge).max(1), height.div_ceil(edge).max(1));
+    if !on_cpu {
+        return (across, down);
+    }
+    let enough = u32::try_from(cpus.max(1) * 8).unwrap_or(u32::MAX);
+    (across.saturating_mul(down).min(enough), 1)
+}
 
 /// Specialization constants: (constant_id, name in GLSL). Ids 0 to 2 mean
 /// the same as in the raster pipelines.
@@ -234,9 +258,41 @@ pub fn record_size(binding: u32) -> usize {
         TRIANGLE_SHADING => std::mem::size_of::<GpuTriangleShading>(),
         MATERIALS => std::mem::size_of::<GpuMaterial>(),
         OUTPUT => 16,
-        // A fixed array of 8 counters, not a runtime array: its block size.
+        // A fixed array of 8 counters and one counter, not runtime arrays:
+        // their blocks' sizes.
         STATS => 32,
-        TILE_ORDER => 4,
+        WORK_QUEUE => 4,
         _ => 0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// On a GPU every subgroup gets an item (the dispatch holds a lane
+    /// for every 16 pixels); on a CPU a few workgroups per thread, never
+    /// none, never more than a GPU's count.
+    #[test]
+    fn the_dispatch_fits_the_device() {
+        for (width, height) in [(1, 1), (33, 31), (640, 480), (1024, 1024), (4097, 3)] {
+            let (x, y) = workgroups(width, height, false, 2);
+            let lanes = u64::from(x) * u64::from(y) * u64::from(WORKGROUP_SIZE);
+            let pixels = u64::from(width) * u64::from(height);
+            assert!(
+                lanes * u64::from(ITEM_PACKETS) >= pixels,
+                "{width}x{height}"
+            );
+            assert!(lanes * u64::from(ITEM_PACKETS) < pixels + 64 * 1024 * u64::from(x + y));
+            for cpus in [1, 2, 16] {
+                let (cx, cy) = workgroups(width, height, true, cpus);
+                assert_eq!(cy, 1);
+                assert!(
+                    cx >= 1 && cx <= (8 * cpus) as u32 && cx <= x * y,
+                    "{width}x{height}, {cpus}"
+                );
+            }
+        }
+        assert_eq!(workgroups(1024, 1024, true, 2), (16, 1));
     }
 }
