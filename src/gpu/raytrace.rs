@@ -1,8 +1,7 @@
 //! The ray tracer: `shaders/raytrace.comp.glsl`, whose subgroups take the
 //! image from a work queue, over the scene's `RtScene` (exact primitives,
-//! triangles and BVH
-//! uploaded as storage buffers in the layouts of `rt_records`), writing
-//! linear float pixels to a buffer the host reads back. The algorithm is
+//! triangles and BVH uploaded as storage buffers in the layouts of
+//! `rt_records`), writing linear float pixels to a buffer the host reads back. The algorithm is
 //! docs/raytracing.md. Its hits come from the shader's own BVH walk or,
 //! with `Traversal::Query`, from ray queries through the structures of
 //! `rt_accel` (`engine_for` picks).
@@ -325,8 +324,9 @@ pub fn render_with(
     let cmd = commands.cmd;
     let device = &context.device;
     // SAFETY: every handle recorded here lives until after the submission
-    // completes (dropped at the end of this function); the barrier orders
-    // the shader's writes before the host reads.
+    // completes (dropped at the end of this function); the barriers order
+    // the queue's zeroing before the shader and the shader's writes before
+    // the host reads.
     unsafe {
         device.cmd_fill_buffer(cmd, work_queue.raw, 0, vk::WHOLE_SIZE, 0);
         let queue_zeroed = [vk::MemoryBarrier2::default()

@@ -69,10 +69,11 @@ pub const ITEM_PACKETS: u32 = 16;
 /// start-up to find the queue empty: a few per CPU thread (`cpus`) are
 /// enough.
 pub fn workgroups(width: u32, height: u32, on_cpu: bool, cpus: usize) -> (u32, u32) {
-    let pixels_per_group = WORKGROUP_SIZE * ITEM_PACKETS;
-    // Square groups of pixels: 64 x 16 = 1024 pixels, 32 x 32.
-    let edge = pixels_per_group.isqrt();
-    let (across, down) = (width.div_ceil(edge).max(1), height.div_ceil(edge).max(1));
+    // A workgroup's lanes trace WORKGROUP_SIZE * ITEM_PACKETS = 1024
+    // pixels per round of items: a 32 x 32 square's worth.
+    const EDGE: u32 = 32;
+    const _: () = assert!(EDGE * EDGE == WORKGROUP_SIZE * ITEM_PACKETS);
+    let (across, down) = (width.div_ceil(EDGE).max(1), height.div_ceil(EDGE).max(1));
     if !on_cpu {
         return (across, down);
     }
