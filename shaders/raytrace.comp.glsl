@@ -115,8 +115,8 @@ bool packet_any(bool b) {
 
 // A record of word pairs read by the whole subgroup: lane i holds the
 // record's pairs i, i + S, i + 2S and i + 3S (S = gl_SubgroupSize; the host
-// requires S >= 4, and no record has more than 16 pairs). Every lane must
-// be here; the record's index must be the same in all of them.
+// requires 4 <= S <= 64, and no record has more than 16 pairs). Every lane
+// must be here; the record's index must be the same in all of them.
 struct Shared {
     uvec2 p0;
     uvec2 p1;
@@ -853,10 +853,10 @@ vec3 trace_sample(vec3 dir, bool live) {
 void main() {
     // Subgroups take work items from a queue (one atomic counter) until it
     // runs dry, so the image's pixels are shared out as the work goes, not
-    // by workgroup id: lavapipe hands each of its threads a fixed half of
+    // by workgroup id: lavapipe hands each of its threads a fixed share of
     // the workgroups, and a thread that was slower (a busier core, or the
-    // half of the image with the scene in it) left the other one idle at
-    // the end. An item is 16 packets, each packet a 4 x (S/4) patch of
+    // share of the image with the scene in it) left the others idle at the
+    // end. An item is 16 packets, each packet a 4 x (S/4) patch of
     // pixels for a subgroup of S lanes (4 x 2 on lavapipe): 16 x S pixels,
     // in rows of items from the top. Each lane's colour depends on its own
     // ray alone (see walk_bvh), so which subgroup traces a pixel, and with

@@ -208,7 +208,7 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
                 shader_float16: f12.shader_float16 == vk::TRUE,
                 unusable_because: missing.map(|m| format!("lacks {m}")),
                 no_ray_tracer_because: (!packet_tracing_supported(&subgroup)).then(|| {
-                    "lacks subgroup shuffles in compute shaders, 4 or more invocations wide"
+                    "lacks subgroup shuffles in compute shaders, 4 to 64 invocations wide"
                         .to_string()
                 }),
                 no_ray_query_because: ray_query::missing(instance, physical),
@@ -223,10 +223,12 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
 
 /// The ray tracer walks its BVH a subgroup at a time, the lanes sharing
 /// each node's words by shuffles (`shaders/raytrace.comp.glsl`): it needs
-/// them in compute shaders, and a subgroup of at least 4 lanes holds a
-/// node's 8 word pairs in two registers.
+/// them in compute shaders, a subgroup of at least 4 lanes holds a node's
+/// 8 word pairs in two registers, and a subgroup no wider than the
+/// workgroup is full (every lane present for its shuffles, and for its
+/// share of a work item's pixels).
 fn packet_tracing_supported(subgroup: &vk::PhysicalDeviceSubgroupProperties) -> bool {
-    subgroup.subgroup_size >= 4
+    (4..=super::rt_layout::WORKGROUP_SIZE).contains(&subgroup.subgroup_size)
         && subgroup
             .supported_stages
             .contains(vk::ShaderStageFlags::COMPUTE)
@@ -549,15 +551,17 @@ mod tests {
     }
 
     /// What the ray tracer's packets need: shuffles in compute shaders, and
-    /// 4 lanes or more (a node's 8 word pairs in two registers).
+    /// 4 lanes or more (a node's 8 word pairs in two registers), but no
+    /// more than a workgroup holds (a subgroup of 128 would be half empty).
     #[test]
-    fn packet_tracing_needs_compute_shuffles_four_lanes_wide() {
+    fn packet_tracing_needs_compute_shuffles_four_to_sixty_four_lanes_wide() {
         let compute = vk::ShaderStageFlags::COMPUTE;
         let ops = vk::SubgroupFeatureFlags::BASIC | vk::SubgroupFeatureFlags::SHUFFLE;
         assert!(packet_tracing_supported(&subgroup(8, compute, ops)));
         assert!(packet_tracing_supported(&subgroup(4, compute, ops)));
         assert!(packet_tracing_supported(&subgroup(64, compute, ops)));
         assert!(!packet_tracing_supported(&subgroup(2, compute, ops)));
+        assert!(!packet_tracing_supported(&subgroup(128, compute, ops)));
         let fragment = vk::ShaderStageFlags::FRAGMENT;
         assert!(!packet_tracing_supported(&subgroup(8, fragment, ops)));
         let basic = vk::SubgroupFeatureFlags::BASIC | vk::SubgroupFeatureFlags::BALLOT;

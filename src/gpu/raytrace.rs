@@ -317,8 +317,7 @@ pub fn render_with(
         _ => None,
     };
 
-    let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let (groups_x, groups_y) = workgroups(width, height, context.info.is_cpu(), cpus);
+    let (groups_x, groups_y) = workgroups(width, height, context.info.is_cpu(), cpu_threads());
     let timestamps = Timestamps::new(context)?;
     let commands = OneShot::begin(context)?;
     let cmd = commands.cmd;
@@ -407,6 +406,16 @@ pub fn render_with(
         stats,
         traversal,
     })
+}
+
+/// The threads a CPU device (lavapipe) runs a dispatch on: one per CPU,
+/// or `LP_NUM_THREADS` where that asks for more.
+fn cpu_threads() -> usize {
+    let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let asked = std::env::var("LP_NUM_THREADS")
+        .ok()
+        .and_then(|n| n.trim().parse::<usize>().ok());
+    cpus.max(asked.unwrap_or(0))
 }
 
 #[cfg(test)]
