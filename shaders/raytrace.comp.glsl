@@ -35,8 +35,10 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 // and refracts leaves a ray waiting, one per level.
 const int STACK_SIZE = 64;
 // Packets each subgroup traces per work item (rt_layout::ITEM_PACKETS): a
-// 4 x 4 arrangement of packets, each packet 4 pixels wide.
+// 4 x 4 arrangement of packets, each packet 4 pixels wide, so an item is
+// ITEM_WIDTH pixels wide.
 const uint ITEM_PACKETS = 16u;
+const uint ITEM_WIDTH = 16u;
 const int BVH_STACK_SIZE = 64;
 const float NO_HIT = 3.0e38;
 
@@ -883,7 +885,7 @@ void main() {
     float inv_focal = 1.0 / frame.right_focal.w;
     vec3 right_per_ndc = frame.right_focal.xyz * (frame.up_aspect.w * inv_focal);
     vec3 up_per_ndc = frame.up_aspect.xyz * inv_focal;
-    uint items_across = (width + 15u) >> 4;
+    uint items_across = (width + ITEM_WIDTH - 1u) / ITEM_WIDTH;
     uint item_count = items_across * ((height + size - 1u) / size);
     for (;;) {
         // Uniform control flow: lane 0 takes the item, every lane gets it.
@@ -895,7 +897,7 @@ void main() {
         if (item >= item_count) {
             break;
         }
-        uvec2 origin = uvec2(item % items_across * 16u, item / items_across * size);
+        uvec2 origin = uvec2(item % items_across * ITEM_WIDTH, item / items_across * size);
         for (uint b = 0u; b < ITEM_PACKETS; ++b) {
             uvec2 pixel = origin + uvec2((b & 3u) * 4u, (b >> 2) * rows_per_patch) + in_patch;
             // No early return: the lanes of a pixel off the image still take

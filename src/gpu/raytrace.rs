@@ -1,10 +1,10 @@
 //! The ray tracer: `shaders/raytrace.comp.glsl`, whose subgroups take the
 //! image from a work queue, over the scene's `RtScene` (exact primitives,
 //! triangles and BVH uploaded as storage buffers in the layouts of
-//! `rt_records`), writing linear float pixels to a buffer the host reads back. The algorithm is
-//! docs/raytracing.md. Its hits come from the shader's own BVH walk or,
-//! with `Traversal::Query`, from ray queries through the structures of
-//! `rt_accel` (`engine_for` picks).
+//! `rt_records`), writing linear float pixels to a buffer the host reads
+//! back. The algorithm is docs/raytracing.md. Its hits come from the
+//! shader's own BVH walk or, with `Traversal::Query`, from ray queries
+//! through the structures of `rt_accel` (`engine_for` picks).
 
 use std::sync::Arc;
 use std::time::Instant;
