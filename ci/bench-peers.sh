@@ -25,6 +25,10 @@ options:
   --smoke          CI check: shadelab side only (no peers, no installs), 64x64, small spheres,
                    --runs 1; fails if a shadelab command fails or the report cannot be built
   --runs N         timed runs per measurement, after warm-up (default 5; smoke 1)
+  --rounds N       run every job N times, in alternating order, and give each ratio as the
+                   median of the rounds' ratios with their range (default 1): each round runs
+                   the two sides of a row back to back, so drift on a shared machine between
+                   rounds cancels in every round's ratio
   --size N         image width and height (default 1024; smoke 64)
   --only REGEX     run only the jobs whose name matches (bash regex), e.g. 'rays|raster'
   --all            also run the slow peers (Mitsuba scalar_rgb)
@@ -48,7 +52,7 @@ src=$repo/ci/peers
 bin=${SHADELAB_BIN:-$repo/target/release/shadelab}
 peers_dir=${SHADELAB_PEERS_DIR:-$HOME/.cache/shadelab-peers}
 
-smoke=0 all=0 list=0 setup_only=0 runs='' size='' only='' work='' json_out=''
+smoke=0 all=0 list=0 setup_only=0 runs='' rounds='' size='' only='' work='' json_out=''
 value() { if [ $# -lt 2 ] || [ -z "$2" ]; then die "$1 needs a value (try --help)"; fi; }
 while [ $# -gt 0 ]; do
     case $1 in
@@ -58,6 +62,8 @@ while [ $# -gt 0 ]; do
         --setup) setup_only=1 ;;
         --runs) value "$@"; runs=$2; shift ;;
         --runs=*) runs=${1#*=} ;;
+        --rounds) value "$@"; rounds=$2; shift ;;
+        --rounds=*) rounds=${1#*=} ;;
         --size) value "$@"; size=$2; shift ;;
         --size=*) size=${1#*=} ;;
         --only) value "$@"; only=$2; shift ;;
@@ -80,6 +86,8 @@ else
     work=${work:-$repo/target/bench-peers}
 fi
 if ! [[ $runs =~ ^[0-9]{1,4}$ ]] || [ "$runs" -lt 1 ] || [ "$runs" -gt 1000 ]; then die "--runs $runs: expected 1 to 1000"; fi
+rounds=${rounds:-1}
+if ! [[ $rounds =~ ^[0-9]{1,2}$ ]] || [ "$rounds" -lt 1 ] || [ "$rounds" -gt 20 ]; then die "--rounds $rounds: expected 1 to 20"; fi
 if ! [[ $size =~ ^[0-9]{1,4}$ ]] || [ "$size" -lt 1 ] || [ "$size" -gt 8192 ]; then die "--size $size: expected 1 to 8192"; fi
 [[ $timeout_s =~ ^[0-9]+$ ]] || die "BENCH_PEERS_TIMEOUT=$timeout_s: expected seconds"
 if [ -n "$only" ]; then
@@ -154,7 +162,7 @@ define_jobs() {
     done
 }
 
-mode=list need_python=0 need_embree=0 have_python=1 have_embree=1 failed=() njobs=0
+mode=list queue=() need_python=0 need_embree=0 have_python=1 have_embree=1 failed=() njobs=0
 job() {
     local name=$1 kind=$2
     shift 3
@@ -168,24 +176,33 @@ job() {
             [ "$kind" = python ] && need_python=1
             [ "$kind" = embree ] && need_embree=1
             return 0 ;;
+        queue)
+            queue+=("$(printf '%q ' "$name" "$kind" "$@")")
+            return 0 ;;
     esac
-    local out=$res/$name.json log=$res/$name.log started rc=0
+}
+
+# run_job NAME KIND COMMAND...: runs one job into $round_res.
+run_job() {
+    local name=$1 kind=$2
+    shift 2
+    local out=$round_res/$name.json log=$round_res/$name.log started rc=0
     if { [ "$kind" = python ] && [ "$have_python" = 0 ]; } || { [ "$kind" = embree ] && [ "$have_embree" = 0 ]; }; then
-        printf '%s\t%s\tunavailable\t-\t0\n' "$name" "$kind" >>"$res/jobs.tsv"
-        failed+=("$name")
+        printf '%s\t%s\tunavailable\t-\t0\n' "$name" "$kind" >>"$round_res/jobs.tsv"
+        failed+=("$name$round_note")
         return 0
     fi
-    note "running $name"
+    note "running $name${round_note}"
     started=$(date +%s)
     timeout --kill-after=10 "$timeout_s" "$@" >"$out" 2>"$log" </dev/null || rc=$?
     local status=ok
     if [ "$rc" -ne 0 ]; then
         status=failed
         [ "$rc" -eq 124 ] && status=timeout
-        failed+=("$name")
+        failed+=("$name$round_note")
         warn "$name: $status (exit $rc): $(grep -v '^[[:space:]]*$' "$log" | tail -n 1 || true)"
     fi
-    printf '%s\t%s\t%s\t%s\t%s\n' "$name" "$kind" "$status" "$rc" "$(($(date +%s) - started))" >>"$res/jobs.tsv"
+    printf '%s\t%s\t%s\t%s\t%s\n' "$name" "$kind" "$status" "$rc" "$(($(date +%s) - started))" >>"$round_res/jobs.tsv"
 }
 
 # --- shadelab -------------------------------------------------------------------------------
@@ -279,18 +296,33 @@ cp "$bin" "$tmp/shadelab"
 bin=$tmp/shadelab
 rm -rf "$res"
 mkdir -p "$res"
-printf 'name\tkind\tstatus\trc\tseconds\n' >"$res/jobs.tsv"
-note "$njobs jobs at ${size}x$size, $runs timed runs each; results in $res"
-mode=run
+note "$njobs jobs at ${size}x$size, $runs timed runs each, $rounds round(s); results in $res"
+mode=queue
 define_jobs
+# One round: every job once, into results/ (or results/round-R with --rounds). Each row's two
+# sides are next to each other in the order; even rounds run it backwards, so that neither
+# side of a row always runs first.
+round_dirs=()
+for ((round = 1; round <= rounds; round++)); do
+    round_res=$res round_note=''
+    if [ "$rounds" -gt 1 ]; then round_res=$res/round-$round round_note=" (round $round of $rounds)"; fi
+    mkdir -p "$round_res"
+    round_dirs+=("$round_res")
+    printf 'name\tkind\tstatus\trc\tseconds\n' >"$round_res/jobs.tsv"
+    for ((k = 0; k < ${#queue[@]}; k++)); do
+        entry=${queue[k]}
+        if ((round % 2 == 0)); then entry=${queue[${#queue[@]} - 1 - k]}; fi
+        eval "run_job $entry"
+    done
+done
 
 # --- report ---------------------------------------------------------------------------------
 report_args=(--size "$size" --runs "$runs" --segs "$(IFS=,; echo "${segs[*]}")" --shadelab "$bin_path ($bin_built)"
     --json-out "$json_out" --md-out "$work/report.md")
 [ "$smoke" = 1 ] && report_args+=(--smoke)
 [ "$bench_cpu" = 1 ] && report_args+=(--bench-cpu)
-python3 "$src/report.py" "$res" "${report_args[@]}" || die "the report could not be built from $res"
+python3 "$src/report.py" "${round_dirs[@]}" "${report_args[@]}" || die "the report could not be built from $res"
 note "report: $work/report.md, $json_out"
 if [ ${#failed[@]} -gt 0 ]; then
-    die "${#failed[@]} job(s) failed or unavailable: ${failed[*]} (logs in $res)"
+    die "${#failed[@]} job run(s) failed or unavailable: ${failed[*]} (logs in $res)"
 fi

@@ -27,5 +27,8 @@ cargo test --release
 LP_NATIVE_VECTOR_WIDTH=128 ./target/release/shadelab check assets/*.toml --shading raytrace \
     --out target/check-4-lanes --junit target/check-4-lanes/assets.xml
 # The peer benchmark's shadelab side at 64x64 with no peers, so that the
-# script and its report cannot rot (the full run is ci/bench-peers.sh).
-bash ci/bench-peers.sh --smoke >/dev/null
+# script and its report cannot rot (the full run is ci/bench-peers.sh), in
+# two rounds so that the merging of rounds is run too; and the checks of
+# that merging.
+bash ci/bench-peers.sh --smoke --rounds 2 >/dev/null
+PYTHONDONTWRITEBYTECODE=1 python3 -m unittest discover -s ci/peers -p 'test_*.py'

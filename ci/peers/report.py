@@ -1,13 +1,15 @@
 #!/usr/bin/env python3
 """Builds the peer benchmark's report from a results folder (standard library only).
 
-    report.py RESULTS --size N --runs N --segs 100,316 [--smoke] [--bench-cpu]
+    report.py RESULTS... --size N --runs N --segs 100,316 [--smoke] [--bench-cpu]
               [--json-out FILE] [--md-out FILE]
 
 RESULTS holds jobs.tsv (name, kind, status, rc, seconds per job, as ci/bench-peers.sh ran them)
 and NAME.json, the last line of which is the job's JSON: `shadelab bench --json` for the
-shadelab side, one line per peer program otherwise. Prints a Markdown table on stdout, writes
-it to --md-out and the same as JSON to --json-out. Every ratio reads ">1: shadelab ahead":
+shadelab side, one line per peer program otherwise. Several RESULTS folders are rounds of the
+same jobs (ci/bench-peers.sh --rounds): each row's ratio is then the median of the rounds'
+ratios, each measured with the two sides run back to back, and the table gives their range.
+Prints a Markdown table on stdout, writes it to --md-out and the same as JSON to --json-out. Every ratio reads ">1: shadelab ahead":
 peer time / shadelab time, or shadelab rate / peer rate; in the CPU-twin rows the "peer" is
 shadelab's own CPU path, so >1 there means the GPU path is ahead. Exit status: 0 when the
 report was built (failed jobs show as such in it), 1 when it could not be.
@@ -17,6 +19,7 @@ import datetime
 import json
 import os
 import re
+import statistics
 import sys
 
 # What the figures mean, printed under the table and kept in the JSON.
@@ -344,6 +347,46 @@ class Report:
             self.raster(seg)
 
 
+def row_key(row, seen):
+    """A row's identity across rounds: its section, work and jobs, and which of the rows with
+    those it is (some pairs of jobs give more than one row)."""
+    base = (row["section"], row["work"], row["peer_job"], row["shadelab_job"])
+    seen[base] = seen.get(base, 0) + 1
+    return base + (seen[base],)
+
+
+def merge_rounds(round_rows):
+    """One row per row of the first round that has it: the ratio is the median over the rounds
+    that gave one (each round measured both sides back to back, so drift on the machine
+    between rounds cancels in each round's ratio), with the rounds' range; the figures are
+    those of the round whose ratio is nearest that median."""
+    keyed, order = {}, []
+    for rows in round_rows:
+        seen = {}
+        for row in rows:
+            key = row_key(row, seen)
+            if key not in keyed:
+                keyed[key] = []
+                order.append(key)
+            keyed[key].append(row)
+    merged = []
+    for key in order:
+        rows = keyed[key]
+        ratios = [r["ratio"] for r in rows if r["ratio"] is not None]
+        if not ratios:
+            merged.append(dict(rows[0], ratio_rounds=[]))
+            continue
+        median = statistics.median(ratios)
+        nearest = min((r for r in rows if r["ratio"] is not None), key=lambda r: abs(r["ratio"] - median))
+        merged.append(dict(nearest, ratio=round(median, 3), ratio_rounds=[r["ratio"] for r in rows],
+                           ratio_min=min(ratios), ratio_max=max(ratios)))
+    return merged
+
+
+def fmt_ratio(v):
+    return f"{v:.2f}" if v >= 0.1 else f"{v:.2g}"
+
+
 def machine():
     cpu, cores = "unknown CPU", os.cpu_count() or 0
     try:
@@ -400,7 +443,7 @@ def cell(s):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("results")
+    ap.add_argument("results", nargs="+", help="one results folder per round")
     ap.add_argument("--size", type=int, required=True)
     ap.add_argument("--runs", type=int, required=True)
     ap.add_argument("--segs", required=True, help="comma-separated sphere SEG values")
@@ -414,14 +457,22 @@ def main():
         args.segs = [int(s) for s in args.segs.split(",") if s]
     except ValueError:
         ap.error(f"--segs {args.segs!r}: expected integers")
-    res = Results(args.results)
-    rep = Report(res, args)
-    rep.build()
+    rounds = [Results(folder) for folder in args.results]
+    reports = []
+    for res in rounds:
+        rep = Report(res, args)
+        rep.build()
+        reports.append(rep)
+    res = rounds[0]
+    rows = reports[0].rows if len(rounds) == 1 else merge_rounds([rep.rows for rep in reports])
     device, driver = vulkan(res)
     mach = machine()
     when = datetime.datetime.now().astimezone().isoformat(timespec="seconds")
     header = (f"shadelab peer benchmark{' (smoke: shadelab side only)' if args.smoke else ''}, "
-              f"{args.size}x{args.size}, median of {args.runs} timed run(s) after warm-up, {when}. "
+              f"{args.size}x{args.size}, median of {args.runs} timed run(s) after warm-up"
+              + (f"; {len(rounds)} rounds, each ratio the median of the rounds' (their range in "
+                 f"brackets), the figures from the round nearest it" if len(rounds) > 1 else "")
+              + f", {when}. "
               f"Machine: {mach['cpu']}, {mach['cores']} cores. Vulkan: {device}, {driver}."
               + (f" shadelab: {args.shadelab}." if args.shadelab else ""))
     peers = peer_versions(res)
@@ -430,15 +481,19 @@ def main():
         lines += ["Peers: " + "; ".join(peers) + ".", ""]
     lines += ["| work | peer | peer figure | shadelab figure | ratio (>1: shadelab ahead) |",
               "| --- | --- | --- | --- | --- |"]
-    for r in rep.rows:
-        ratio = "-" if r["ratio"] is None else f"{r['ratio']:.2f}" if r["ratio"] >= 0.1 else f"{r['ratio']:.2g}"
+    for r in rows:
+        ratio = "-" if r["ratio"] is None else fmt_ratio(r["ratio"])
+        if r.get("ratio_min") is not None and len(r["ratio_rounds"]) > 1:
+            ratio += f" ({fmt_ratio(r['ratio_min'])} to {fmt_ratio(r['ratio_max'])})"
         lines.append("| " + " | ".join(cell(x) for x in (r["work"], r["peer"], r["peer_figure"],
                                                          r["shadelab_figure"], ratio)) + " |")
-    bad = [j for j in res.jobs.values() if j["status"] != "ok"]
+    jobs = [dict(j, round=i + 1) if len(rounds) > 1 else j for i, r in enumerate(rounds) for j in r.jobs.values()]
+    bad = [j for j in jobs if j["status"] != "ok"]
     lines.append("")
     lines += [f"- {n}" for n in NOTES]
     if bad:
-        lines += ["", "Jobs without a figure: " + ", ".join(f"{j['name']} ({j['status']})" for j in bad) + "."]
+        lines += ["", "Jobs without a figure: " + ", ".join(
+            f"{j['name']} ({j['status']}{', round ' + str(j['round']) if 'round' in j else ''})" for j in bad) + "."]
     md = "\n".join(lines) + "\n"
     sys.stdout.write(md)
     if args.md_out:
@@ -447,21 +502,24 @@ def main():
     if args.json_out:
         doc = {"header": header, "generated": when, "machine": mach, "vulkan_device": device,
                "shadelab": args.shadelab,
-               "vulkan_driver": driver, "size": args.size, "runs": args.runs, "smoke": args.smoke,
+               "vulkan_driver": driver, "size": args.size, "runs": args.runs, "rounds": len(rounds),
+               "smoke": args.smoke,
                "bench_has_cpu_flag": args.bench_cpu, "peers": peers,
                "ratio_meaning": ">1: shadelab ahead (peer time / shadelab time, or shadelab rate / peer rate); "
                                 "CPU-twin rows: >1: the GPU path is ahead of the CPU twin",
-               "notes": NOTES, "rows": rep.rows, "jobs": list(res.jobs.values()), "raw": res.data}
+               "notes": NOTES, "rows": rows, "jobs": jobs,
+               "raw": res.data if len(rounds) == 1 else [r.data for r in rounds]}
         os.makedirs(os.path.dirname(os.path.abspath(args.json_out)), exist_ok=True)
         with open(args.json_out, "w") as f:
             json.dump(doc, f, indent=1)
             f.write("\n")
-    if not rep.rows:
+    if not rows:
         print("report.py: no rows: no job gave a result", file=sys.stderr)
         return 1
     # A shadelab command that succeeded but whose output lacks a figure: its JSON changed shape.
-    drift = sorted({job for r in rep.rows for job, value in ((r["shadelab_job"], r.get("shadelab_value")),
-                                                             (r["peer_job"], r.get("peer_value")))
+    drift = sorted({job for res, rep in zip(rounds, reports) for r in rep.rows
+                    for job, value in ((r["shadelab_job"], r.get("shadelab_value")),
+                                       (r["peer_job"], r.get("peer_value")))
                     if value is None and res.jobs.get(job, {}).get("kind") == "shadelab"
                     and res.jobs[job]["status"] == "ok"})
     if drift:

@@ -1,0 +1,41 @@
+"""Checks of report.py's merging of rounds (ci/bench-peers.sh --rounds), run by ci/test.sh:
+python3 -m unittest discover -s ci/peers -p 'test_*.py'. Standard library only."""
+import unittest
+
+from report import merge_rounds
+
+
+def row(ratio, work="w", peer_job="p", shadelab_job="s", figure=None):
+    return dict(section="sec", work=work, peer="peer", peer_figure=figure or f"fig {ratio}",
+                shadelab_figure="x", ratio=ratio, peer_job=peer_job, shadelab_job=shadelab_job)
+
+
+class MergeRounds(unittest.TestCase):
+    def test_the_ratio_is_the_rounds_median_with_the_figures_of_the_round_nearest_it(self):
+        merged = merge_rounds([[row(0.30)], [row(0.20)], [row(0.26)]])
+        self.assertEqual(len(merged), 1)
+        self.assertEqual(merged[0]["ratio"], 0.26)
+        self.assertEqual(merged[0]["peer_figure"], "fig 0.26")
+        self.assertEqual((merged[0]["ratio_min"], merged[0]["ratio_max"]), (0.20, 0.30))
+        self.assertEqual(merged[0]["ratio_rounds"], [0.30, 0.20, 0.26])
+
+    def test_rows_are_matched_by_their_jobs_and_place_not_by_their_order_in_a_round(self):
+        first = [row(1.0, work="a"), row(2.0, work="b"), row(3.0, work="b")]
+        second = [row(2.2, work="b"), row(1.2, work="a"), row(3.2, work="b")]
+        merged = merge_rounds([first, second])
+        self.assertEqual([m["work"] for m in merged], ["a", "b", "b"])
+        self.assertEqual([m["ratio"] for m in merged], [1.1, 2.1, 3.1])
+
+    def test_a_round_without_a_figure_does_not_count(self):
+        merged = merge_rounds([[row(None)], [row(0.5)], [row(None)]])
+        self.assertEqual(merged[0]["ratio"], 0.5)
+        self.assertEqual(merged[0]["ratio_rounds"], [None, 0.5, None])
+        self.assertIsNone(merge_rounds([[row(None)], [row(None)]])[0]["ratio"])
+
+    def test_a_row_only_a_later_round_has_is_kept(self):
+        merged = merge_rounds([[row(1.0, work="a")], [row(1.0, work="a"), row(4.0, work="c")]])
+        self.assertEqual([(m["work"], m["ratio"]) for m in merged], [("a", 1.0), ("c", 4.0)])
+
+
+if __name__ == "__main__":
+    unittest.main()
