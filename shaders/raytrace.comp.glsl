@@ -452,19 +452,41 @@ float triangle_t(vec3 o, RayFrame frame, Shared tri, out vec2 uv) {
     return t;
 }
 
+// The smaller and the larger of two numbers that are not NaN, as one
+// comparison each: lavapipe's min() and max() also sort out a NaN operand,
+// three instructions where this takes one.
+float smaller(float a, float b) {
+    return a < b ? a : b;
+}
+
+float larger(float a, float b) {
+    return a > b ? a : b;
+}
+
 // Entry distance of the ray into a box (the slab test against [0, t_max]),
-// or NO_HIT if it misses; a negative t_max misses every box. A zero
-// direction component gives an infinite inverse; the slab test then sorts
-// that axis out (lo - o and hi - o have the same sign, or the ray lies
-// inside the slab).
+// or NO_HIT if it misses; a negative t_max misses every box. `inv_d` is
+// finite (walk_bvh's `slab_inverse`), so no product here is NaN: for a
+// zero direction component the slab test sorts that axis out (lo - o and
+// hi - o of the same sign: no t at all; a ray inside the slab, or on one of
+// its faces as the CPU twin counts it: all t).
 float box_entry(vec3 o, vec3 inv_d, vec3 lo, vec3 hi, float t_max) {
     vec3 t1 = (lo - o) * inv_d;
     vec3 t2 = (hi - o) * inv_d;
-    vec3 t_in = min(t1, t2);
-    vec3 t_out = max(t1, t2);
-    float enter = max(max(t_in.x, t_in.y), max(t_in.z, 0.0));
-    float leave = min(min(t_out.x, t_out.y), min(t_out.z, t_max));
+    bvec3 t1_first = lessThan(t1, t2);
+    vec3 t_in = mix(t2, t1, t1_first);
+    vec3 t_out = mix(t1, t2, t1_first);
+    float enter = larger(larger(t_in.x, t_in.y), larger(t_in.z, 0.0));
+    float leave = smaller(smaller(t_out.x, t_out.y), smaller(t_out.z, t_max));
     return enter <= leave ? enter : NO_HIT;
+}
+
+// 1 / d for the slab test, with a zero component's infinity made the
+// largest float: (lo - o) * inv_d is then never 0 * infinity (NaN) for a
+// ray lying on a slab's face, and a product too large for a float is still
+// an infinity of the right sign.
+vec3 slab_inverse(vec3 d) {
+    const float LARGEST = 3.4028235e38;
+    return clamp(vec3(1.0) / d, vec3(-LARGEST), vec3(LARGEST));
 }
 
 // A hit on an analytic object in a BVH leaf: like `consider_object`, but
@@ -497,7 +519,7 @@ void consider_in_leaf(float t, uint shape, vec3 normal, float radius, uint mater
 // best.shape set and best.t made negative.
 void walk_bvh(vec3 o, vec3 d, inout Hit best, bool any_hit) {
     uint link = frame.grid.w;  // the root: node 0, or a leaf
-    vec3 inv_d = vec3(1.0) / d;
+    vec3 inv_d = slab_inverse(d);
     RayFrame shear = ray_frame(d);
     // Cannot overflow: the host refuses a tree deeper than the stack
     // (rt_layout::BVH_STACK_SIZE), since a dropped node would be a miss.
