@@ -395,21 +395,38 @@ float box_t(vec3 o, vec3 d, BoxGeometry box, out vec2 face) {
     return t;
 }
 
+// Whether the line of the ray (o, unit d) passes within the sphere of
+// centre c and squared radius r2: a test with no division that lets a
+// packet skip the work on something none of its lines comes near. The
+// margin covers the test's f32 rounding, whose error in `l` grows with the
+// distance |f| from the centre, so that no line that meets the sphere is
+// turned away.
+bool line_near(vec3 o, vec3 d, vec3 c, float r2) {
+    vec3 f = o - c;
+    vec3 l = f - dot(f, d) * d;
+    return dot(l, l) <= r2 * 1.0002 + 1.0e-6 * dot(f, f);
+}
+
 // `box_t` behind a test of the ray's line against the box's circumscribed
 // sphere, which most rays miss: the test's branch skips the slab test (its
-// rotation and six divisions) where no lane's line comes near the box. The
-// margin covers the test's f32 rounding, whose error in `l` grows with the
-// distance |f| from the box, so that every line that meets the box passes.
+// rotation and six divisions) where no lane's line comes near the box.
 float box_t_culled(vec3 o, vec3 d, BoxGeometry box, out vec2 face) {
-    vec3 f = o - box.center;
-    vec3 l = f - dot(f, d) * d;
-    float r2 = dot(box.half_extents, box.half_extents);
     face = vec2(0.0);
     float t = 0.0;
-    if (dot(l, l) <= r2 * 1.0002 + 1.0e-6 * dot(f, f)) {
+    if (line_near(o, d, box.center, dot(box.half_extents, box.half_extents))) {
         t = box_t(o, d, box, face);
     }
     return t;
+}
+
+// Whether some lane's ray may meet something in the BVH: its line passes
+// near the sphere around the whole tree (`frame.bvh_sphere`). Call in
+// uniform control flow; a lane whose limit is negative asks nothing. A
+// packet that may not skips the walk, and the divisions of its set-up: in
+// a scene with a small mesh, most packets.
+bool packet_near_bvh(vec3 o, vec3 d, float t_max) {
+    vec4 sphere = frame.bvh_sphere;
+    return packet_any(t_max >= 0.0 && sphere.w >= 0.0 && line_near(o, d, sphere.xyz, sphere.w * sphere.w));
 }
 
 // The outward normal of the face `box_t` hit: a column of the rotation.
@@ -647,7 +664,7 @@ Hit nearest(vec3 o, vec3 d, bool traces) {
         float t = box_t_culled(o, d, g, face);
         consider_object(t, KIND_BOX | uint(i), box_normal(g, face), 0.0, g.material, g.object, best);
     }
-    if (HAS_BVH) {
+    if (HAS_BVH && packet_near_bvh(o, d, best.t)) {
         walk_bvh(o, d, best, false);
     }
     if ((best.shape & KIND_MASK) == KIND_SPHERE) {
@@ -676,7 +693,7 @@ bool occluded(vec3 o, vec3 d, float t_max) {
         float t = box_t_culled(o, d, box_geometry(i), face);
         blocked = blocked || (t > 0.0 && t < t_max);
     }
-    if (HAS_BVH) {
+    if (HAS_BVH && packet_near_bvh(o, d, blocked ? -1.0 : t_max)) {
         Hit best = Hit(blocked ? -1.0 : t_max, NO_SHAPE, vec2(0.0), vec3(0.0), 0.0, 0u, 0u);
         walk_bvh(o, d, best, true);
         blocked = blocked || best.shape != NO_SHAPE;

@@ -50,6 +50,9 @@ layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     // x, y, z: the BVH leaf index of its first sphere, plane and box (its
     // triangles start at 0; a leaf's kind is the range its first index is in)
     uvec4 leaf_bases;
+    // xyz: centre, w: radius of a sphere around the whole BVH (negative for
+    // an empty tree)
+    vec4 bvh_sphere;
 } frame;
 
 // Object records, read as word pairs (like nodes and triangles below):

@@ -228,6 +228,7 @@ pub fn render_with(
             r.bvh.bases.boxes,
             0,
         ],
+        bvh_sphere: r.bvh.bounding_sphere(),
     };
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let upload = |name: &str, bytes: &[u8]| Buffer::with_data(context, name, bytes, storage);

@@ -62,6 +62,9 @@ pub struct GpuBvh {
     /// The link the walk starts from: an inner node, or a leaf when the
     /// whole tree is one. None for an empty tree.
     pub root: Option<u32>,
+    /// The whole tree's box (widened, as its nodes' are), min and max;
+    /// None for an empty tree.
+    pub bounds: Option<Bounds>,
     pub bases: LeafBases,
     /// Each BVH kind's records in leaf order: record i is object
     /// `order[i]` of its list (empty for a kind the BVH does not hold).
@@ -71,6 +74,34 @@ pub struct GpuBvh {
 }
 
 impl GpuBvh {
+    /// A sphere around the whole tree, as centre and radius, the radius
+    /// rounded up so that the f32 sphere holds every corner of the tree's
+    /// box; radius -1 for an empty tree. The shader skips the walk for a
+    /// packet none of whose lines meets it.
+    pub fn bounding_sphere(&self) -> [f32; 4] {
+        let Some((lo, hi)) = self.bounds else {
+            return [0.0, 0.0, 0.0, -1.0];
+        };
+        let (lo, hi) = (
+            DVec3::from(lo.map(f64::from)),
+            DVec3::from(hi.map(f64::from)),
+        );
+        let center = ((lo + hi) * 0.5).as_vec3();
+        let reach = (0..8)
+            .map(|k| {
+                let corner = DVec3::new(
+                    if k & 1 == 0 { lo.x } else { hi.x },
+                    if k & 2 == 0 { lo.y } else { hi.y },
+                    if k & 4 == 0 { lo.z } else { hi.z },
+                );
+                corner.distance(center.as_dvec3())
+            })
+            .fold(0.0, f64::max);
+        // Up by more than the f32 rounding of the radius itself.
+        let radius = (reach * (1.0 + 1e-6)) as f32;
+        [center.x, center.y, center.z, radius]
+    }
+
     /// Nodes on the longest path from the root to a leaf, the leaf
     /// counted (0 for an empty tree). The walk stacks at most one link per
     /// inner node on its path, so it needs fewer entries than this.
@@ -144,10 +175,11 @@ pub fn gpu_bvh(rt: &RtScene, kinds: BvhKinds) -> Result<GpuBvh, GpuError> {
             parts.push(subtree(tree, base)?);
         }
     }
-    let (nodes, root) = join(parts);
+    let (nodes, root, bounds) = join(parts);
     let bvh = GpuBvh {
         nodes,
         root,
+        bounds,
         bases,
         sphere_order: order(&sphere_tree),
         plane_order: order(&plane_tree),
@@ -240,8 +272,8 @@ fn subtree(tree: &Bvh2, base: u32) -> Result<Subtree, GpuError> {
 }
 
 /// The subtrees' nodes in one array, under new nodes that pair their roots
-/// up; returns the nodes and the root's link.
-fn join(parts: Vec<Subtree>) -> (Vec<GpuBvhNode>, Option<u32>) {
+/// up; returns the nodes, the root's link and the whole tree's box.
+fn join(parts: Vec<Subtree>) -> (Vec<GpuBvhNode>, Option<u32>, Option<Bounds>) {
     let mut nodes = Vec::new();
     let mut roots = Vec::new();
     for part in parts {
@@ -277,8 +309,12 @@ fn join(parts: Vec<Subtree>) -> (Vec<GpuBvhNode>, Option<u32>) {
         let hi = std::array::from_fn(|k| left_hi[k].max(right_hi[k]));
         roots.push((nodes.len() as u32 - 1, lo, hi));
     }
-    (nodes, roots.first().map(|r| r.0))
+    let root = roots.first();
+    (nodes, root.map(|r| r.0), root.map(|&(_, lo, hi)| (lo, hi)))
 }
+
+/// A box's min and max corners.
+pub type Bounds = ([f32; 3], [f32; 3]);
 
 fn v3(v: DVec3) -> [f32; 3] {
     v.as_vec3().to_array()
@@ -428,5 +464,49 @@ mod tests {
         assert_eq!(kinds, BvhKinds::default());
         let bvh = gpu_bvh(&rt, kinds).unwrap();
         assert!(bvh.root.is_none() && bvh.nodes.is_empty() && bvh.depth() == 0);
+        assert_eq!(bvh.bounding_sphere()[3], -1.0, "no tree, no sphere");
+    }
+
+    /// The sphere the shader tests a packet's lines against before the walk
+    /// holds, in f32, every primitive's box (a primitive outside it would be
+    /// missed by every ray), and is not much larger than the tree's box.
+    #[test]
+    fn the_bounding_sphere_holds_every_primitive() {
+        let rt = crowded();
+        let bvh = gpu_bvh(&rt, BvhKinds::of(&rt)).unwrap();
+        let [x, y, z, radius] = bvh.bounding_sphere();
+        let center = glam::Vec3::new(x, y, z);
+        let mut boxes: Vec<(DVec3, DVec3)> = rt
+            .triangles
+            .iter()
+            .map(|t| {
+                let p = t.positions.map(|p| p.as_vec3().as_dvec3());
+                (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]))
+            })
+            .collect();
+        boxes.extend(rt.spheres.iter().map(|s| s.bounds()));
+        boxes.extend(rt.planes.iter().map(|p| p.bounds()));
+        boxes.extend(rt.boxes.iter().map(|b| b.bounds()));
+        let mut farthest = 0.0f32;
+        for (lo, hi) in boxes {
+            for k in 0..8 {
+                let corner = glam::Vec3::new(
+                    if k & 1 == 0 { lo.x } else { hi.x } as f32,
+                    if k & 2 == 0 { lo.y } else { hi.y } as f32,
+                    if k & 4 == 0 { lo.z } else { hi.z } as f32,
+                );
+                farthest = farthest.max(corner.distance(center));
+            }
+        }
+        assert!(
+            farthest <= radius,
+            "a corner at {farthest}, radius {radius}"
+        );
+        let (lo, hi) = bvh.bounds.unwrap();
+        let half_diagonal = glam::Vec3::from(hi).distance(glam::Vec3::from(lo)) / 2.0;
+        assert!(
+            radius <= half_diagonal * 1.001,
+            "radius {radius}, half diagonal {half_diagonal}"
+        );
     }
 }

@@ -115,6 +115,9 @@ pub struct TraceUniforms {
     /// Where the BVH's spheres, planes and boxes start in its leaf index
     /// space (`rt_bvh::LeafBases`); unused.
     pub leaf_bases: [u32; 4],
+    /// A sphere around the whole BVH (`GpuBvh::bounding_sphere`): centre,
+    /// radius (negative for an empty tree).
+    pub bvh_sphere: [f32; 4],
 }
 
 #[repr(C)]
