@@ -9,10 +9,11 @@ and NAME.json, the last line of which is the job's JSON: `shadelab bench --json`
 shadelab side, one line per peer program otherwise. Several RESULTS folders are rounds of the
 same jobs (ci/bench-peers.sh --rounds): each row's ratio is then the median of the rounds'
 ratios, each measured with the two sides run back to back, and the table gives their range.
-Prints a Markdown table on stdout, writes it to --md-out and the same as JSON to --json-out. Every ratio reads ">1: shadelab ahead":
-peer time / shadelab time, or shadelab rate / peer rate; in the CPU-twin rows the "peer" is
-shadelab's own CPU path, so >1 there means the GPU path is ahead. Exit status: 0 when the
-report was built (failed jobs show as such in it), 1 when it could not be.
+Prints a Markdown table on stdout, writes it to --md-out and the same as JSON to --json-out.
+Every ratio reads ">1: shadelab ahead": peer time / shadelab time, or shadelab rate / peer
+rate; in the CPU-twin rows the "peer" is shadelab's own CPU path, so >1 there means the GPU
+path is ahead. Exit status: 0 when the report was built (failed jobs show as such in it), 1
+when it could not be.
 """
 import argparse
 import datetime
@@ -356,10 +357,10 @@ def row_key(row, seen):
 
 
 def merge_rounds(round_rows):
-    """One row per row of the first round that has it: the ratio is the median over the rounds
-    that gave one (each round measured both sides back to back, so drift on the machine
-    between rounds cancels in each round's ratio), with the rounds' range; the figures are
-    those of the round whose ratio is nearest that median."""
+    """One row for each row some round gave, in the order first given. The ratio is the
+    median over the rounds that gave one (each round measured both sides back to back, so
+    drift on the machine between rounds cancels in each round's ratio), with the rounds'
+    range; the figures are those of the round whose ratio is nearest that median."""
     keyed, order = {}, []
     for rows in round_rows:
         seen = {}
