@@ -539,8 +539,9 @@ void consider_in_leaf(float t, uint shape, vec3 normal, float radius, uint mater
 }
 
 // The BVH's primitives (triangles, and the objects of long lists), the
-// subgroup's rays as one packet (call in uniform control flow). Each lane's ray takes part up to best.t
-// (negative: not at all). A node is visited when any lane's ray enters its
+// subgroup's rays as one packet (call in uniform control flow, and only
+// where `packet_near_bvh` holds: some lane's ray may reach the tree). Each
+// lane's ray takes part up to best.t (negative: not at all). A node is visited when any lane's ray enters its
 // box within that lane's limit; of two children both entered, the one lane 0
 // enters first goes first and the other waits on the stack with every
 // lane's entry distance, to be skipped when popped if no lane can still
@@ -560,7 +561,9 @@ void walk_bvh(vec3 o, vec3 d, inout Hit best, bool any_hit) {
     uint stack_link[BVH_STACK_SIZE];
     float stack_t[BVH_STACK_SIZE];
     int top = 0;
-    bool done = !packet_any(best.t >= 0.0);
+    // The caller's packet_near_bvh has already asked whether any lane has
+    // a ray to trace.
+    bool done = false;
     while (!done) {
         if ((link & LEAF_BIT) == 0u) {
             Shared node = read_node(link);
