@@ -813,7 +813,10 @@ vec3 trace_sample(vec3 dir, bool live) {
     vec3 total = vec3(0.0);
     int max_depth = int(frame.image.w);
     float cutoff = frame.forward_cutoff.w;
-    while (packet_any(live)) {
+    // The first search without a vote: a packet with no pixel on the
+    // image is rare (the image's edges), and its lanes find nothing.
+    bool packet_goes_on = true;
+    while (packet_goes_on) {
         if (live) {
             deepest = max(deepest, ray.depth);
         }
@@ -827,7 +830,8 @@ vec3 trace_sample(vec3 dir, bool live) {
         vec3 local = vec3(0.0);
         // Shading walks shadow rays as packets: the whole subgroup comes
         // here, or none of it (where every ray left the scene).
-        if (packet_any(hits)) {
+        bool packet_hits = packet_any(hits);
+        if (packet_hits) {
             if (hits) {
                 s = resolve(ray.origin, ray.dir, hit);
             }
@@ -906,6 +910,13 @@ vec3 trace_sample(vec3 dir, bool live) {
         if (HAS_TRANSMISSION && !live && top > 0) {
             ray = waiting[--top];
             live = true;
+        }
+        // Without refraction no ray waits, so where nothing was hit the
+        // packet is done, and a miss costs one vote, not two.
+        if (HAS_TRANSMISSION) {
+            packet_goes_on = packet_any(live);
+        } else {
+            packet_goes_on = packet_hits && packet_any(live);
         }
     }
     return total;
