@@ -942,7 +942,7 @@ void main() {
     for (int k = 0; k < 5; ++k) {
         local_counts[k] = 0u;
     }
-    uint samples = frame.image.z;
+    uint samples = max(frame.image.z, 1u);
     float kx = float(frame.grid.x);
     // The camera's divisions, once per invocation: per pixel they were a
     // chain of dependent divisions at the start of every ray, about a tenth
@@ -974,7 +974,13 @@ void main() {
             // part in their subgroup's packets, with nothing to trace.
             bool on_image = pixel.x < width && pixel.y < height;
             vec3 sum = vec3(0.0);
-            for (uint i = 0u; i < samples; ++i) {
+            // At least one sample (the host allows 1 to 1024), so the test
+            // ends the loop rather than opening it: written the other way,
+            // with the count tested first, the small scenes took 1.1x to
+            // 1.3x the time on lavapipe (four spheres 1.2x; 24 to 50 runs
+            // of each shader alternated in one process), the images the
+            // same.
+            for (uint i = 0u;;) {
                 // Sample i's cell: row i / kx and column i % kx, in floats
                 // (exact for any sample count the host allows: (i + 0.5) / kx
                 // is at least 0.5 / kx from an integer, far more than a
@@ -985,6 +991,9 @@ void main() {
                 vec2 ndc = (vec2(pixel) + cell) * ndc_per_pixel - 1.0;
                 vec3 dir = frame.forward_cutoff.xyz + right_per_ndc * ndc.x - up_per_ndc * ndc.y;
                 sum += trace_sample(dir * inversesqrt(dot(dir, dir)), on_image);
+                if (++i >= samples) {
+                    break;
+                }
             }
             if (on_image) {
                 pixels[pixel.y * width + pixel.x] = vec4(sum / float(samples), 1.0);
