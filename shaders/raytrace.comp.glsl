@@ -942,6 +942,8 @@ void main() {
     for (int k = 0; k < 5; ++k) {
         local_counts[k] = 0u;
     }
+    // The host holds the count to 1..1024; at least 1 here all the same,
+    // as the sample loop below runs once before it tests the count.
     uint samples = max(frame.image.z, 1u);
     float kx = float(frame.grid.x);
     // The camera's divisions, once per invocation: per pixel they were a
@@ -974,8 +976,8 @@ void main() {
             // part in their subgroup's packets, with nothing to trace.
             bool on_image = pixel.x < width && pixel.y < height;
             vec3 sum = vec3(0.0);
-            // At least one sample (the host allows 1 to 1024), so the test
-            // ends the loop rather than opening it: written the other way,
+            // At least one sample (`samples` above), so the test ends the
+            // loop rather than opening it: written the other way,
             // with the count tested first, the small scenes took 1.1x to
             // 1.3x the time on lavapipe (four spheres 1.2x; 24 to 50 runs
             // of each shader alternated in one process), the images the
