@@ -297,20 +297,10 @@ fn gpu_and_cpu_trace_the_same_tree_at_every_depth() {
     }
 }
 
-/// Long object lists (more spheres, planes and boxes than lavapipe unrolls a
-/// loop over) go into the BVH beside the mesh's triangles, in leaves of
-/// their own kind, their records read a subgroup at a time with every word
-/// shuffled from the lane that read it. A leaf taken for the wrong kind, a
-/// record in the wrong order or a word from the wrong offset or lane moves
-/// or loses objects; `check` against the CPU twin, which tests objects one
-/// by one and shares none of that code, catches it (reflections at depth 2
-/// reach every object from scattered rays, shadow rays take the BVH's
-/// any-hit path).
-#[test]
-fn long_object_lists_in_the_bvh_agree_with_the_cpu() {
-    use shadelab::check::{check, CheckThresholds};
-    use shadelab::gpu::rt_bvh::BvhKinds;
-    use shadelab::rt_scene::RtScene;
+/// A scene of `spheres` spheres, `planes` planes and `boxes` boxes in rows,
+/// with a mesh above them, mirrors among the spheres and depth 2, so that
+/// reflections reach every object from scattered rays.
+fn object_rows(spheres: i32, planes: i32, boxes: i32) -> Scene {
     let mut s = scene(96, 80, 50.0);
     s.camera.position = DVec3::new(0.0, 6.0, 14.0);
     s.camera.look_at = DVec3::ZERO;
@@ -321,7 +311,7 @@ fn long_object_lists_in_the_bvh_agree_with_the_cpu() {
         m.kr = if k % 2 == 1 { 0.5 } else { 0.0 };
         s.materials.push(m);
     }
-    for i in 0..20 {
+    for i in 0..spheres {
         let (x, z) = (f64::from(i % 5) * 2.0 - 4.0, f64::from(i / 5) * 2.0 - 3.0);
         s.objects.push(Object {
             shape: Shape::Sphere {
@@ -332,7 +322,7 @@ fn long_object_lists_in_the_bvh_agree_with_the_cpu() {
             material: i as usize % 10,
         });
     }
-    for i in 0..14 {
+    for i in 0..planes {
         let x = f64::from(i) * 1.3 - 8.5;
         s.objects.push(Object {
             shape: Shape::Plane {
@@ -344,7 +334,7 @@ fn long_object_lists_in_the_bvh_agree_with_the_cpu() {
             material: 0,
         });
     }
-    for i in 0..8 {
+    for i in 0..boxes {
         let angle = 0.3 * f64::from(i);
         s.objects.push(Object {
             shape: Shape::Box {
@@ -363,10 +353,54 @@ fn long_object_lists_in_the_bvh_agree_with_the_cpu() {
         })),
         material: 1,
     });
+    s
+}
+
+/// Long object lists (more spheres, planes and boxes than lavapipe unrolls a
+/// loop over) go into the BVH beside the mesh's triangles, in leaves of
+/// their own kind, their records read a subgroup at a time with every word
+/// shuffled from the lane that read it. A leaf taken for the wrong kind, a
+/// record in the wrong order or a word from the wrong offset or lane moves
+/// or loses objects; `check` against the CPU twin, which tests objects one
+/// by one and shares none of that code, catches it (reflections at depth 2
+/// reach every object from scattered rays, shadow rays take the BVH's
+/// any-hit path).
+#[test]
+fn long_object_lists_in_the_bvh_agree_with_the_cpu() {
+    use shadelab::check::{check, CheckThresholds};
+    use shadelab::gpu::rt_bvh::BvhKinds;
+    use shadelab::rt_scene::RtScene;
+    let s = object_rows(20, 14, 8);
     let kinds = BvhKinds::of(&RtScene::new(&s));
     assert!(
         kinds.spheres && kinds.planes && kinds.boxes,
         "every list must be long enough to go into the BVH: {kinds:?}"
+    );
+    let limits = CheckThresholds::for_shading(Shading::Raytrace);
+    let o = check(&gpu(), &s, &s, Shading::Raytrace, &limits).unwrap();
+    assert!(o.passed(), "{:?}", o.judgement.failures);
+}
+
+/// The longest lists still tested one by one: every object is read once
+/// per invocation into the shader's arrays of listed objects, which must
+/// hold them all (an object past an array's end would be lost or moved).
+/// The CPU twin, which shares none of that code, is the oracle.
+#[test]
+fn the_longest_listed_objects_agree_with_the_cpu() {
+    use shadelab::check::{check, CheckThresholds};
+    use shadelab::gpu::rt_bvh::BvhKinds;
+    use shadelab::gpu::rt_layout::{UNROLLED_BOXES, UNROLLED_PLANES, UNROLLED_SPHERES};
+    use shadelab::rt_scene::RtScene;
+    let count = |n: usize| i32::try_from(n).unwrap();
+    let s = object_rows(
+        count(UNROLLED_SPHERES),
+        count(UNROLLED_PLANES),
+        count(UNROLLED_BOXES),
+    );
+    assert_eq!(
+        BvhKinds::of(&RtScene::new(&s)),
+        BvhKinds::default(),
+        "every list must be short enough to be tested one by one"
     );
     let limits = CheckThresholds::for_shading(Shading::Raytrace);
     let o = check(&gpu(), &s, &s, Shading::Raytrace, &limits).unwrap();

@@ -220,17 +220,27 @@ fn every_stage_is_present() {
     }
 }
 
-/// The host refuses a BVH deeper than the shader's traversal stack, and
-/// sizes its dispatch by the shader's workgroup and work item; the
-/// constants must agree (the shader's are plain `const`s and a layout
-/// qualifier, not reflected).
+/// The host refuses a BVH deeper than the shader's traversal stack, tests
+/// one by one no more of a kind's objects than the shader's arrays of them
+/// hold (the rest go into the BVH), and sizes its dispatch by the shader's
+/// workgroup and work item; the constants must agree (the shader's are
+/// plain `const`s and a layout qualifier, not reflected).
 #[test]
-fn the_bvh_stack_size_and_work_item_are_the_shaders() {
+fn the_bvh_stack_size_listed_objects_and_work_item_are_the_shaders() {
     let source = include_str!("../shaders/raytrace.comp.glsl");
     for declared in [
         format!("const int BVH_STACK_SIZE = {};", rt_layout::BVH_STACK_SIZE),
         format!("const uint ITEM_PACKETS = {}u;", rt_layout::ITEM_PACKETS),
         format!("layout(local_size_x = {},", rt_layout::WORKGROUP_SIZE),
+        format!(
+            "const int UNROLLED_SPHERES = {};",
+            rt_layout::UNROLLED_SPHERES
+        ),
+        format!(
+            "const int UNROLLED_PLANES = {};",
+            rt_layout::UNROLLED_PLANES
+        ),
+        format!("const int UNROLLED_BOXES = {};", rt_layout::UNROLLED_BOXES),
     ] {
         assert!(
             source.contains(&declared),

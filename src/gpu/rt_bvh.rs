@@ -14,15 +14,6 @@ use super::error::GpuError;
 use super::rt_layout::*;
 use crate::rt_scene::{widened_box, RtScene};
 
-/// Object counts up to which lavapipe unrolls the shader's loops over
-/// them (a trip count of at most 32 and a body of at most 832 instructions
-/// in all), so that each record is read at a constant index, once for the
-/// whole subgroup. A longer list goes into the BVH, where a ray tests only
-/// the objects whose boxes it enters.
-const UNROLLED_SPHERES: usize = 16;
-const UNROLLED_PLANES: usize = 12;
-const UNROLLED_BOXES: usize = 6;
-
 /// Which kinds of analytic object the BVH holds (the others are tested one
 /// by one, in the shader's loops).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]

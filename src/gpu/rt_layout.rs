@@ -51,6 +51,17 @@ pub const QUERY_BINDINGS: &[(u32, vk::DescriptorType)] =
 /// nodes deep needs fewer than `d` entries.
 pub const BVH_STACK_SIZE: usize = 64;
 
+/// Object counts up to which lavapipe unrolls the shader's loops over
+/// them (a trip count of at most 32 and a body of at most 832 instructions
+/// in all), so that each record is read at a constant index, once for the
+/// whole subgroup. A longer list goes into the BVH, where a ray tests only
+/// the objects whose boxes it enters. The shader's arrays of the listed
+/// objects have these sizes (its `UNROLLED_*`; tests/shader_interface.rs
+/// holds the two equal).
+pub const UNROLLED_SPHERES: usize = 16;
+pub const UNROLLED_PLANES: usize = 12;
+pub const UNROLLED_BOXES: usize = 6;
+
 /// Invocations in one of the ray tracer's workgroups (its `local_size_x`).
 pub const WORKGROUP_SIZE: u32 = 64;
 
