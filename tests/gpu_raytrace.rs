@@ -299,15 +299,17 @@ fn gpu_and_cpu_trace_the_same_tree_at_every_depth() {
 
 /// A scene of `spheres` spheres, `planes` planes and `boxes` boxes in rows,
 /// with a mesh above them, mirrors among the spheres and depth 2, so that
-/// reflections reach every object from scattered rays.
-fn object_rows(spheres: i32, planes: i32, boxes: i32) -> Scene {
+/// reflections reach every object from scattered rays; `materials`
+/// materials (at least 2), every one of them on some sphere.
+fn object_rows(spheres: i32, planes: i32, boxes: i32, materials: usize) -> Scene {
     let mut s = scene(96, 80, 50.0);
     s.camera.position = DVec3::new(0.0, 6.0, 14.0);
     s.camera.look_at = DVec3::ZERO;
     s.render.depth = 2;
-    for k in 1..10 {
+    for k in 1..materials {
+        let tint = 0.1 * k as f64;
         let mut m = s.materials[0].clone();
-        m.color = DVec3::new(0.1 * f64::from(k), 0.5, 1.0 - 0.1 * f64::from(k));
+        m.color = DVec3::new(tint, 0.5, 1.0 - tint);
         m.kr = if k % 2 == 1 { 0.5 } else { 0.0 };
         s.materials.push(m);
     }
@@ -319,7 +321,7 @@ fn object_rows(spheres: i32, planes: i32, boxes: i32) -> Scene {
                 radius: 0.5 + 0.02 * f64::from(i),
                 segments: 16,
             },
-            material: i as usize % 10,
+            material: i as usize % materials,
         });
     }
     for i in 0..planes {
@@ -370,7 +372,7 @@ fn long_object_lists_in_the_bvh_agree_with_the_cpu() {
     use shadelab::check::{check, CheckThresholds};
     use shadelab::gpu::rt_bvh::BvhKinds;
     use shadelab::rt_scene::RtScene;
-    let s = object_rows(20, 14, 8);
+    let s = object_rows(20, 14, 8, 10);
     let kinds = BvhKinds::of(&RtScene::new(&s));
     assert!(
         kinds.spheres && kinds.planes && kinds.boxes,
@@ -381,21 +383,30 @@ fn long_object_lists_in_the_bvh_agree_with_the_cpu() {
     assert!(o.passed(), "{:?}", o.judgement.failures);
 }
 
-/// The longest lists still tested one by one: every object is read once
-/// per invocation into the shader's arrays of listed objects, which must
-/// hold them all (an object past an array's end would be lost or moved).
+/// The longest lists still tested one by one, and as many materials as the
+/// shader picks by selects: every object and material is read once per
+/// invocation into the shader's arrays, which must hold them all (an object
+/// or a material past an array's end would be lost or moved). The long
+/// lists above have more materials than that, each lane reading its own.
 /// The CPU twin, which shares none of that code, is the oracle.
 #[test]
 fn the_longest_listed_objects_agree_with_the_cpu() {
     use shadelab::check::{check, CheckThresholds};
     use shadelab::gpu::rt_bvh::BvhKinds;
-    use shadelab::gpu::rt_layout::{UNROLLED_BOXES, UNROLLED_PLANES, UNROLLED_SPHERES};
+    use shadelab::gpu::rt_layout::{
+        UNROLLED_BOXES, UNROLLED_MATERIALS, UNROLLED_PLANES, UNROLLED_SPHERES,
+    };
     use shadelab::rt_scene::RtScene;
     let count = |n: usize| i32::try_from(n).unwrap();
     let s = object_rows(
         count(UNROLLED_SPHERES),
         count(UNROLLED_PLANES),
         count(UNROLLED_BOXES),
+        UNROLLED_MATERIALS,
+    );
+    assert!(
+        s.materials.len() == UNROLLED_MATERIALS
+            && count(UNROLLED_SPHERES) >= count(UNROLLED_MATERIALS)
     );
     assert_eq!(
         BvhKinds::of(&RtScene::new(&s)),

@@ -178,6 +178,14 @@ fn specialization_constants_match_by_id_and_name() {
         ("BVH_SPHERES", offset_of!(TraceSpecialization, bvh_spheres)),
         ("BVH_PLANES", offset_of!(TraceSpecialization, bvh_planes)),
         ("BVH_BOXES", offset_of!(TraceSpecialization, bvh_boxes)),
+        (
+            "MATERIALS_LISTED",
+            offset_of!(TraceSpecialization, materials_listed),
+        ),
+        (
+            "MATERIAL_COUNT",
+            offset_of!(TraceSpecialization, material_count),
+        ),
     ];
     assert_eq!(fields.len(), rt_layout::SPEC_CONSTANTS.len());
     for (name, offset) in fields {
@@ -241,6 +249,10 @@ fn the_bvh_stack_size_listed_objects_and_work_item_are_the_shaders() {
             rt_layout::UNROLLED_PLANES
         ),
         format!("const int UNROLLED_BOXES = {};", rt_layout::UNROLLED_BOXES),
+        format!(
+            "const int UNROLLED_MATERIALS = {};",
+            rt_layout::UNROLLED_MATERIALS
+        ),
     ] {
         assert!(
             source.contains(&declared),

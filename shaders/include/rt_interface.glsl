@@ -38,6 +38,11 @@ layout(constant_id = 10) const bool COUNT_RAYS = false;
 layout(constant_id = 11) const bool BVH_SPHERES = false;
 layout(constant_id = 12) const bool BVH_PLANES = false;
 layout(constant_id = 13) const bool BVH_BOXES = false;
+// Whether the scene's materials are few enough to be read once per
+// invocation and picked by selects (rt_layout::UNROLLED_MATERIALS), and
+// then how many there are; otherwise each lane reads its own.
+layout(constant_id = 14) const bool MATERIALS_LISTED = false;
+layout(constant_id = 15) const int MATERIAL_COUNT = 0;
 
 layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     vec4 ambient_k;       // rgb: Ia, w: k

@@ -133,13 +133,14 @@ pub struct TraceOptions {
 /// Only what the scene uses: the lighting constants of the raster pipelines
 /// (`raster_scene::specialization`), shadows if on, reflection and
 /// refraction if some material has them, the objects tested one by one and
-/// the kinds the BVH holds (`BvhKinds`); or every feature on
-/// (`TraceOptions::every_feature`).
+/// the kinds the BVH holds (`BvhKinds`), the materials held in registers
+/// if few; or every feature on (`TraceOptions::every_feature`).
 fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSpecialization {
     let lighting = raster_scene::specialization(scene);
     let on = |used: bool| u32::from(used || options.every_feature);
     let in_bvh = BvhKinds::of(rt);
     let listed = |in_bvh: bool, count: usize| if in_bvh { 0 } else { count as i32 };
+    let materials_listed = rt.materials.len() <= UNROLLED_MATERIALS;
     TraceSpecialization {
         light_count: lighting.light_count,
         use_specular: on(lighting.use_specular != 0),
@@ -155,6 +156,12 @@ fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSp
         bvh_spheres: on(in_bvh.spheres),
         bvh_planes: on(in_bvh.planes),
         bvh_boxes: on(in_bvh.boxes),
+        materials_listed: u32::from(materials_listed),
+        material_count: if materials_listed {
+            rt.materials.len() as i32
+        } else {
+            0
+        },
     }
 }
 

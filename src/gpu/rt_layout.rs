@@ -62,6 +62,13 @@ pub const UNROLLED_SPHERES: usize = 16;
 pub const UNROLLED_PLANES: usize = 12;
 pub const UNROLLED_BOXES: usize = 6;
 
+/// Material counts up to which the shader reads a scene's materials once
+/// per invocation and picks a hit's by selects (its `UNROLLED_MATERIALS`;
+/// tests/shader_interface.rs holds the two equal): a comparison and 10
+/// blends per material, where a lane's own read is 10 loads per lane with
+/// their bounds checks.
+pub const UNROLLED_MATERIALS: usize = 8;
+
 /// Invocations in one of the ray tracer's workgroups (its `local_size_x`).
 pub const WORKGROUP_SIZE: u32 = 64;
 
@@ -109,6 +116,8 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (11, "BVH_SPHERES"),
     (12, "BVH_PLANES"),
     (13, "BVH_BOXES"),
+    (14, "MATERIALS_LISTED"),
+    (15, "MATERIAL_COUNT"),
 ];
 
 #[repr(C)]
@@ -244,6 +253,8 @@ pub struct TraceSpecialization {
     pub bvh_spheres: u32,
     pub bvh_planes: u32,
     pub bvh_boxes: u32,
+    pub materials_listed: u32,
+    pub material_count: i32,
 }
 
 impl TraceSpecialization {
