@@ -786,7 +786,7 @@ MaterialRecord material_record(uint index) {
 // that differs between lanes is a scalar load per lane and word, each with
 // a bounds check (80 for a subgroup of 8); picking it from these by
 // selects is a comparison and 10 blends per material. The four spheres
-// took 0.86x the time. (Picking by selects from materials read at
+// took 0.83x to 0.86x the time. (Picking by selects from materials read at
 // constant indices where picked, before they were read once, was no
 // faster.)
 const int UNROLLED_MATERIALS = 8;
