@@ -378,6 +378,10 @@ fn long_object_lists_in_the_bvh_agree_with_the_cpu() {
         kinds.spheres && kinds.planes && kinds.boxes,
         "every list must be long enough to go into the BVH: {kinds:?}"
     );
+    assert!(
+        !shadelab::gpu::rt_layout::lists_materials(s.materials.len()),
+        "the materials must be too many to pick by selects, so that each lane reads its own"
+    );
     let limits = CheckThresholds::for_shading(Shading::Raytrace);
     let o = check(&gpu(), &s, &s, Shading::Raytrace, &limits).unwrap();
     assert!(o.passed(), "{:?}", o.judgement.failures);
@@ -394,7 +398,7 @@ fn the_longest_listed_objects_agree_with_the_cpu() {
     use shadelab::check::{check, CheckThresholds};
     use shadelab::gpu::rt_bvh::BvhKinds;
     use shadelab::gpu::rt_layout::{
-        UNROLLED_BOXES, UNROLLED_MATERIALS, UNROLLED_PLANES, UNROLLED_SPHERES,
+        lists_materials, UNROLLED_BOXES, UNROLLED_MATERIALS, UNROLLED_PLANES, UNROLLED_SPHERES,
     };
     use shadelab::rt_scene::RtScene;
     let count = |n: usize| i32::try_from(n).unwrap();
@@ -404,9 +408,11 @@ fn the_longest_listed_objects_agree_with_the_cpu() {
         count(UNROLLED_BOXES),
         UNROLLED_MATERIALS,
     );
+    // Every material is on some sphere (object_rows), so each one is seen.
+    const _: () = assert!(UNROLLED_SPHERES >= UNROLLED_MATERIALS);
     assert!(
-        s.materials.len() == UNROLLED_MATERIALS
-            && count(UNROLLED_SPHERES) >= count(UNROLLED_MATERIALS)
+        lists_materials(s.materials.len()) && s.materials.len() == UNROLLED_MATERIALS,
+        "the shader must pick these materials by selects, as many as it holds"
     );
     assert_eq!(
         BvhKinds::of(&RtScene::new(&s)),

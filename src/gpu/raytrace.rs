@@ -140,7 +140,7 @@ fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSp
     let on = |used: bool| u32::from(used || options.every_feature);
     let in_bvh = BvhKinds::of(rt);
     let listed = |in_bvh: bool, count: usize| if in_bvh { 0 } else { count as i32 };
-    let materials_listed = rt.materials.len() <= UNROLLED_MATERIALS;
+    let materials_listed = lists_materials(rt.materials.len());
     TraceSpecialization {
         light_count: lighting.light_count,
         use_specular: on(lighting.use_specular != 0),

@@ -69,6 +69,14 @@ pub const UNROLLED_BOXES: usize = 6;
 /// their bounds checks.
 pub const UNROLLED_MATERIALS: usize = 8;
 
+/// Whether the shader reads a scene of `count` materials once per
+/// invocation and picks by selects (its `MATERIALS_LISTED`): 1 to
+/// `UNROLLED_MATERIALS` of them. With none there is nothing to read, and
+/// the pick would start from an element never written.
+pub fn lists_materials(count: usize) -> bool {
+    (1..=UNROLLED_MATERIALS).contains(&count)
+}
+
 /// Invocations in one of the ray tracer's workgroups (its `local_size_x`).
 pub const WORKGROUP_SIZE: u32 = 64;
 
