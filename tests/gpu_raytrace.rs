@@ -360,7 +360,7 @@ fn object_rows(spheres: i32, planes: i32, boxes: i32, materials: usize) -> Scene
 
 /// Long object lists (more spheres, planes and boxes than lavapipe unrolls a
 /// loop over) go into the BVH beside the mesh's triangles, in leaves of
-/// their own kind, their records read a subgroup at a time with every word
+/// their own kind (walked 4-wide with the mesh, binary without it), their records read a subgroup at a time with every word
 /// shuffled from the lane that read it. A leaf taken for the wrong kind, a
 /// record in the wrong order or a word from the wrong offset or lane moves
 /// or loses objects; `check` against the CPU twin, which tests objects one
@@ -370,21 +370,35 @@ fn object_rows(spheres: i32, planes: i32, boxes: i32, materials: usize) -> Scene
 #[test]
 fn long_object_lists_in_the_bvh_agree_with_the_cpu() {
     use shadelab::check::{check, CheckThresholds};
+    use shadelab::gpu::rt_bvh::gpu_bvh;
     use shadelab::gpu::rt_bvh::BvhKinds;
     use shadelab::rt_scene::RtScene;
-    let s = object_rows(20, 14, 8, 10);
-    let kinds = BvhKinds::of(&RtScene::new(&s));
-    assert!(
-        kinds.spheres && kinds.planes && kinds.boxes,
-        "every list must be long enough to go into the BVH: {kinds:?}"
-    );
-    assert!(
-        !shadelab::gpu::rt_layout::lists_materials(s.materials.len()),
-        "the materials must be too many to pick by selects, so that each lane reads its own"
-    );
-    let limits = CheckThresholds::for_shading(Shading::Raytrace);
-    let o = check(&gpu(), &s, &s, Shading::Raytrace, &limits).unwrap();
-    assert!(o.passed(), "{:?}", o.judgement.failures);
+    // With the mesh the tree is big enough for the 4-wide walk; without
+    // it, the objects alone make a tree the binary walk takes.
+    for with_mesh in [true, false] {
+        let mut s = object_rows(20, 14, 8, 10);
+        if !with_mesh {
+            s.objects.retain(|o| !matches!(o.shape, Shape::Mesh(_)));
+        }
+        let rt = RtScene::new(&s);
+        let kinds = BvhKinds::of(&rt);
+        assert!(
+            kinds.spheres && kinds.planes && kinds.boxes,
+            "every list must be long enough to go into the BVH: {kinds:?}"
+        );
+        assert_eq!(
+            gpu_bvh(&rt, kinds).unwrap().wide.is_some(),
+            with_mesh,
+            "which walk the shader takes"
+        );
+        assert!(
+            !shadelab::gpu::rt_layout::lists_materials(s.materials.len()),
+            "the materials must be too many to pick by selects, so that each lane reads its own"
+        );
+        let limits = CheckThresholds::for_shading(Shading::Raytrace);
+        let o = check(&gpu(), &s, &s, Shading::Raytrace, &limits).unwrap();
+        assert!(o.passed(), "mesh {with_mesh}: {:?}", o.judgement.failures);
+    }
 }
 
 /// The longest lists still tested one by one, and as many materials as the

@@ -186,6 +186,7 @@ fn specialization_constants_match_by_id_and_name() {
             "MATERIAL_COUNT",
             offset_of!(TraceSpecialization, material_count),
         ),
+        ("WIDE_BVH", offset_of!(TraceSpecialization, wide_bvh)),
     ];
     assert_eq!(fields.len(), rt_layout::SPEC_CONSTANTS.len());
     for (name, offset) in fields {
@@ -267,7 +268,9 @@ fn the_bvh_stack_size_listed_objects_and_work_item_are_the_shaders() {
 /// here to the host's record layout.
 #[test]
 fn pair_records_have_the_hosts_word_offsets() {
-    use rt_layout::{GpuBox, GpuBvhNode, GpuPlane, GpuSphere, GpuTriangleGeometry};
+    use rt_layout::{
+        GpuBox, GpuBvhNode, GpuPlane, GpuSphere, GpuTriangleGeometry, GpuWideChild, GpuWideNode,
+    };
     use std::mem::size_of;
     let source = include_str!("../shaders/include/rt_interface.glsl");
     let constant = |name: &str| -> usize {
@@ -286,6 +289,9 @@ fn pair_records_have_the_hosts_word_offsets() {
     pairs("BOX_PAIRS", size_of::<GpuBox>());
     pairs("TRI_PAIRS", size_of::<GpuTriangleGeometry>());
     pairs("NODE_PAIRS", size_of::<GpuBvhNode>());
+    pairs("WIDE_NODE_PAIRS", size_of::<GpuWideNode>());
+    assert_eq!(constant("CHILD_WORDS") * 4, size_of::<GpuWideChild>());
+    assert_eq!(size_of::<GpuWideNode>(), 4 * size_of::<GpuWideChild>());
     let checks = [
         ("SPHERE_CENTER", word(offset_of!(GpuSphere, center_radius))),
         (
@@ -331,6 +337,9 @@ fn pair_records_have_the_hosts_word_offsets() {
         ("NODE_RIGHT_LO", word(offset_of!(GpuBvhNode, right_lo))),
         ("NODE_RIGHT", word(offset_of!(GpuBvhNode, right))),
         ("NODE_RIGHT_HI", word(offset_of!(GpuBvhNode, right_hi))),
+        ("CHILD_LO", word(offset_of!(GpuWideChild, lo))),
+        ("CHILD_LINK", word(offset_of!(GpuWideChild, link))),
+        ("CHILD_HI", word(offset_of!(GpuWideChild, hi))),
     ];
     for (name, expected) in checks {
         assert_eq!(constant(name), expected, "{name}");

@@ -21,6 +21,7 @@ mod rt_accel;
 pub mod rt_bvh;
 pub mod rt_layout;
 mod rt_records;
+pub mod rt_wide;
 pub mod shader_catalog;
 mod timestamps;
 mod validation;

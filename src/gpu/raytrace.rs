@@ -135,7 +135,12 @@ pub struct TraceOptions {
 /// refraction if some material has them, the objects tested one by one and
 /// the kinds the BVH holds (`BvhKinds`), the materials held in registers
 /// if few; or every feature on (`TraceOptions::every_feature`).
-fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSpecialization {
+fn specialization(
+    scene: &Scene,
+    rt: &RtScene,
+    wide_bvh: bool,
+    options: TraceOptions,
+) -> TraceSpecialization {
     let lighting = raster_scene::specialization(scene);
     let on = |used: bool| u32::from(used || options.every_feature);
     let in_bvh = BvhKinds::of(rt);
@@ -162,6 +167,7 @@ fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSp
         } else {
             0
         },
+        wide_bvh: u32::from(wide_bvh),
     }
 }
 
@@ -210,7 +216,7 @@ pub fn render_with(
         Traversal::Query => rt_accel::group_by_mesh(&mut r),
         _ => Vec::new(),
     };
-    let spec = specialization(scene, &rt, options);
+    let spec = specialization(scene, &rt, r.bvh.wide.is_some(), options);
     let pipeline_started = Instant::now();
     let pipeline = create_pipeline(context, &spec, scene.lighting_hook.as_deref(), traversal)?;
     let pipeline_ms = pipeline_started.elapsed().as_secs_f64() * 1e3;
@@ -221,6 +227,10 @@ pub fn render_with(
         r.add_unhittable_triangle();
     }
     let (kx, ky) = sample_grid(rt.render.samples);
+    let root = match &r.bvh.wide {
+        Some(wide) => wide.root,
+        None => r.bvh.root.unwrap_or(0),
+    };
     let uniforms = TraceUniforms {
         ambient_k: v4(rt.lighting.ambient, rt.lighting.k as f32),
         background: v4(rt.background, 0.0),
@@ -228,7 +238,7 @@ pub fn render_with(
         up_aspect: v4(view.up, view.aspect as f32),
         forward_cutoff: v4(view.forward, rt.render.cutoff as f32),
         image: [width, height, rt.render.samples, rt.render.depth],
-        grid: [kx, ky, 0, r.bvh.root.unwrap_or(0)],
+        grid: [kx, ky, 0, root],
         leaf_bases: [
             r.bvh.bases.spheres,
             r.bvh.bases.planes,
@@ -258,7 +268,11 @@ pub fn render_with(
         bytemuck::cast_slice(&r.triangles),
         triangle_use,
     )?;
-    let nodes = upload("bvh nodes", bytemuck::cast_slice(&r.bvh.nodes))?;
+    let node_bytes = match &r.bvh.wide {
+        Some(wide) => bytemuck::cast_slice(&wide.nodes),
+        None => bytemuck::cast_slice(&r.bvh.nodes),
+    };
+    let nodes = upload("bvh nodes", node_bytes)?;
     let triangle_shading = upload(
         "triangle shading",
         bytemuck::cast_slice(&r.triangle_shading),
@@ -493,10 +507,11 @@ mod tests {
         scene.lighting.attenuation = false;
         scene.render.depth = 3;
         let rt = RtScene::new(&scene);
-        let plain = specialization(&scene, &rt, TraceOptions::default());
+        let plain = specialization(&scene, &rt, false, TraceOptions::default());
         let every = specialization(
             &scene,
             &rt,
+            false,
             TraceOptions {
                 count_rays: false,
                 every_feature: true,

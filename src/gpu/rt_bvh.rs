@@ -12,6 +12,7 @@ use obvhs::bvh2::Bvh2;
 
 use super::error::GpuError;
 use super::rt_layout::*;
+use super::rt_wide::{widen, WideBvh};
 use crate::rt_scene::{widened_box, RtScene};
 
 /// Which kinds of analytic object the BVH holds (the others are tested one
@@ -62,6 +63,9 @@ pub struct GpuBvh {
     pub sphere_order: Vec<u32>,
     pub plane_order: Vec<u32>,
     pub box_order: Vec<u32>,
+    /// The tree's 4-wide form, which the shader walks where it has one
+    /// (`rt_wide::widen`).
+    pub wide: Option<WideBvh>,
 }
 
 impl GpuBvh {
@@ -168,6 +172,7 @@ pub fn gpu_bvh(rt: &RtScene, kinds: BvhKinds) -> Result<GpuBvh, GpuError> {
     }
     let (nodes, root, bounds) = join(parts);
     let bvh = GpuBvh {
+        wide: widen(&nodes, root),
         nodes,
         root,
         bounds,

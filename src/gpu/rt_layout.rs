@@ -126,6 +126,7 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (13, "BVH_BOXES"),
     (14, "MATERIALS_LISTED"),
     (15, "MATERIAL_COUNT"),
+    (16, "WIDE_BVH"),
 ];
 
 #[repr(C)]
@@ -218,6 +219,30 @@ pub struct GpuBvhNode {
     pub unused2: u32,
 }
 
+/// One child of a 4-wide inner node (`GpuWideNode`): its box and its link
+/// (a node index, a leaf, or `NO_CHILD` for an empty slot).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuWideChild {
+    pub lo: [f32; 3],
+    pub link: u32,
+    pub hi: [f32; 3],
+    pub unused: u32,
+}
+
+/// An inner node of the 4-wide BVH (`rt_wide`): up to four children, the
+/// used slots first.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuWideNode {
+    pub children: [GpuWideChild; 4],
+}
+
+/// The link of an empty child slot (the shader's `NO_SHAPE`: a leaf link
+/// never has every bit set, since a leaf's first index is below
+/// `MAX_BVH_PRIMITIVES`).
+pub const NO_CHILD: u32 = u32::MAX;
+
 /// A link's leaf flag (the shader's `LEAF_BIT`).
 pub const LEAF_BIT: u32 = 1 << 31;
 /// Primitives a leaf may hold: its count less one fills bits 26 to 30.
@@ -263,6 +288,7 @@ pub struct TraceSpecialization {
     pub bvh_boxes: u32,
     pub materials_listed: u32,
     pub material_count: i32,
+    pub wide_bvh: u32,
 }
 
 impl TraceSpecialization {
