@@ -21,6 +21,7 @@ struct Variant {
 const SMOOTH: &[(&str, Option<&str>)] = &[];
 const SCREEN_LINEAR: &[(&str, Option<&str>)] = &[("SCREEN_LINEAR", None)];
 const RAY_QUERY: &[(&str, Option<&str>)] = &[("RAY_QUERY", None)];
+const WIDE_BVH: &[(&str, Option<&str>)] = &[("WIDE_BVH", None)];
 
 const VARIANTS: &[Variant] = &[
     Variant {
@@ -88,6 +89,12 @@ const VARIANTS: &[Variant] = &[
         source: "raytrace.comp.glsl",
         stage: glslang::ShaderStage::Compute,
         defines: &[],
+    },
+    Variant {
+        name: "RAYTRACE_WIDE_COMP",
+        source: "raytrace.comp.glsl",
+        stage: glslang::ShaderStage::Compute,
+        defines: WIDE_BVH,
     },
     Variant {
         name: "RAYTRACE_QUERY_COMP",

@@ -172,8 +172,11 @@ float float_at(Shared r, uint w) {
         return (w & 1u) == 0u ? pair.x : pair.y;                          \
     }
 
-SHARED_READER(read_node, node_pairs, NODE_PAIRS)
+#ifdef WIDE_BVH
 SHARED_READER(read_wide_node, node_pairs, WIDE_NODE_PAIRS)
+#else
+SHARED_READER(read_node, node_pairs, NODE_PAIRS)
+#endif
 SHARED_READER(read_triangle, triangle_pairs, TRI_PAIRS)
 SHARED_READER(read_sphere, sphere_pairs, SPHERE_PAIRS)
 SHARED_READER(read_plane, plane_pairs, PLANE_PAIRS)
@@ -550,6 +553,7 @@ vec3 slab_inverse(vec3 d) {
     return clamp(vec3(1.0) / d, vec3(-LARGEST), vec3(LARGEST));
 }
 
+#ifdef WIDE_BVH
 // The wide step's moves (macros: the stack arrays stay the walk's own,
 // where a function would copy them in and out). WIDE_STACK stacks a child
 // if `cond`; WIDE_TAKE, for a child entered (`bit` set in `enters`), stacks
@@ -580,6 +584,7 @@ void order_children(inout float ka, inout uint la, inout float ta, inout float k
     lb = swap ? l : lb;
     tb = swap ? t : tb;
 }
+#endif
 
 // A hit on an analytic object in a BVH leaf: like `consider_object`, but
 // `best` may be a triangle or an object found in another leaf, so a tie
@@ -624,89 +629,89 @@ void walk_bvh(vec3 o, vec3 d, inout Hit best, bool any_hit) {
     bool done = false;
     while (!done) {
         if ((link & LEAF_BIT) == 0u) {
-            if (WIDE_BVH) {
-                // Four children a step (rt_wide): their boxes, one butterfly
-                // for which of them some lane enters (bit k: child k).
-                Shared node = read_wide_node(link);
-                float t0 = box_entry(o, inv_d, vec3_at(node, CHILD_LO), vec3_at(node, CHILD_HI), best.t);
-                float t1 = box_entry(o, inv_d, vec3_at(node, CHILD_WORDS + CHILD_LO),
-                                     vec3_at(node, CHILD_WORDS + CHILD_HI), best.t);
-                float t2 = box_entry(o, inv_d, vec3_at(node, 2u * CHILD_WORDS + CHILD_LO),
-                                     vec3_at(node, 2u * CHILD_WORDS + CHILD_HI), best.t);
-                float t3 = box_entry(o, inv_d, vec3_at(node, 3u * CHILD_WORDS + CHILD_LO),
-                                     vec3_at(node, 3u * CHILD_WORDS + CHILD_HI), best.t);
-                uint l0 = word(node, CHILD_LINK);
-                uint l1 = word(node, CHILD_WORDS + CHILD_LINK);
-                uint l2 = word(node, 2u * CHILD_WORDS + CHILD_LINK);
-                uint l3 = word(node, 3u * CHILD_WORDS + CHILD_LINK);
-                uint enters = or_lanes((t0 != NO_HIT ? 1u : 0u) | (t1 != NO_HIT ? 2u : 0u) |
-                                       (t2 != NO_HIT ? 4u : 0u) | (t3 != NO_HIT ? 8u : 0u));
-                enters &= (l0 != NO_SHAPE ? 1u : 0u) | (l1 != NO_SHAPE ? 2u : 0u) | (l2 != NO_SHAPE ? 4u : 0u) |
-                          (l3 != NO_SHAPE ? 8u : 0u);
-                if (any_hit) {
-                    // A shadow query visits every entered child, in any
-                    // order: the first in slot order now, the others
-                    // stacked.
-                    link = NO_SHAPE;
-                    float t_link = 0.0;
-                    WIDE_TAKE(8u, l3, t3)
-                    WIDE_TAKE(4u, l2, t2)
-                    WIDE_TAKE(2u, l1, t1)
-                    WIDE_TAKE(1u, l0, t0)
-                } else {
-                    // The entered children sorted by lane 0's entry
-                    // distance (as the binary step orders its two), the
-                    // nearest taken now and the others stacked, the
-                    // farthest deepest.
-                    const float NOT_ENTERED = 3.4e38;  // above NO_HIT
-                    float k0 = subgroupShuffle(t0, 0u);
-                    float k1 = subgroupShuffle(t1, 0u);
-                    float k2 = subgroupShuffle(t2, 0u);
-                    float k3 = subgroupShuffle(t3, 0u);
-                    k0 = (enters & 1u) != 0u ? k0 : NOT_ENTERED;
-                    k1 = (enters & 2u) != 0u ? k1 : NOT_ENTERED;
-                    k2 = (enters & 4u) != 0u ? k2 : NOT_ENTERED;
-                    k3 = (enters & 8u) != 0u ? k3 : NOT_ENTERED;
-                    order_children(k0, l0, t0, k1, l1, t1);
-                    order_children(k2, l2, t2, k3, l3, t3);
-                    order_children(k0, l0, t0, k2, l2, t2);
-                    order_children(k1, l1, t1, k3, l3, t3);
-                    order_children(k1, l1, t1, k2, l2, t2);
-                    uint entered = bitCount(enters);
-                    WIDE_STACK(entered > 3u, l3, t3)
-                    WIDE_STACK(entered > 2u, l2, t2)
-                    WIDE_STACK(entered > 1u, l1, t1)
-                    link = entered > 0u ? l0 : NO_SHAPE;  // none: pop below
-                }
+#ifdef WIDE_BVH
+            // Four children a step (rt_wide): their boxes, one butterfly
+            // for which of them some lane enters (bit k: child k).
+            Shared node = read_wide_node(link);
+            float t0 = box_entry(o, inv_d, vec3_at(node, CHILD_LO), vec3_at(node, CHILD_HI), best.t);
+            float t1 = box_entry(o, inv_d, vec3_at(node, CHILD_WORDS + CHILD_LO),
+                                 vec3_at(node, CHILD_WORDS + CHILD_HI), best.t);
+            float t2 = box_entry(o, inv_d, vec3_at(node, 2u * CHILD_WORDS + CHILD_LO),
+                                 vec3_at(node, 2u * CHILD_WORDS + CHILD_HI), best.t);
+            float t3 = box_entry(o, inv_d, vec3_at(node, 3u * CHILD_WORDS + CHILD_LO),
+                                 vec3_at(node, 3u * CHILD_WORDS + CHILD_HI), best.t);
+            uint l0 = word(node, CHILD_LINK);
+            uint l1 = word(node, CHILD_WORDS + CHILD_LINK);
+            uint l2 = word(node, 2u * CHILD_WORDS + CHILD_LINK);
+            uint l3 = word(node, 3u * CHILD_WORDS + CHILD_LINK);
+            uint enters = or_lanes((t0 != NO_HIT ? 1u : 0u) | (t1 != NO_HIT ? 2u : 0u) |
+                                   (t2 != NO_HIT ? 4u : 0u) | (t3 != NO_HIT ? 8u : 0u));
+            enters &= (l0 != NO_SHAPE ? 1u : 0u) | (l1 != NO_SHAPE ? 2u : 0u) | (l2 != NO_SHAPE ? 4u : 0u) |
+                      (l3 != NO_SHAPE ? 8u : 0u);
+            if (any_hit) {
+                // A shadow query visits every entered child, in any
+                // order: the first in slot order now, the others
+                // stacked.
+                link = NO_SHAPE;
+                float t_link = 0.0;
+                WIDE_TAKE(8u, l3, t3)
+                WIDE_TAKE(4u, l2, t2)
+                WIDE_TAKE(2u, l1, t1)
+                WIDE_TAKE(1u, l0, t0)
             } else {
-                Shared node = read_node(link);
-                float t_left = box_entry(o, inv_d, vec3_at(node, NODE_LEFT_LO), vec3_at(node, NODE_LEFT_HI), best.t);
-                float t_right =
-                    box_entry(o, inv_d, vec3_at(node, NODE_RIGHT_LO), vec3_at(node, NODE_RIGHT_HI), best.t);
-                uint left = word(node, NODE_LEFT);
-                uint right = word(node, NODE_RIGHT);
-                // One butterfly for both children (bit 0: some lane enters the
-                // left one, bit 1: the right one). The nearer child goes first
-                // as lane 0 sees them, when lane 0 enters both: rays of a packet
-                // are alike, and a vote would lengthen every step's critical
-                // path by a second butterfly.
-                uint enters = or_lanes((t_left != NO_HIT ? 1u : 0u) | (t_right != NO_HIT ? 2u : 0u));
-                bool right_first = subgroupShuffle(t_right < t_left ? 1u : 0u, 0u) != 0u;
-                bool enters_left = (enters & 1u) != 0u;
-                bool enters_right = (enters & 2u) != 0u;
-                if (enters_left && enters_right) {
-                    stack_link[top] = right_first ? left : right;
-                    stack_t[top] = right_first ? t_left : t_right;
-                    ++top;
-                    link = right_first ? right : left;
-                } else if (enters_left) {
-                    link = left;
-                } else if (enters_right) {
-                    link = right;
-                } else {
-                    link = NO_SHAPE;  // pop below
-                }
+                // The entered children sorted by lane 0's entry
+                // distance (as the binary step orders its two), the
+                // nearest taken now and the others stacked, the
+                // farthest deepest.
+                const float NOT_ENTERED = 3.4e38;  // above NO_HIT
+                float k0 = subgroupShuffle(t0, 0u);
+                float k1 = subgroupShuffle(t1, 0u);
+                float k2 = subgroupShuffle(t2, 0u);
+                float k3 = subgroupShuffle(t3, 0u);
+                k0 = (enters & 1u) != 0u ? k0 : NOT_ENTERED;
+                k1 = (enters & 2u) != 0u ? k1 : NOT_ENTERED;
+                k2 = (enters & 4u) != 0u ? k2 : NOT_ENTERED;
+                k3 = (enters & 8u) != 0u ? k3 : NOT_ENTERED;
+                order_children(k0, l0, t0, k1, l1, t1);
+                order_children(k2, l2, t2, k3, l3, t3);
+                order_children(k0, l0, t0, k2, l2, t2);
+                order_children(k1, l1, t1, k3, l3, t3);
+                order_children(k1, l1, t1, k2, l2, t2);
+                uint entered = bitCount(enters);
+                WIDE_STACK(entered > 3u, l3, t3)
+                WIDE_STACK(entered > 2u, l2, t2)
+                WIDE_STACK(entered > 1u, l1, t1)
+                link = entered > 0u ? l0 : NO_SHAPE;  // none: pop below
             }
+#else
+            Shared node = read_node(link);
+            float t_left = box_entry(o, inv_d, vec3_at(node, NODE_LEFT_LO), vec3_at(node, NODE_LEFT_HI), best.t);
+            float t_right =
+                box_entry(o, inv_d, vec3_at(node, NODE_RIGHT_LO), vec3_at(node, NODE_RIGHT_HI), best.t);
+            uint left = word(node, NODE_LEFT);
+            uint right = word(node, NODE_RIGHT);
+            // One butterfly for both children (bit 0: some lane enters the
+            // left one, bit 1: the right one). The nearer child goes first
+            // as lane 0 sees them, when lane 0 enters both: rays of a packet
+            // are alike, and a vote would lengthen every step's critical
+            // path by a second butterfly.
+            uint enters = or_lanes((t_left != NO_HIT ? 1u : 0u) | (t_right != NO_HIT ? 2u : 0u));
+            bool right_first = subgroupShuffle(t_right < t_left ? 1u : 0u, 0u) != 0u;
+            bool enters_left = (enters & 1u) != 0u;
+            bool enters_right = (enters & 2u) != 0u;
+            if (enters_left && enters_right) {
+                stack_link[top] = right_first ? left : right;
+                stack_t[top] = right_first ? t_left : t_right;
+                ++top;
+                link = right_first ? right : left;
+            } else if (enters_left) {
+                link = left;
+            } else if (enters_right) {
+                link = right;
+            } else {
+                link = NO_SHAPE;  // pop below
+            }
+#endif
         } else {
             // A leaf: a run of one kind's records, the kind given by the
             // range its first index is in (uniform: the whole packet is here).

@@ -55,12 +55,14 @@ fn cost(shading: Shading, backend: Backend) -> Cost {
             pixel: 52,
         },
         // Triangles copied into f64 records with their normals, a BVH over
-        // them; vertices matter only as the scene holds them.
+        // them (binary, and for a big tree its 4-wide form beside it, about
+        // 30 bytes a triangle on the host and as many on the device);
+        // vertices matter only as the scene holds them.
         (Backend::Gpu, Shading::Raytrace) => Cost {
             base: 164 * MIB,
             object: 280,
             vertex: 60,
-            triangle: 600,
+            triangle: 660,
             pixel: 40,
         },
         (Backend::Cpu, Shading::Raytrace) => Cost {

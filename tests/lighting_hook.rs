@@ -10,7 +10,7 @@ use std::sync::Arc;
 use common::cli::shadelab;
 use common::*;
 use glam::DVec3;
-use shadelab::scene::{LightingHook, Object, Scene, Shape};
+use shadelab::scene::{tessellate, LightingHook, Object, Scene, Shape};
 use shadelab::shading::Shading;
 use shadelab::LinearImage;
 
@@ -68,6 +68,28 @@ fn the_lectures_formula_as_a_hook_renders_as_the_built_in_one_in_every_mode() {
         let diff = max_difference(&a, &b);
         assert!(diff <= 1e-5, "{mode}: the hook differs by {diff}");
     }
+    // The same sphere as a mesh big enough for the ray tracer's 4-wide
+    // walk, a module of its own that the hook is compiled into too (its
+    // defines kept: the binary walk on wide nodes would lose the sphere).
+    let mut built_in = glossy_sphere();
+    built_in.objects[0].shape = Shape::Mesh(tessellate(&built_in.objects[0].shape));
+    let rt = shadelab::rt_scene::RtScene::new(&built_in);
+    let kinds = shadelab::gpu::rt_bvh::BvhKinds::of(&rt);
+    assert!(shadelab::gpu::rt_bvh::gpu_bvh(&rt, kinds)
+        .unwrap()
+        .wide
+        .is_some());
+    let mut hooked = built_in.clone();
+    hooked.lighting_hook = Some(example("phong.glsl"));
+    let a = render(&context, &built_in, Shading::Raytrace);
+    let b = render(&context, &hooked, Shading::Raytrace);
+    let diff = max_difference(&a, &b);
+    assert!(diff <= 1e-5, "the wide walk: the hook differs by {diff}");
+    let lit = a.pixels.iter().filter(|p| p[0] > 0.1).count();
+    assert!(
+        lit > a.pixels.len() / 10,
+        "the mesh must fill the view: {lit} lit pixels"
+    );
 }
 
 #[test]

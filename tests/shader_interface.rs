@@ -186,7 +186,6 @@ fn specialization_constants_match_by_id_and_name() {
             "MATERIAL_COUNT",
             offset_of!(TraceSpecialization, material_count),
         ),
-        ("WIDE_BVH", offset_of!(TraceSpecialization, wide_bvh)),
     ];
     assert_eq!(fields.len(), rt_layout::SPEC_CONSTANTS.len());
     for (name, offset) in fields {
@@ -212,7 +211,7 @@ fn every_stage_is_present() {
             count(ShaderStage::Fragment),
             count(ShaderStage::Compute)
         ),
-        (5, 5, 2)
+        (5, 5, 3)
     );
     // The second ray tracer is the ray-query engine, and it has its set.
     assert!(ALL_SHADERS.iter().any(|s| {

@@ -43,8 +43,6 @@ layout(constant_id = 13) const bool BVH_BOXES = false;
 // then how many there are; otherwise each lane reads its own.
 layout(constant_id = 14) const bool MATERIALS_LISTED = false;
 layout(constant_id = 15) const int MATERIAL_COUNT = 0;
-// Whether the BVH's nodes are in the 4-wide form (rt_wide): a big tree.
-layout(constant_id = 16) const bool WIDE_BVH = false;
 
 layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     vec4 ambient_k;       // rgb: Ia, w: k
@@ -126,8 +124,8 @@ const uint NODE_RIGHT_LO = 8u;
 const uint NODE_RIGHT = 11u;
 const uint NODE_RIGHT_HI = 12u;
 
-// An inner node of the 4-wide BVH (rt_layout::GpuWideNode), walked where
-// WIDE_BVH is on: four children of CHILD_WORDS words each, the used slots
+// An inner node of the 4-wide BVH (rt_layout::GpuWideNode), walked by the
+// variant compiled with WIDE_BVH defined (a big tree, rt_wide): four children of CHILD_WORDS words each, the used slots
 // first, an empty one's link NO_SHAPE.
 const uint WIDE_NODE_PAIRS = 16u;
 const uint CHILD_WORDS = 8u;

@@ -26,7 +26,7 @@ use super::rt_accel::{self, SceneStructure};
 use super::rt_bvh::BvhKinds;
 use super::rt_layout::*;
 use super::rt_records::{records, v4};
-use super::shader_catalog::{RAYTRACE_COMP, RAYTRACE_QUERY_COMP};
+use super::shader_catalog::{RAYTRACE_COMP, RAYTRACE_QUERY_COMP, RAYTRACE_WIDE_COMP};
 use super::timestamps::{GpuTimings, Timestamps};
 use crate::camera::View;
 use crate::linear_image::LinearImage;
@@ -67,11 +67,15 @@ pub fn engine_for(asked: Traversal, info: &DeviceInfo) -> Result<Traversal, GpuE
     }
 }
 
+/// The ray tracer's pipeline for `traversal`; `wide_bvh`: the BVH walk
+/// compiled for the tree's 4-wide form (`rt_wide`), a module of its own so
+/// that a scene without a big tree neither compiles nor carries it.
 fn create_pipeline(
     context: &Arc<GpuContext>,
     spec: &TraceSpecialization,
     lighting_hook: Option<&LightingHook>,
     traversal: Traversal,
+    wide_bvh: bool,
 ) -> Result<PipelineObjects, GpuError> {
     let device = &context.device;
     let mut p = PipelineObjects::new(context);
@@ -83,6 +87,8 @@ fn create_pipeline(
             create_set_layout(context, QUERY_BINDINGS, vk::ShaderStageFlags::COMPUTE)?;
         set_layouts.push(p.extra_set_layout);
         &RAYTRACE_QUERY_COMP
+    } else if wide_bvh {
+        &RAYTRACE_WIDE_COMP
     } else {
         &RAYTRACE_COMP
     };
@@ -135,12 +141,7 @@ pub struct TraceOptions {
 /// refraction if some material has them, the objects tested one by one and
 /// the kinds the BVH holds (`BvhKinds`), the materials held in registers
 /// if few; or every feature on (`TraceOptions::every_feature`).
-fn specialization(
-    scene: &Scene,
-    rt: &RtScene,
-    wide_bvh: bool,
-    options: TraceOptions,
-) -> TraceSpecialization {
+fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSpecialization {
     let lighting = raster_scene::specialization(scene);
     let on = |used: bool| u32::from(used || options.every_feature);
     let in_bvh = BvhKinds::of(rt);
@@ -167,7 +168,6 @@ fn specialization(
         } else {
             0
         },
-        wide_bvh: u32::from(wide_bvh),
     }
 }
 
@@ -216,9 +216,15 @@ pub fn render_with(
         Traversal::Query => rt_accel::group_by_mesh(&mut r),
         _ => Vec::new(),
     };
-    let spec = specialization(scene, &rt, r.bvh.wide.is_some(), options);
+    let spec = specialization(scene, &rt, options);
     let pipeline_started = Instant::now();
-    let pipeline = create_pipeline(context, &spec, scene.lighting_hook.as_deref(), traversal)?;
+    let pipeline = create_pipeline(
+        context,
+        &spec,
+        scene.lighting_hook.as_deref(),
+        traversal,
+        r.bvh.wide.is_some(),
+    )?;
     let pipeline_ms = pipeline_started.elapsed().as_secs_f64() * 1e3;
 
     if spec.has_bvh != 0 && r.bvh.root.is_none() {
@@ -507,11 +513,10 @@ mod tests {
         scene.lighting.attenuation = false;
         scene.render.depth = 3;
         let rt = RtScene::new(&scene);
-        let plain = specialization(&scene, &rt, false, TraceOptions::default());
+        let plain = specialization(&scene, &rt, TraceOptions::default());
         let every = specialization(
             &scene,
             &rt,
-            false,
             TraceOptions {
                 count_rays: false,
                 every_feature: true,

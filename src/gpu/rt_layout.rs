@@ -126,7 +126,6 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (13, "BVH_BOXES"),
     (14, "MATERIALS_LISTED"),
     (15, "MATERIAL_COUNT"),
-    (16, "WIDE_BVH"),
 ];
 
 #[repr(C)]
@@ -288,7 +287,6 @@ pub struct TraceSpecialization {
     pub bvh_boxes: u32,
     pub materials_listed: u32,
     pub material_count: i32,
-    pub wide_bvh: u32,
 }
 
 impl TraceSpecialization {
