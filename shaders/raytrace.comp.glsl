@@ -610,7 +610,9 @@ void consider_in_leaf(float t, uint shape, vec3 normal, float radius, uint mater
 // lane's entry distance, to be skipped when popped if no lane can still
 // find a nearer hit in it. A lane tests everything its own walk would have
 // reached, and more, so its nearest hit (ties included) is what a walk of
-// its own would give.
+// its own would give. Compiled with WIDE_BVH, a step tests a 4-wide node's
+// children (rt_wide) the same way, the entered ones in the order lane 0
+// enters them (a shadow query, which visits them all, in slot order).
 //
 // Nearest hit (`any_hit` false): best is the nearest hit. Shadow query
 // (`any_hit`): a lane that finds a hit nearer than best.t stops there, its
@@ -620,7 +622,9 @@ void walk_bvh(vec3 o, vec3 d, inout Hit best, bool any_hit) {
     vec3 inv_d = slab_inverse(d);
     RayFrame shear = ray_frame(d);
     // Cannot overflow: the host refuses a tree deeper than the stack
-    // (rt_layout::BVH_STACK_SIZE), since a dropped node would be a miss.
+    // (rt_layout::BVH_STACK_SIZE), since a dropped node would be a miss,
+    // and walks a tree 4-wide only where that walk's stack fits too
+    // (rt_wide::WideBvh::stack_need).
     uint stack_link[BVH_STACK_SIZE];
     float stack_t[BVH_STACK_SIZE];
     int top = 0;

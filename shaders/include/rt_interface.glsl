@@ -125,8 +125,9 @@ const uint NODE_RIGHT = 11u;
 const uint NODE_RIGHT_HI = 12u;
 
 // An inner node of the 4-wide BVH (rt_layout::GpuWideNode), walked by the
-// variant compiled with WIDE_BVH defined (a big tree, rt_wide): four children of CHILD_WORDS words each, the used slots
-// first, an empty one's link NO_SHAPE.
+// variant compiled with WIDE_BVH defined (a big tree, rt_wide): four
+// children of CHILD_WORDS words each, the used slots first, an empty one's
+// link NO_SHAPE.
 const uint WIDE_NODE_PAIRS = 16u;
 const uint CHILD_WORDS = 8u;
 const uint CHILD_LO = 0u;

@@ -171,8 +171,8 @@ pub fn gpu_bvh(rt: &RtScene, kinds: BvhKinds) -> Result<GpuBvh, GpuError> {
         }
     }
     let (nodes, root, bounds) = join(parts);
-    let bvh = GpuBvh {
-        wide: widen(&nodes, root),
+    let mut bvh = GpuBvh {
+        wide: None,
         nodes,
         root,
         bounds,
@@ -189,6 +189,8 @@ pub fn gpu_bvh(rt: &RtScene, kinds: BvhKinds) -> Result<GpuBvh, GpuError> {
             limit: BVH_STACK_SIZE - 1,
         });
     }
+    // After the depth's check, which bounds widen's recursion.
+    bvh.wide = widen(&bvh.nodes, bvh.root);
     Ok(bvh)
 }
 
