@@ -689,11 +689,11 @@ void walk_bvh(vec3 o, vec3 d, inout Hit best, bool any_hit) {
             }
 #else
             Shared node = read_node(link);
-            float t_left = box_entry(o, inv_d, vec3_at(node, NODE_LEFT_LO), vec3_at(node, NODE_LEFT_HI), best.t);
-            float t_right =
-                box_entry(o, inv_d, vec3_at(node, NODE_RIGHT_LO), vec3_at(node, NODE_RIGHT_HI), best.t);
-            uint left = word(node, NODE_LEFT);
-            uint right = word(node, NODE_RIGHT);
+            float t_left = box_entry(o, inv_d, vec3_at(node, CHILD_LO), vec3_at(node, CHILD_HI), best.t);
+            float t_right = box_entry(o, inv_d, vec3_at(node, CHILD_WORDS + CHILD_LO),
+                                      vec3_at(node, CHILD_WORDS + CHILD_HI), best.t);
+            uint left = word(node, CHILD_LINK);
+            uint right = word(node, CHILD_WORDS + CHILD_LINK);
             // One butterfly for both children (bit 0: some lane enters the
             // left one, bit 1: the right one). The nearer child goes first
             // as lane 0 sees them, when lane 0 enters both: rays of a packet

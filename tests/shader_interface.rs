@@ -268,7 +268,7 @@ fn the_bvh_stack_size_listed_objects_and_work_item_are_the_shaders() {
 #[test]
 fn pair_records_have_the_hosts_word_offsets() {
     use rt_layout::{
-        GpuBox, GpuBvhNode, GpuPlane, GpuSphere, GpuTriangleGeometry, GpuWideChild, GpuWideNode,
+        GpuBox, GpuBvhChild, GpuBvhNode, GpuPlane, GpuSphere, GpuTriangleGeometry, GpuWideNode,
     };
     use std::mem::size_of;
     let source = include_str!("../shaders/include/rt_interface.glsl");
@@ -289,8 +289,9 @@ fn pair_records_have_the_hosts_word_offsets() {
     pairs("TRI_PAIRS", size_of::<GpuTriangleGeometry>());
     pairs("NODE_PAIRS", size_of::<GpuBvhNode>());
     pairs("WIDE_NODE_PAIRS", size_of::<GpuWideNode>());
-    assert_eq!(constant("CHILD_WORDS") * 4, size_of::<GpuWideChild>());
-    assert_eq!(size_of::<GpuWideNode>(), 4 * size_of::<GpuWideChild>());
+    assert_eq!(constant("CHILD_WORDS") * 4, size_of::<GpuBvhChild>());
+    assert_eq!(size_of::<GpuBvhNode>(), 2 * size_of::<GpuBvhChild>());
+    assert_eq!(size_of::<GpuWideNode>(), 4 * size_of::<GpuBvhChild>());
     let checks = [
         ("SPHERE_CENTER", word(offset_of!(GpuSphere, center_radius))),
         (
@@ -330,15 +331,9 @@ fn pair_records_have_the_hosts_word_offsets() {
         ("TRI_P1", word(offset_of!(GpuTriangleGeometry, p1))),
         ("TRI_OBJECT", word(offset_of!(GpuTriangleGeometry, object))),
         ("TRI_P2", word(offset_of!(GpuTriangleGeometry, p2))),
-        ("NODE_LEFT_LO", word(offset_of!(GpuBvhNode, left_lo))),
-        ("NODE_LEFT", word(offset_of!(GpuBvhNode, left))),
-        ("NODE_LEFT_HI", word(offset_of!(GpuBvhNode, left_hi))),
-        ("NODE_RIGHT_LO", word(offset_of!(GpuBvhNode, right_lo))),
-        ("NODE_RIGHT", word(offset_of!(GpuBvhNode, right))),
-        ("NODE_RIGHT_HI", word(offset_of!(GpuBvhNode, right_hi))),
-        ("CHILD_LO", word(offset_of!(GpuWideChild, lo))),
-        ("CHILD_LINK", word(offset_of!(GpuWideChild, link))),
-        ("CHILD_HI", word(offset_of!(GpuWideChild, hi))),
+        ("CHILD_LO", word(offset_of!(GpuBvhChild, lo))),
+        ("CHILD_LINK", word(offset_of!(GpuBvhChild, link))),
+        ("CHILD_HI", word(offset_of!(GpuBvhChild, hi))),
     ];
     for (name, expected) in checks {
         assert_eq!(constant(name), expected, "{name}");

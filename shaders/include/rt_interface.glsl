@@ -111,28 +111,21 @@ struct TriangleShading {
     uint unused3;
 };
 
-// An inner node of the BVH with both children's boxes: 8 word pairs
-// (rt_layout::GpuBvhNode), read like triangles. A child link is a node
+// An inner node of the BVH holds its children's boxes and links, each
+// child CHILD_WORDS words (rt_layout::GpuBvhChild), read like triangles: a
+// binary node two children (NODE_PAIRS word pairs, rt_layout::GpuBvhNode);
+// a 4-wide node, walked by the variant compiled with WIDE_BVH defined (a
+// big tree, rt_wide), four (WIDE_NODE_PAIRS, rt_layout::GpuWideNode), the
+// used slots first, an empty one's link NO_SHAPE. A child link is a node
 // index, or for a leaf LEAF_BIT | its primitive count less one in bits 26
 // to 30 and its first leaf index below (`frame.leaf_bases`). The root's
 // link is in the uniforms (a mesh of a few triangles is one leaf).
-const uint NODE_PAIRS = 8u;
-const uint NODE_LEFT_LO = 0u;
-const uint NODE_LEFT = 3u;
-const uint NODE_LEFT_HI = 4u;
-const uint NODE_RIGHT_LO = 8u;
-const uint NODE_RIGHT = 11u;
-const uint NODE_RIGHT_HI = 12u;
-
-// An inner node of the 4-wide BVH (rt_layout::GpuWideNode), walked by the
-// variant compiled with WIDE_BVH defined (a big tree, rt_wide): four
-// children of CHILD_WORDS words each, the used slots first, an empty one's
-// link NO_SHAPE.
-const uint WIDE_NODE_PAIRS = 16u;
 const uint CHILD_WORDS = 8u;
 const uint CHILD_LO = 0u;
 const uint CHILD_LINK = 3u;
 const uint CHILD_HI = 4u;
+const uint NODE_PAIRS = 8u;
+const uint WIDE_NODE_PAIRS = 16u;
 
 const uint LEAF_BIT = 0x80000000u;
 

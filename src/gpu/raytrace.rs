@@ -233,10 +233,6 @@ pub fn render_with(
         r.add_unhittable_triangle();
     }
     let (kx, ky) = sample_grid(rt.render.samples);
-    let root = match &r.bvh.wide {
-        Some(wide) => wide.root,
-        None => r.bvh.root.unwrap_or(0),
-    };
     let uniforms = TraceUniforms {
         ambient_k: v4(rt.lighting.ambient, rt.lighting.k as f32),
         background: v4(rt.background, 0.0),
@@ -244,7 +240,7 @@ pub fn render_with(
         up_aspect: v4(view.up, view.aspect as f32),
         forward_cutoff: v4(view.forward, rt.render.cutoff as f32),
         image: [width, height, rt.render.samples, rt.render.depth],
-        grid: [kx, ky, 0, root],
+        grid: [kx, ky, 0, r.bvh.walk_root().unwrap_or(0)],
         leaf_bases: [
             r.bvh.bases.spheres,
             r.bvh.bases.planes,
@@ -274,11 +270,7 @@ pub fn render_with(
         bytemuck::cast_slice(&r.triangles),
         triangle_use,
     )?;
-    let node_bytes = match &r.bvh.wide {
-        Some(wide) => bytemuck::cast_slice(&wide.nodes),
-        None => bytemuck::cast_slice(&r.bvh.nodes),
-    };
-    let nodes = upload("bvh nodes", node_bytes)?;
+    let nodes = upload("bvh nodes", r.bvh.walk_nodes())?;
     let triangle_shading = upload(
         "triangle shading",
         bytemuck::cast_slice(&r.triangle_shading),

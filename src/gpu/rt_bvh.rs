@@ -97,6 +97,20 @@ impl GpuBvh {
         [center.x, center.y, center.z, radius]
     }
 
+    /// The link the shader's walk starts from (None for an empty tree):
+    /// the wide form's root where the tree has one.
+    pub fn walk_root(&self) -> Option<u32> {
+        self.wide.as_ref().map(|w| w.root).or(self.root)
+    }
+
+    /// The node records the shader reads, in the form it walks.
+    pub fn walk_nodes(&self) -> &[u8] {
+        match &self.wide {
+            Some(wide) => bytemuck::cast_slice(&wide.nodes),
+            None => bytemuck::cast_slice(&self.nodes),
+        }
+    }
+
     /// Nodes on the longest path from the root to a leaf, the leaf
     /// counted (0 for an empty tree). The walk stacks at most one link per
     /// inner node on its path, so it needs fewer entries than this.
@@ -108,8 +122,9 @@ impl GpuBvh {
             deepest = deepest.max(depth);
             if link & LEAF_BIT == 0 {
                 let node = &self.nodes[link as usize];
-                stack.push((node.left, depth + 1));
-                stack.push((node.right, depth + 1));
+                for child in &node.children {
+                    stack.push((child.link, depth + 1));
+                }
             }
         }
         deepest
@@ -247,18 +262,14 @@ fn subtree(tree: &Bvh2, base: u32) -> Result<Subtree, GpuError> {
     };
     let (lo, hi) = bounds(0);
     let mut linked = Vec::with_capacity(inner as usize);
+    let child = |i: usize| -> Result<GpuBvhChild, GpuError> {
+        let (lo, hi) = bounds(i);
+        Ok(GpuBvhChild::new(lo, link(i)?, hi))
+    };
     for node in nodes.iter().filter(|n| n.prim_count == 0) {
-        let (l, r) = (node.first_index as usize, node.first_index as usize + 1);
-        let ((left_lo, left_hi), (right_lo, right_hi)) = (bounds(l), bounds(r));
+        let left = node.first_index as usize;
         linked.push(GpuBvhNode {
-            left_lo,
-            left: link(l)?,
-            left_hi,
-            unused1: 0,
-            right_lo,
-            right: link(r)?,
-            right_hi,
-            unused2: 0,
+            children: [child(left)?, child(left + 1)?],
         });
     }
     Ok(Subtree {
@@ -284,9 +295,10 @@ fn join(parts: Vec<Subtree>) -> (Vec<GpuBvhNode>, Option<u32>, Option<Bounds>) {
             }
         };
         nodes.extend(part.nodes.iter().map(|n| GpuBvhNode {
-            left: place(n.left),
-            right: place(n.right),
-            ..*n
+            children: n.children.map(|c| GpuBvhChild {
+                link: place(c.link),
+                ..c
+            }),
         }));
         roots.push((place(part.root), part.lo, part.hi));
     }
@@ -294,14 +306,10 @@ fn join(parts: Vec<Subtree>) -> (Vec<GpuBvhNode>, Option<u32>, Option<Bounds>) {
         let (right, right_lo, right_hi) = roots.pop().unwrap_or_default();
         let (left, left_lo, left_hi) = roots.pop().unwrap_or_default();
         nodes.push(GpuBvhNode {
-            left_lo,
-            left,
-            left_hi,
-            unused1: 0,
-            right_lo,
-            right,
-            right_hi,
-            unused2: 0,
+            children: [
+                GpuBvhChild::new(left_lo, left, left_hi),
+                GpuBvhChild::new(right_lo, right, right_hi),
+            ],
         });
         let lo = std::array::from_fn(|k| left_lo[k].min(right_lo[k]));
         let hi = std::array::from_fn(|k| left_hi[k].max(right_hi[k]));
@@ -437,12 +445,11 @@ mod tests {
                 continue;
             }
             let node = &bvh.nodes[link as usize];
-            let mut left = boxes.clone();
-            left.push((node.left_lo, node.left_hi));
-            let mut right = boxes;
-            right.push((node.right_lo, node.right_hi));
-            stack.push((node.right, right));
-            stack.push((node.left, left));
+            for child in node.children.iter().rev() {
+                let mut path = boxes.clone();
+                path.push((child.lo, child.hi));
+                stack.push((child.link, path));
+            }
             most = most.max(stack.len());
         }
         assert!(seen.iter().all(|&n| n == 1), "{seen:?}");

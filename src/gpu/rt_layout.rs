@@ -203,30 +203,33 @@ pub struct GpuTriangleShading {
     pub unused3: u32,
 }
 
-/// An inner BVH node holding both children's boxes; a link is a node index
-/// or a leaf (`leaf_link`).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
-pub struct GpuBvhNode {
-    pub left_lo: [f32; 3],
-    pub left: u32,
-    pub left_hi: [f32; 3],
-    pub unused1: u32,
-    pub right_lo: [f32; 3],
-    pub right: u32,
-    pub right_hi: [f32; 3],
-    pub unused2: u32,
-}
-
-/// One child of a 4-wide inner node (`GpuWideNode`): its box and its link
-/// (a node index, a leaf, or `NO_CHILD` for an empty slot).
+/// One child of an inner BVH node: its box and its link (a node index, a
+/// leaf (`leaf_link`), or in a 4-wide node `NO_CHILD` for an empty slot).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct GpuWideChild {
+pub struct GpuBvhChild {
     pub lo: [f32; 3],
     pub link: u32,
     pub hi: [f32; 3],
     pub unused: u32,
+}
+
+impl GpuBvhChild {
+    pub fn new(lo: [f32; 3], link: u32, hi: [f32; 3]) -> Self {
+        GpuBvhChild {
+            lo,
+            link,
+            hi,
+            unused: 0,
+        }
+    }
+}
+
+/// An inner node of the binary BVH, holding both children's boxes.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuBvhNode {
+    pub children: [GpuBvhChild; 2],
 }
 
 /// An inner node of the 4-wide BVH (`rt_wide`): up to four children, the
@@ -234,7 +237,7 @@ pub struct GpuWideChild {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct GpuWideNode {
-    pub children: [GpuWideChild; 4],
+    pub children: [GpuBvhChild; 4],
 }
 
 /// The link of an empty child slot (the shader's `NO_SHAPE`: a leaf link

@@ -58,26 +58,9 @@ pub fn widen(nodes: &[GpuBvhNode], root: Option<u32>) -> Option<WideBvh> {
     (tree.stack_need() <= BVH_STACK_SIZE).then_some(tree)
 }
 
-fn halves(node: &GpuBvhNode) -> [GpuWideChild; 2] {
-    [
-        GpuWideChild {
-            lo: node.left_lo,
-            link: node.left,
-            hi: node.left_hi,
-            unused: 0,
-        },
-        GpuWideChild {
-            lo: node.right_lo,
-            link: node.right,
-            hi: node.right_hi,
-            unused: 0,
-        },
-    ]
-}
-
 /// Half the surface area of a child's box: the chance a ray through its
 /// parent enters it, up to a factor.
-fn area(child: &GpuWideChild) -> f32 {
+fn area(child: &GpuBvhChild) -> f32 {
     let [x, y, z] = std::array::from_fn(|k| child.hi[k] - child.lo[k]);
     x * y + y * z + z * x
 }
@@ -85,7 +68,7 @@ fn area(child: &GpuWideChild) -> f32 {
 /// Places binary node `index` and its subtree in `wide`; returns its index
 /// there. Parents come before their children.
 fn widen_node(nodes: &[GpuBvhNode], index: u32, wide: &mut Vec<GpuWideNode>) -> u32 {
-    let mut children = halves(&nodes[index as usize]).to_vec();
+    let mut children = nodes[index as usize].children.to_vec();
     while children.len() < 4 {
         let largest_inner = children
             .iter()
@@ -94,15 +77,15 @@ fn widen_node(nodes: &[GpuBvhNode], index: u32, wide: &mut Vec<GpuWideNode>) -> 
             .max_by(|a, b| area(a.1).total_cmp(&area(b.1)))
             .map(|(i, _)| i);
         let Some(i) = largest_inner else { break };
-        let pair = halves(&nodes[children[i].link as usize]);
+        let pair = nodes[children[i].link as usize].children;
         children.splice(i..=i, pair);
     }
     let slot = wide.len();
     wide.push(GpuWideNode::zeroed());
     let mut node = GpuWideNode {
-        children: [GpuWideChild {
+        children: [GpuBvhChild {
             link: NO_CHILD,
-            ..GpuWideChild::zeroed()
+            ..GpuBvhChild::zeroed()
         }; 4],
     };
     for (k, child) in children.iter().enumerate() {
@@ -111,7 +94,7 @@ fn widen_node(nodes: &[GpuBvhNode], index: u32, wide: &mut Vec<GpuWideNode>) -> 
         } else {
             child.link
         };
-        node.children[k] = GpuWideChild { link, ..*child };
+        node.children[k] = GpuBvhChild { link, ..*child };
     }
     wide[slot] = node;
     slot as u32
@@ -141,7 +124,7 @@ mod tests {
     /// Every leaf of the binary tree, with the box its parent gave it.
     fn binary_leaves(nodes: &[GpuBvhNode], link: u32, out: &mut Vec<([f32; 3], u32, [f32; 3])>) {
         let node = &nodes[link as usize];
-        for child in halves(node) {
+        for child in node.children {
             if child.link & LEAF_BIT != 0 {
                 out.push((child.lo, child.link, child.hi));
             } else {
@@ -225,14 +208,10 @@ mod tests {
                         leaf_link(i + 1, 1)
                     };
                     GpuBvhNode {
-                        left_lo: [0.0; 3],
-                        left: leaf_link(i, 1),
-                        left_hi: [1.0; 3],
-                        unused1: 0,
-                        right_lo: [0.0; 3],
-                        right: next,
-                        right_hi: [2.0; 3],
-                        unused2: 0,
+                        children: [
+                            GpuBvhChild::new([0.0; 3], leaf_link(i, 1), [1.0; 3]),
+                            GpuBvhChild::new([0.0; 3], next, [2.0; 3]),
+                        ],
                     }
                 })
                 .collect()
