@@ -115,24 +115,25 @@ bool packet_any(bool b) {
     return or_lanes(b ? 1u : 0u) != 0u;
 }
 
-// A record of word pairs read by the whole subgroup: lane i holds the
-// record's pairs i, i + S, i + 2S and i + 3S (S = gl_SubgroupSize; the host
-// requires 4 <= S <= 64, and no record has more than 16 pairs). Every lane
-// must be here; the record's index must be the same in all of them.
+// A record read by the whole subgroup, as quads of words: lane i holds the
+// record's quads i and i + S (S = gl_SubgroupSize; the host requires
+// 4 <= S <= 64, and no record has more than 8 quads). Every lane must be
+// here; the record's index must be the same in all of them. On lavapipe a
+// lane's load is a loop over the lanes, each lane's part with its own
+// address and a bounds check per word: the loads of four words a lane took
+// fewer of those loops than pairs did (the 40k sphere 7 % fewer
+// instructions; docs/performance.md).
 struct Shared {
-    uvec2 p0;
-    uvec2 p1;
-    uvec2 p2;
-    uvec2 p3;
+    uvec4 q0;
+    uvec4 q1;
 };
 
 // Word `w` of a shared record, in every lane (with `w` a constant and the
 // subgroup size known to the driver, one shuffle).
 uint word(Shared r, uint w) {
-    uint pair = w >> 1;
-    uint slot = pair / gl_SubgroupSize;
-    uvec2 held = slot == 0u ? r.p0 : (slot == 1u ? r.p1 : (slot == 2u ? r.p2 : r.p3));
-    return subgroupShuffle((w & 1u) == 0u ? held.x : held.y, pair % gl_SubgroupSize);
+    uint quad = w >> 2;
+    uvec4 held = quad / gl_SubgroupSize == 0u ? r.q0 : r.q1;
+    return subgroupShuffle(held[w & 3u], quad % gl_SubgroupSize);
 }
 
 vec3 vec3_at(Shared r, uint w) {
@@ -144,47 +145,39 @@ float float_at(Shared r, uint w) {
 }
 
 // read_X(index): record `index` of buffer X, shared (see Shared).
-#define SHARED_READER(name, buffer, pairs)                                \
+#define SHARED_READER(name, buffer, quads)                                \
     Shared name(uint index) {                                             \
         uint lane = gl_SubgroupInvocationID;                              \
-        uint size = gl_SubgroupSize;                                      \
-        uint at = index * (pairs) + lane;                                 \
-        Shared r = Shared(uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));    \
-        if (lane < (pairs)) {                                             \
-            r.p0 = buffer[at];                                            \
+        uint at = index * (quads) + lane;                                 \
+        Shared r = Shared(uvec4(0u), uvec4(0u));                          \
+        if (lane < (quads)) {                                             \
+            r.q0 = buffer[at];                                            \
         }                                                                 \
-        if (lane + size < (pairs)) {                                      \
-            r.p1 = buffer[at + size];                                     \
-        }                                                                 \
-        if (lane + 2u * size < (pairs)) {                                 \
-            r.p2 = buffer[at + 2u * size];                                \
-        }                                                                 \
-        if (lane + 3u * size < (pairs)) {                                 \
-            r.p3 = buffer[at + 3u * size];                                \
+        if (lane + gl_SubgroupSize < (quads)) {                           \
+            r.q1 = buffer[at + gl_SubgroupSize];                          \
         }                                                                 \
         return r;                                                         \
     }
 
 // X_word(index, w): word `w` of record `index`, read by this lane alone.
-#define LANE_READER(name, buffer, pairs)                                  \
+#define LANE_READER(name, buffer, quads)                                  \
     uint name(uint index, uint w) {                                       \
-        uvec2 pair = buffer[index * (pairs) + (w >> 1)];                  \
-        return (w & 1u) == 0u ? pair.x : pair.y;                          \
+        return buffer[index * (quads) + (w >> 2)][w & 3u];                \
     }
 
 #ifdef WIDE_BVH
-SHARED_READER(read_wide_node, node_pairs, WIDE_NODE_PAIRS)
+SHARED_READER(read_wide_node, node_quads, WIDE_NODE_QUADS)
 #else
-SHARED_READER(read_node, node_pairs, NODE_PAIRS)
+SHARED_READER(read_node, node_quads, NODE_QUADS)
 #endif
-SHARED_READER(read_triangle, triangle_pairs, TRI_PAIRS)
-SHARED_READER(read_sphere, sphere_pairs, SPHERE_PAIRS)
-SHARED_READER(read_plane, plane_pairs, PLANE_PAIRS)
-SHARED_READER(read_box, box_pairs, BOX_PAIRS)
-LANE_READER(triangle_word, triangle_pairs, TRI_PAIRS)
-LANE_READER(sphere_word, sphere_pairs, SPHERE_PAIRS)
-LANE_READER(plane_word, plane_pairs, PLANE_PAIRS)
-LANE_READER(box_word, box_pairs, BOX_PAIRS)
+SHARED_READER(read_triangle, triangle_quads, TRI_QUADS)
+SHARED_READER(read_sphere, sphere_quads, SPHERE_QUADS)
+SHARED_READER(read_plane, plane_quads, PLANE_QUADS)
+SHARED_READER(read_box, box_quads, BOX_QUADS)
+LANE_READER(triangle_word, triangle_quads, TRI_QUADS)
+LANE_READER(sphere_word, sphere_quads, SPHERE_QUADS)
+LANE_READER(plane_word, plane_quads, PLANE_QUADS)
+LANE_READER(box_word, box_quads, BOX_QUADS)
 
 // The scene object of a shape, and its place among that object's
 // primitives (triangles only), for the tie rule.
@@ -254,15 +247,15 @@ SphereGeometry shared_sphere(uint i) {
 }
 
 SphereGeometry sphere_geometry(int i) {
-    // Whole pairs at the offsets SPHERE_CENTER (0), SPHERE_RADIUS (3),
+    // Whole quads at the offsets SPHERE_CENTER (0), SPHERE_RADIUS (3),
     // SPHERE_MATERIAL (4) and SPHERE_OBJECT (5), each read once (reading
-    // word by word, which reads some pairs twice, measured slower on the
+    // word by word, which read some words twice, measured slower on the
     // four spheres).
-    uint at = uint(i) * SPHERE_PAIRS;
-    uvec2 w01 = sphere_pairs[at];
-    uvec2 w23 = sphere_pairs[at + 1u];
-    uvec2 w45 = sphere_pairs[at + 2u];
-    return SphereGeometry(uintBitsToFloat(uvec3(w01, w23.x)), uintBitsToFloat(w23.y), w45.x, w45.y);
+    uint at = uint(i) * SPHERE_QUADS;
+    uvec4 center_radius = sphere_quads[at];
+    uvec4 material_object = sphere_quads[at + 1u];
+    return SphereGeometry(uintBitsToFloat(center_radius.xyz), uintBitsToFloat(center_radius.w), material_object.x,
+                          material_object.y);
 }
 
 struct PlaneGeometry {
@@ -282,18 +275,14 @@ PlaneGeometry shared_plane(uint i) {
 }
 
 PlaneGeometry plane_geometry(int i) {
-    // Whole pairs, as for spheres: PLANE_CENTER 0, PLANE_HALF 3,
+    // Whole quads, as for spheres: PLANE_CENTER 0, PLANE_HALF 3,
     // PLANE_NORMAL 4, PLANE_U 8, PLANE_V 12, PLANE_MATERIAL 16, PLANE_OBJECT 17.
-    uint at = uint(i) * PLANE_PAIRS;
-    vec3 v[4];
-    for (uint k = 0u; k < 4u; ++k) {
-        uvec2 a = plane_pairs[at + 2u * k];
-        uvec2 b = plane_pairs[at + 2u * k + 1u];
-        v[k] = uintBitsToFloat(uvec3(a, b.x));
-    }
-    float half_size = uintBitsToFloat(plane_pairs[at + 1u].y);
-    uvec2 material_object = plane_pairs[at + 8u];
-    return PlaneGeometry(v[0], half_size, v[1], v[2], v[3], material_object.x, material_object.y);
+    uint at = uint(i) * PLANE_QUADS;
+    uvec4 center_half = plane_quads[at];
+    uvec4 material_object = plane_quads[at + 4u];
+    return PlaneGeometry(uintBitsToFloat(center_half.xyz), uintBitsToFloat(center_half.w),
+                         uintBitsToFloat(plane_quads[at + 1u].xyz), uintBitsToFloat(plane_quads[at + 2u].xyz),
+                         uintBitsToFloat(plane_quads[at + 3u].xyz), material_object.x, material_object.y);
 }
 
 struct BoxGeometry {
@@ -312,16 +301,14 @@ BoxGeometry shared_box(uint i) {
 }
 
 BoxGeometry box_geometry(int i) {
-    // Whole pairs, as for spheres: BOX_CENTER 0, BOX_HALF 4, BOX_AXIS_X 8,
+    // Whole quads, as for spheres: BOX_CENTER 0, BOX_HALF 4, BOX_AXIS_X 8,
     // BOX_AXIS_Y 12, BOX_AXIS_Z 16, BOX_MATERIAL 20, BOX_OBJECT 21.
-    uint at = uint(i) * BOX_PAIRS;
+    uint at = uint(i) * BOX_QUADS;
     vec3 v[5];
     for (uint k = 0u; k < 5u; ++k) {
-        uvec2 a = box_pairs[at + 2u * k];
-        uvec2 b = box_pairs[at + 2u * k + 1u];
-        v[k] = uintBitsToFloat(uvec3(a, b.x));
+        v[k] = uintBitsToFloat(box_quads[at + k].xyz);
     }
-    uvec2 material_object = box_pairs[at + 10u];
+    uvec4 material_object = box_quads[at + 5u];
     return BoxGeometry(v[0], v[1], mat3(v[2], v[3], v[4]), material_object.x, material_object.y);
 }
 

@@ -261,7 +261,7 @@ fn the_bvh_stack_size_listed_objects_and_work_item_are_the_shaders() {
     }
 }
 
-/// Spheres, planes, boxes, triangles and BVH nodes are read as word pairs
+/// Spheres, planes, boxes, triangles and BVH nodes are read as quads of words
 /// (so that a subgroup can share a record), which naga's reflection cannot
 /// see into: the shader names each field's word offset in a constant, held
 /// here to the host's record layout.
@@ -282,13 +282,13 @@ fn pair_records_have_the_hosts_word_offsets() {
         digits.parse().unwrap()
     };
     let word = |byte_offset: usize| byte_offset / 4;
-    let pairs = |name: &str, size: usize| assert_eq!(constant(name) * 8, size, "{name}");
-    pairs("SPHERE_PAIRS", size_of::<GpuSphere>());
-    pairs("PLANE_PAIRS", size_of::<GpuPlane>());
-    pairs("BOX_PAIRS", size_of::<GpuBox>());
-    pairs("TRI_PAIRS", size_of::<GpuTriangleGeometry>());
-    pairs("NODE_PAIRS", size_of::<GpuBvhNode>());
-    pairs("WIDE_NODE_PAIRS", size_of::<GpuWideNode>());
+    let quads = |name: &str, size: usize| assert_eq!(constant(name) * 16, size, "{name}");
+    quads("SPHERE_QUADS", size_of::<GpuSphere>());
+    quads("PLANE_QUADS", size_of::<GpuPlane>());
+    quads("BOX_QUADS", size_of::<GpuBox>());
+    quads("TRI_QUADS", size_of::<GpuTriangleGeometry>());
+    quads("NODE_QUADS", size_of::<GpuBvhNode>());
+    quads("WIDE_NODE_QUADS", size_of::<GpuWideNode>());
     assert_eq!(constant("CHILD_WORDS") * 4, size_of::<GpuBvhChild>());
     assert_eq!(size_of::<GpuBvhNode>(), 2 * size_of::<GpuBvhChild>());
     assert_eq!(size_of::<GpuWideNode>(), 4 * size_of::<GpuBvhChild>());

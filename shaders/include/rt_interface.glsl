@@ -12,8 +12,8 @@
 // of a node tests both; triangles are stored in BVH leaf order with only
 // what the intersection test needs, and what shading needs sits in a
 // second record read once per ray, for the nearest hit. Nodes, triangles
-// and object records are read as word pairs, so that a subgroup can share
-// them.
+// and object records are read as quads of words, so that a subgroup can
+// share them.
 
 // Shared with the raster pipelines (same ids, same meaning).
 #include "lights.glsl"
@@ -60,15 +60,15 @@ layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     vec4 bvh_sphere;
 } frame;
 
-// Object records, read as word pairs (like nodes and triangles below):
+// Object records, read as quads of words (like nodes and triangles below):
 // rt_layout::GpuSphere, GpuPlane and GpuBox, with these word offsets.
-const uint SPHERE_PAIRS = 4u;
+const uint SPHERE_QUADS = 2u;
 const uint SPHERE_CENTER = 0u;
 const uint SPHERE_RADIUS = 3u;
 const uint SPHERE_MATERIAL = 4u;
 const uint SPHERE_OBJECT = 5u;
 
-const uint PLANE_PAIRS = 10u;
+const uint PLANE_QUADS = 5u;
 const uint PLANE_CENTER = 0u;
 const uint PLANE_HALF = 3u;  // half the edge length
 const uint PLANE_NORMAL = 4u;
@@ -77,7 +77,7 @@ const uint PLANE_V = 12u;
 const uint PLANE_MATERIAL = 16u;
 const uint PLANE_OBJECT = 17u;
 
-const uint BOX_PAIRS = 12u;
+const uint BOX_QUADS = 6u;
 const uint BOX_CENTER = 0u;
 const uint BOX_HALF = 4u;
 const uint BOX_AXIS_X = 8u;  // the columns of the box's rotation
@@ -86,13 +86,13 @@ const uint BOX_AXIS_Z = 16u;
 const uint BOX_MATERIAL = 20u;
 const uint BOX_OBJECT = 21u;
 
-// What the intersection test reads of a triangle, in BVH leaf order: 6
-// word pairs (rt_layout::GpuTriangleGeometry), read as pairs so that the
-// lanes of a subgroup can share them (raytrace.comp.glsl, `Shared`). Word
+// What the intersection test reads of a triangle, in BVH leaf order: 3
+// quads of words (rt_layout::GpuTriangleGeometry), so that the lanes of a
+// subgroup can share them (raytrace.comp.glsl, `Shared`). Word
 // offsets: p0, p1 and p2 (3 floats each); `index`, the triangle's place in
 // the scene's triangle list (rt_scene::RtScene), which the tie rule
 // compares; `object`, its scene object.
-const uint TRI_PAIRS = 6u;
+const uint TRI_QUADS = 3u;
 const uint TRI_P0 = 0u;
 const uint TRI_INDEX = 3u;
 const uint TRI_P1 = 4u;
@@ -113,9 +113,9 @@ struct TriangleShading {
 
 // An inner node of the BVH holds its children's boxes and links, each
 // child CHILD_WORDS words (rt_layout::GpuBvhChild), read like triangles: a
-// binary node two children (NODE_PAIRS word pairs, rt_layout::GpuBvhNode);
+// binary node two children (NODE_QUADS quads of words, rt_layout::GpuBvhNode);
 // a 4-wide node, walked by the variant compiled with WIDE_BVH defined (a
-// big tree, rt_wide), four (WIDE_NODE_PAIRS, rt_layout::GpuWideNode), the
+// big tree, rt_wide), four (WIDE_NODE_QUADS, rt_layout::GpuWideNode), the
 // used slots first, an empty one's link NO_SHAPE. A child link is a node
 // index, or for a leaf LEAF_BIT | its primitive count less one in bits 26
 // to 30 and its first leaf index below (`frame.leaf_bases`). The root's
@@ -124,8 +124,8 @@ const uint CHILD_WORDS = 8u;
 const uint CHILD_LO = 0u;
 const uint CHILD_LINK = 3u;
 const uint CHILD_HI = 4u;
-const uint NODE_PAIRS = 8u;
-const uint WIDE_NODE_PAIRS = 16u;
+const uint NODE_QUADS = 4u;
+const uint WIDE_NODE_QUADS = 8u;
 
 const uint LEAF_BIT = 0x80000000u;
 
@@ -135,11 +135,11 @@ struct RtMaterial {
     vec4 kt_ior;
 };
 
-layout(std430, set = 0, binding = 2) readonly buffer SphereBuffer { uvec2 sphere_pairs[]; };
-layout(std430, set = 0, binding = 3) readonly buffer PlaneBuffer { uvec2 plane_pairs[]; };
-layout(std430, set = 0, binding = 4) readonly buffer BoxBuffer { uvec2 box_pairs[]; };
-layout(std430, set = 0, binding = 5) readonly buffer TriangleGeometryBuffer { uvec2 triangle_pairs[]; };
-layout(std430, set = 0, binding = 6) readonly buffer BvhBuffer { uvec2 node_pairs[]; };
+layout(std430, set = 0, binding = 2) readonly buffer SphereBuffer { uvec4 sphere_quads[]; };
+layout(std430, set = 0, binding = 3) readonly buffer PlaneBuffer { uvec4 plane_quads[]; };
+layout(std430, set = 0, binding = 4) readonly buffer BoxBuffer { uvec4 box_quads[]; };
+layout(std430, set = 0, binding = 5) readonly buffer TriangleGeometryBuffer { uvec4 triangle_quads[]; };
+layout(std430, set = 0, binding = 6) readonly buffer BvhBuffer { uvec4 node_quads[]; };
 layout(std430, set = 0, binding = 7) readonly buffer TriangleShadingBuffer { TriangleShading triangle_shading[]; };
 layout(std430, set = 0, binding = 8) readonly buffer MaterialBuffer { RtMaterial materials[]; };
 // Not `writeonly`: naga does not accept write-only storage buffers.

@@ -223,8 +223,8 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
 
 /// The ray tracer walks its BVH a subgroup at a time, the lanes sharing
 /// each node's words by shuffles (`shaders/raytrace.comp.glsl`): it needs
-/// them in compute shaders, a subgroup of at least 4 lanes holds a node's
-/// 8 word pairs in two registers, and a subgroup no wider than the
+/// them in compute shaders, a subgroup of at least 4 lanes holds a 4-wide
+/// node's 8 quads of words in two registers, and a subgroup no wider than the
 /// workgroup is full (every lane present for its shuffles, and for its
 /// share of a work item's pixels).
 fn packet_tracing_supported(subgroup: &vk::PhysicalDeviceSubgroupProperties) -> bool {
@@ -551,7 +551,7 @@ mod tests {
     }
 
     /// What the ray tracer's packets need: shuffles in compute shaders, and
-    /// 4 lanes or more (a node's 8 word pairs in two registers), but no
+    /// 4 lanes or more (a 4-wide node's 8 quads of words in two registers), but no
     /// more than a workgroup holds (a subgroup of 128 would be half empty).
     #[test]
     fn packet_tracing_needs_compute_shuffles_four_to_sixty_four_lanes_wide() {

@@ -312,10 +312,10 @@ pub fn record_size(binding: u32) -> usize {
     match binding {
         LIGHTS => std::mem::size_of::<GpuLight>(),
         UNIFORMS => std::mem::size_of::<TraceUniforms>(),
-        // Read as word pairs, a subgroup at a time; the records' word
+        // Read as quads of words, a subgroup at a time; the records' word
         // offsets are checked against the shader's constants by
         // tests/shader_interface.rs.
-        SPHERES | PLANES | BOXES | TRIANGLES | BVH_NODES => 8,
+        SPHERES | PLANES | BOXES | TRIANGLES | BVH_NODES => 16,
         TRIANGLE_SHADING => std::mem::size_of::<GpuTriangleShading>(),
         MATERIALS => std::mem::size_of::<GpuMaterial>(),
         OUTPUT => 16,
