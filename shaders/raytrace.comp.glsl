@@ -456,34 +456,44 @@ vec3 box_normal(BoxGeometry box, vec2 face) {
 // the twin of cpu::intersect::triangle, whose comment says why no ray slips
 // between two triangles. `frame` is the ray's shear (ray_frame below).
 struct RayFrame {
-    ivec3 axes;
+    uvec3 axes;     // kx, ky, kz
+    vec3 origin;    // the ray's origin in that order
     vec3 shear;
 };
 
-RayFrame ray_frame(vec3 d) {
+RayFrame ray_frame(vec3 o, vec3 d) {
     vec3 a = abs(d);
-    int kz = (a.x >= a.y && a.x >= a.z) ? 0 : (a.y >= a.z ? 1 : 2);
-    int kx = (kz + 1) % 3;
-    int ky = (kz + 2) % 3;
+    uint kz = (a.x >= a.y && a.x >= a.z) ? 0u : (a.y >= a.z ? 1u : 2u);
+    uint kx = (kz + 1u) % 3u;
+    uint ky = (kz + 2u) % 3u;
     if (d[kz] < 0.0) {
-        int swap = kx;
+        uint swap = kx;
         kx = ky;
         ky = swap;
     }
-    return RayFrame(ivec3(kx, ky, kz), vec3(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]));
+    return RayFrame(uvec3(kx, ky, kz), vec3(o[kx], o[ky], o[kz]),
+                    vec3(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]));
 }
 
-vec3 sheared(RayFrame f, vec3 p) {
-    return vec3(p[f.axes.x] - f.shear.x * p[f.axes.z], p[f.axes.y] - f.shear.y * p[f.axes.z],
-                f.shear.z * p[f.axes.z]);
+// Corner `v` of a shared triangle (read_triangle) relative to the ray's
+// origin, sheared. The record holds the corners by axis (quad k: every
+// corner's coordinate k, in lane k), so each coordinate in the order this
+// lane's ray asks for is one shuffle, its lane the axis: picked from the
+// three coordinates per lane instead, they cost two selects each.
+vec3 sheared_corner(Shared tri, uint v, RayFrame f) {
+    uint held = tri.q0[v];
+    vec3 p = uintBitsToFloat(uvec3(subgroupShuffle(held, f.axes.x), subgroupShuffle(held, f.axes.y),
+                                   subgroupShuffle(held, f.axes.z))) - f.origin;
+    return vec3(p.x - f.shear.x * p.z, p.y - f.shear.y * p.z, f.shear.z * p.z);
 }
 
 // A triangle, shared by the subgroup (read_triangle), against this lane's
-// ray: its t, or 0 for none, and the barycentrics of p1 and p2.
-float triangle_t(vec3 o, RayFrame frame, Shared tri, out vec2 uv) {
-    vec3 a = sheared(frame, vec3_at(tri, TRI_P0) - o);
-    vec3 b = sheared(frame, vec3_at(tri, TRI_P1) - o);
-    vec3 c = sheared(frame, vec3_at(tri, TRI_P2) - o);
+// ray (`frame`, from ray_frame): its t, or 0 for none, and the
+// barycentrics of p1 and p2.
+float triangle_t(RayFrame frame, Shared tri, out vec2 uv) {
+    vec3 a = sheared_corner(tri, 0u, frame);
+    vec3 b = sheared_corner(tri, 1u, frame);
+    vec3 c = sheared_corner(tri, 2u, frame);
     // `precise`: a fused multiply-add would round one product and not the
     // other, and the neighbour's edge function would no longer be the exact
     // negative of this one.
@@ -607,7 +617,7 @@ void consider_in_leaf(float t, uint shape, vec3 normal, float radius, uint mater
 void walk_bvh(vec3 o, vec3 d, inout Hit best, bool any_hit) {
     uint link = frame.grid.w;  // the root: node 0, or a leaf
     vec3 inv_d = slab_inverse(d);
-    RayFrame shear = ray_frame(d);
+    RayFrame shear = ray_frame(o, d);
     // Cannot overflow: the host refuses a tree deeper than the stack
     // (rt_layout::BVH_STACK_SIZE), since a dropped node would be a miss,
     // and walks a tree 4-wide only where that walk's stack fits too
@@ -712,7 +722,7 @@ void walk_bvh(vec3 o, vec3 d, inout Hit best, bool any_hit) {
                 for (uint i = first; i < end; ++i) {
                     Shared tri = read_triangle(i);
                     vec2 uv;
-                    float t = triangle_t(o, shear, tri, uv);
+                    float t = triangle_t(shear, tri, uv);
                     if (any_hit) {
                         if (t > 0.0 && t < best.t) {
                             best = Hit(-1.0, KIND_TRIANGLE | i, uv, vec3(0.0), 0.0, 0u, 0u);

@@ -65,6 +65,41 @@ fn the_query_engine_holds_checks_limits_on_every_asset() {
     }
 }
 
+/// Each mesh is a bottom level of its own, its corners found by its first
+/// record (`rt_accel::build`); the assets have one mesh each, where every
+/// mesh starts at record 0. Three copies of rt-mesh's cube, side by side:
+/// a second or third mesh read from the wrong records would be drawn as
+/// another cube's faces, or none, and miss `check`'s limits.
+#[test]
+fn the_query_engine_finds_every_mesh_of_a_scene_with_several() {
+    let context = gpu();
+    if !engines(&context).contains(&Traversal::Query) {
+        return; // `engines` said why on stderr
+    }
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/rt-mesh.toml");
+    let mut scene = scene::load(&path).unwrap();
+    let cube = scene
+        .objects
+        .iter()
+        .find(|o| matches!(o.shape, scene::Shape::Mesh(_)))
+        .unwrap()
+        .clone();
+    for shift in [-1.6, 1.6] {
+        let mut copy = cube.clone();
+        if let scene::Shape::Mesh(mesh) = &mut copy.shape {
+            for p in &mut mesh.positions {
+                p.z += shift;
+            }
+        }
+        scene.objects.push(copy);
+    }
+    let s = with_engine(&scene, Traversal::Query);
+    let limits = CheckThresholds::for_shading(Shading::Raytrace);
+    let o = check(&context, &s, &s, Shading::Raytrace, &limits).unwrap();
+    assert_eq!(o.traversal, Some(Traversal::Query));
+    assert!(o.passed(), "{:?}", o.judgement.failures);
+}
+
 #[test]
 fn the_command_line_names_the_engine_and_refuses_an_unknown_one() {
     let dir = tempfile::tempdir().unwrap();

@@ -266,7 +266,7 @@ fn the_bvh_stack_size_listed_objects_and_work_item_are_the_shaders() {
 /// see into: the shader names each field's word offset in a constant, held
 /// here to the host's record layout.
 #[test]
-fn pair_records_have_the_hosts_word_offsets() {
+fn quad_records_have_the_hosts_word_offsets() {
     use rt_layout::{
         GpuBox, GpuBvhChild, GpuBvhNode, GpuPlane, GpuSphere, GpuTriangleGeometry, GpuWideNode,
     };
@@ -326,11 +326,11 @@ fn pair_records_have_the_hosts_word_offsets() {
         ("BOX_AXIS_Z", word(offset_of!(GpuBox, axis_z))),
         ("BOX_MATERIAL", word(offset_of!(GpuBox, material_object))),
         ("BOX_OBJECT", word(offset_of!(GpuBox, material_object)) + 1),
-        ("TRI_P0", word(offset_of!(GpuTriangleGeometry, p0))),
+        ("TRI_X", word(offset_of!(GpuTriangleGeometry, x))),
         ("TRI_INDEX", word(offset_of!(GpuTriangleGeometry, index))),
-        ("TRI_P1", word(offset_of!(GpuTriangleGeometry, p1))),
+        ("TRI_Y", word(offset_of!(GpuTriangleGeometry, y))),
         ("TRI_OBJECT", word(offset_of!(GpuTriangleGeometry, object))),
-        ("TRI_P2", word(offset_of!(GpuTriangleGeometry, p2))),
+        ("TRI_Z", word(offset_of!(GpuTriangleGeometry, z))),
         ("CHILD_LO", word(offset_of!(GpuBvhChild, lo))),
         ("CHILD_LINK", word(offset_of!(GpuBvhChild, link))),
         ("CHILD_HI", word(offset_of!(GpuBvhChild, hi))),

@@ -88,16 +88,17 @@ const uint BOX_OBJECT = 21u;
 
 // What the intersection test reads of a triangle, in BVH leaf order: 3
 // quads of words (rt_layout::GpuTriangleGeometry), so that the lanes of a
-// subgroup can share them (raytrace.comp.glsl, `Shared`). Word
-// offsets: p0, p1 and p2 (3 floats each); `index`, the triangle's place in
-// the scene's triangle list (rt_scene::RtScene), which the tie rule
-// compares; `object`, its scene object.
+// subgroup can share them (raytrace.comp.glsl, `Shared`), one per axis:
+// quad k holds coordinate k of the corners p0, p1 and p2, and one more
+// word: `index`, the triangle's place in the scene's triangle list
+// (rt_scene::RtScene), which the tie rule compares; `object`, its scene
+// object. Word offsets:
 const uint TRI_QUADS = 3u;
-const uint TRI_P0 = 0u;
+const uint TRI_X = 0u;  // p0.x, p1.x, p2.x
 const uint TRI_INDEX = 3u;
-const uint TRI_P1 = 4u;
+const uint TRI_Y = 4u;
 const uint TRI_OBJECT = 7u;
-const uint TRI_P2 = 8u;
+const uint TRI_Z = 8u;
 
 // What shading reads of the nearest hit's triangle, in the same order.
 struct TriangleShading {

@@ -258,18 +258,7 @@ pub fn render_with(
     let spheres = upload("spheres", bytemuck::cast_slice(&r.spheres))?;
     let planes = upload("planes", bytemuck::cast_slice(&r.planes))?;
     let boxes = upload("boxes", bytemuck::cast_slice(&r.boxes))?;
-    // The ray-query engine's builds read the triangles' positions from the
-    // same buffer the shader reads their records from.
-    let triangle_use = match traversal {
-        Traversal::Query => storage | rt_accel::INPUT,
-        _ => storage,
-    };
-    let triangles = Buffer::with_data(
-        context,
-        "triangles",
-        bytemuck::cast_slice(&r.triangles),
-        triangle_use,
-    )?;
+    let triangles = upload("triangles", bytemuck::cast_slice(&r.triangles))?;
     let nodes = upload("bvh nodes", r.bvh.walk_nodes())?;
     let triangle_shading = upload(
         "triangle shading",
@@ -325,7 +314,7 @@ pub fn render_with(
     // timed work, as the compute BVH is built on the host before it.
     let structure: Option<(SceneStructure, Descriptors)> = match traversal {
         Traversal::Query => {
-            let built = rt_accel::build(context, &rt, &r, &meshes, &triangles)?;
+            let built = rt_accel::build(context, &rt, &r, &meshes)?;
             let set = Descriptors::for_structure(
                 context,
                 pipeline.extra_set_layout,

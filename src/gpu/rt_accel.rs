@@ -1,7 +1,7 @@
 //! The ray-query engine's acceleration structures, built by the driver from
 //! the same records the compute tracer reads (`rt_records`): one bottom
-//! level per mesh (its triangles' positions read straight from the
-//! triangle records, which `group_by_mesh` has made contiguous per mesh),
+//! level per mesh (its triangles' corners taken from the triangle records,
+//! which `group_by_mesh` has made contiguous per mesh),
 //! one of bounding boxes per analytic kind that the scene has (spheres,
 //! planes, boxes: procedural primitives the shader intersects with the
 //! compute tracer's exact formulas), and a top level holding one instance
@@ -261,14 +261,12 @@ fn record_build(context: &GpuContext, cmd: vk::CommandBuffer, level: &Level, pre
 
 /// Builds the scene's structures on `context` (which must offer the
 /// engine) and waits for the build to finish; `meshes` are the runs of
-/// `group_by_mesh`, and `triangles` the buffer holding `r.triangles` (made
-/// with `INPUT` among its uses), whose positions the builds read in place.
+/// `group_by_mesh`.
 pub fn build(
     context: &Arc<GpuContext>,
     rt: &RtScene,
     r: &SceneRecords,
     meshes: &[(u32, u32)],
-    triangles: &Buffer,
 ) -> Result<SceneStructure, GpuError> {
     let Some(support) = &context.ray_query else {
         return Err(GpuError::NoRayQuery {
@@ -291,17 +289,32 @@ pub fn build(
             )));
         }
     }
-    // The records' p0, p1, p2 are vertices 16 bytes apart (xyz, then a word
-    // the build ignores): three per triangle, not indexed.
-    let record = std::mem::size_of::<GpuTriangleGeometry>() as u64;
-    let base = address(context, triangles);
+    // Three corners per triangle, in record order, not indexed: the records
+    // hold them by axis, for the compute tracer's shuffles.
+    let corners: Vec<[f32; 3]> = r
+        .triangles
+        .iter()
+        .flat_map(GpuTriangleGeometry::corners)
+        .collect();
+    let mut base = 0;
+    if !corners.is_empty() {
+        let vertices = Buffer::with_data(
+            context,
+            "query vertices",
+            bytemuck::cast_slice(&corners),
+            INPUT,
+        )?;
+        base = address(context, &vertices);
+        inputs.push(vertices);
+    }
+    let corner_size = std::mem::size_of::<[f32; 3]>() as u64;
     for &(first, count) in meshes {
         let triangles = vk::AccelerationStructureGeometryTrianglesDataKHR::default()
             .vertex_format(vk::Format::R32G32B32_SFLOAT)
             .vertex_data(vk::DeviceOrHostAddressConstKHR {
-                device_address: base + u64::from(first) * record,
+                device_address: base + 3 * u64::from(first) * corner_size,
             })
-            .vertex_stride(16)
+            .vertex_stride(corner_size)
             .max_vertex(3 * count - 1)
             .index_type(vk::IndexType::NONE_KHR);
         // Opaque: the driver commits the nearest triangle itself, without a

@@ -176,17 +176,39 @@ pub struct GpuBox {
     pub material_object: [u32; 4],
 }
 
-/// What the intersection test reads of a triangle, in BVH leaf order.
+/// What the intersection test reads of a triangle, in BVH leaf order: its
+/// corners by axis (`x` holds the three corners' x), so that the shader
+/// takes each coordinate its ray's shear asks for with one shuffle (see
+/// `triangle_t` in shaders/raytrace.comp.glsl).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct GpuTriangleGeometry {
-    pub p0: [f32; 3],
+    pub x: [f32; 3],
     /// The triangle's index in `RtScene::triangles` (the tie rule's order).
     pub index: u32,
-    pub p1: [f32; 3],
+    pub y: [f32; 3],
     pub object: u32,
-    pub p2: [f32; 3],
+    pub z: [f32; 3],
     pub unused: u32,
+}
+
+impl GpuTriangleGeometry {
+    pub fn new(corners: [[f32; 3]; 3], index: u32, object: u32) -> Self {
+        let axis = |k: usize| [corners[0][k], corners[1][k], corners[2][k]];
+        GpuTriangleGeometry {
+            x: axis(0),
+            index,
+            y: axis(1),
+            object,
+            z: axis(2),
+            unused: 0,
+        }
+    }
+
+    pub fn corners(&self) -> [[f32; 3]; 3] {
+        let corner = |v: usize| [self.x[v], self.y[v], self.z[v]];
+        [corner(0), corner(1), corner(2)]
+    }
 }
 
 /// What shading reads of the nearest hit's triangle, in BVH leaf order.

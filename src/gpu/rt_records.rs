@@ -107,14 +107,7 @@ pub fn records(rt: &RtScene) -> Result<SceneRecords, GpuError> {
             .iter()
             .map(|&i| {
                 let t = &rt.triangles[i as usize];
-                GpuTriangleGeometry {
-                    p0: v3(t.positions[0]),
-                    index: i,
-                    p1: v3(t.positions[1]),
-                    object: t.object,
-                    p2: v3(t.positions[2]),
-                    unused: 0,
-                }
+                GpuTriangleGeometry::new(t.positions.map(v3), i, t.object)
             })
             .collect(),
         triangle_shading: order
