@@ -121,7 +121,7 @@ bool packet_any(bool b) {
 // here; the record's index must be the same in all of them. On lavapipe a
 // lane's load is a loop over the lanes, each lane's part with its own
 // address and a bounds check per word: the loads of four words a lane took
-// fewer of those loops than pairs did (the 40k sphere 7 % fewer
+// fewer of those loops than pairs did (the 40k sphere 13.5 % fewer
 // instructions; docs/performance.md).
 struct Shared {
     uvec4 q0;
