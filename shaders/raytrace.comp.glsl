@@ -476,14 +476,17 @@ RayFrame ray_frame(vec3 o, vec3 d) {
 }
 
 // Corner `v` of a shared triangle (read_triangle) relative to the ray's
-// origin, sheared. The record holds the corners by axis (quad k: every
-// corner's coordinate k, in lane k), so each coordinate in the order this
-// lane's ray asks for is one shuffle, its lane the axis: picked from the
-// three coordinates per lane instead, they cost two selects each.
+// origin, sheared. The record holds the corners by axis, in consecutive
+// quads from TRI_X (tests/shader_interface.rs holds TRI_Y and TRI_Z to
+// that): axis k's quad is in lane TRI_X / 4 + k, its word v corner v's
+// coordinate. So each coordinate in the order this lane's ray asks for is
+// one shuffle whose source lane is the axis: picked from a corner's three
+// coordinates per lane instead, they cost two selects each.
 vec3 sheared_corner(Shared tri, uint v, RayFrame f) {
+    const uint first = TRI_X / 4u;
     uint held = tri.q0[v];
-    vec3 p = uintBitsToFloat(uvec3(subgroupShuffle(held, f.axes.x), subgroupShuffle(held, f.axes.y),
-                                   subgroupShuffle(held, f.axes.z))) - f.origin;
+    vec3 p = uintBitsToFloat(uvec3(subgroupShuffle(held, first + f.axes.x), subgroupShuffle(held, first + f.axes.y),
+                                   subgroupShuffle(held, first + f.axes.z))) - f.origin;
     return vec3(p.x - f.shear.x * p.z, p.y - f.shear.y * p.z, f.shear.z * p.z);
 }
 

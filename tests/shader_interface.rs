@@ -282,7 +282,12 @@ fn quad_records_have_the_hosts_word_offsets() {
         digits.parse().unwrap()
     };
     let word = |byte_offset: usize| byte_offset / 4;
-    let quads = |name: &str, size: usize| assert_eq!(constant(name) * 16, size, "{name}");
+    // A shared record is held in two quads a lane, and the host allows
+    // subgroups of 4 lanes: no record may have more than 8 quads.
+    let quads = |name: &str, size: usize| {
+        assert_eq!(constant(name) * 16, size, "{name}");
+        assert!(constant(name) <= 8, "{name}: more quads than 4 lanes hold");
+    };
     quads("SPHERE_QUADS", size_of::<GpuSphere>());
     quads("PLANE_QUADS", size_of::<GpuPlane>());
     quads("BOX_QUADS", size_of::<GpuBox>());
@@ -335,6 +340,12 @@ fn quad_records_have_the_hosts_word_offsets() {
         ("CHILD_LINK", word(offset_of!(GpuBvhChild, link))),
         ("CHILD_HI", word(offset_of!(GpuBvhChild, hi))),
     ];
+    // The triangle test shuffles axis k's coordinates from lane
+    // TRI_X / 4 + k (`sheared_corner`): the axes must be whole, consecutive
+    // quads, their corners in words 0 to 2.
+    assert_eq!(constant("TRI_X") % 4, 0);
+    assert_eq!(constant("TRI_Y"), constant("TRI_X") + 4);
+    assert_eq!(constant("TRI_Z"), constant("TRI_Y") + 4);
     for (name, expected) in checks {
         assert_eq!(constant(name), expected, "{name}");
     }

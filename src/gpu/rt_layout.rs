@@ -193,6 +193,7 @@ pub struct GpuTriangleGeometry {
 }
 
 impl GpuTriangleGeometry {
+    /// The record of the triangle with these corners (p0, p1, p2).
     pub fn new(corners: [[f32; 3]; 3], index: u32, object: u32) -> Self {
         let axis = |k: usize| [corners[0][k], corners[1][k], corners[2][k]];
         GpuTriangleGeometry {
@@ -205,6 +206,8 @@ impl GpuTriangleGeometry {
         }
     }
 
+    /// Its corners p0, p1, p2 again, as vertices (the ray-query engine's
+    /// builds take them so).
     pub fn corners(&self) -> [[f32; 3]; 3] {
         let corner = |v: usize| [self.x[v], self.y[v], self.z[v]];
         [corner(0), corner(1), corner(2)]
@@ -352,6 +355,22 @@ pub fn record_size(binding: u32) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The record holds each axis's three coordinates in corner order, and
+    /// gives the corners back as they came (the ray-query engine's
+    /// vertices; the compute tracer's reading of it is held to the CPU twin
+    /// by the twin tests).
+    #[test]
+    fn a_triangle_record_holds_its_corners_by_axis() {
+        let corners = [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0], [7.0, 8.0, 9.0]];
+        let t = GpuTriangleGeometry::new(corners, 11, 12);
+        assert_eq!(
+            (t.x, t.y, t.z),
+            ([1.0, 4.0, 7.0], [2.0, 5.0, 8.0], [3.0, 6.0, 9.0])
+        );
+        assert_eq!((t.index, t.object), (11, 12));
+        assert_eq!(t.corners(), corners);
+    }
 
     /// On a GPU every subgroup gets an item (the dispatch holds a lane
     /// for every 16 pixels); on a CPU a few workgroups per thread, never
