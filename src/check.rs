@@ -251,8 +251,15 @@ pub fn check(
     shading: Shading,
     limits: &CheckThresholds,
 ) -> Result<CheckOutcome, Error> {
-    let actual = render_gpu(context, scene, shading)?;
-    let (expected, coverage) = render_cpu(reference, shading)?;
+    // Side by side: the GPU render leaves a core idle for much of its time
+    // (pipeline creation and code generation run on one thread), which the
+    // CPU reference fills.
+    let (actual, reference_render) = rayon::join(
+        || render_gpu(context, scene, shading),
+        || render_cpu(reference, shading),
+    );
+    let actual = actual?;
+    let (expected, coverage) = reference_render?;
     let judgement = judge(&expected.image, &actual.image, &coverage.near_edge, limits);
     Ok(CheckOutcome {
         shading,

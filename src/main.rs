@@ -7,5 +7,8 @@ mod cli;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
+    // First, while no other thread runs: it sets an environment variable
+    // that the driver reads when it loads.
+    shadelab::cache::use_for_mesa_shader_cache();
     cli::run()
 }

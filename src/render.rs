@@ -24,6 +24,16 @@ pub struct Timings {
     pub submit_ms: Option<f64>,
     /// GPU only: shader modules and pipeline creation.
     pub pipeline_ms: Option<f64>,
+    /// GPU only: the host's work on the scene before the pipeline
+    /// (geometry, BVH, records: `GpuTimings::prepare_ms`).
+    pub prepare_ms: Option<f64>,
+    /// GPU only: buffers, images and descriptors, the data uploaded.
+    pub upload_ms: Option<f64>,
+    /// GPU ray tracing only: the driver's code generation (or its shader
+    /// cache's load) at the pipeline's first dispatch.
+    pub codegen_ms: Option<f64>,
+    /// GPU only: the image read back into a `LinearImage`.
+    pub readback_ms: Option<f64>,
 }
 
 impl Timings {
@@ -31,9 +41,7 @@ impl Timings {
     fn cpu(started: Instant) -> Self {
         Self {
             total_ms: started.elapsed().as_secs_f64() * 1e3,
-            gpu_ms: None,
-            submit_ms: None,
-            pipeline_ms: None,
+            ..Self::default()
         }
     }
 
@@ -92,6 +100,10 @@ pub fn render_gpu_to(
             gpu_ms: Some(timings.gpu_ms),
             submit_ms: Some(timings.submit_ms),
             pipeline_ms: Some(timings.pipeline_ms),
+            prepare_ms: Some(timings.prepare_ms),
+            upload_ms: Some(timings.upload_ms),
+            codegen_ms: timings.codegen_ms,
+            readback_ms: Some(timings.readback_ms),
         },
         ray_stats,
         traversal,

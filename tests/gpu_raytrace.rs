@@ -463,8 +463,8 @@ fn every_feature_build_traces_the_same_image() {
     for s in [plain, default] {
         let trace = |every_feature| {
             let options = TraceOptions {
-                count_rays: false,
                 every_feature,
+                ..TraceOptions::default()
             };
             raytrace::render_with(&context, &s, options)
                 .unwrap_or_else(|e| panic!("{e}"))

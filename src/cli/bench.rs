@@ -6,6 +6,7 @@
 //! optional feature in, against the one specialised to the scene. Shared
 //! machines are noisy: compare ratios, not milliseconds.
 
+use std::ffi::OsString;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
@@ -21,6 +22,7 @@ use shadelab::shading::Shading;
 
 use super::args::{check_depth, check_runs, ImageSize, LightingArg, TraversalArg};
 use super::render::load_scene;
+use super::time_to_image::{self, TimeToImage};
 use super::Failure;
 
 #[derive(Args)]
@@ -62,9 +64,37 @@ pub struct BenchArgs {
     /// (The ray tracer always writes floats.)
     #[arg(long, value_enum, default_value = "png")]
     target: TargetFor,
+    /// Also time the whole `render` command per mode, as fresh processes:
+    /// cold (empty shadelab and Mesa caches, as on a fresh CI runner), warm
+    /// (caches filled), and the CPU twin's command (`--backend cpu`).
+    #[arg(long)]
+    time_to_image: bool,
     /// Print one JSON object on stdout.
     #[arg(long)]
     json: bool,
+}
+
+impl BenchArgs {
+    /// The scene and the overrides as `render` takes them, and the
+    /// GPU-only ones (a lighting hook) apart.
+    fn render_args(&self) -> (Vec<OsString>, Vec<OsString>) {
+        let mut args: Vec<OsString> = self.scene.iter().map(|p| p.into()).collect();
+        let mut flag = |name: &str, value: Option<String>| {
+            if let Some(v) = value {
+                args.push(name.into());
+                args.push(v.into());
+            }
+        };
+        flag("--width", self.size.width.map(|v| v.to_string()));
+        flag("--height", self.size.height.map(|v| v.to_string()));
+        flag("--depth", self.depth.map(|v| v.to_string()));
+        flag("--traversal", self.traversal.traversal.clone());
+        let gpu = match &self.lighting.lighting {
+            Some(hook) => vec!["--lighting".into(), hook.into()],
+            None => Vec::new(),
+        };
+        (args, gpu)
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -93,8 +123,8 @@ fn once(
         Some(mode) => raster::render_to(context, scene, mode, target)?.timings,
         None => {
             let options = TraceOptions {
-                count_rays: false,
                 every_feature,
+                ..TraceOptions::default()
             };
             raytrace::render_with(context, scene, options)?.timings
         }
@@ -138,6 +168,9 @@ struct Row {
     /// `--every-feature`: `every_feature_gpu_ms / gpu_ms`, what
     /// specialising to the scene saves.
     every_feature_ratio: Option<f64>,
+    /// `--time-to-image`: the whole command's wall clock, cold and warm,
+    /// and the CPU twin's.
+    time_to_image: Option<TimeToImage>,
 }
 
 pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
@@ -212,6 +245,17 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
         } else {
             None
         };
+        let time_to_image = if args.time_to_image {
+            let (render_args, gpu_args) = args.render_args();
+            Some(time_to_image::measure(
+                &render_args,
+                &gpu_args,
+                shading,
+                args.runs,
+            )?)
+        } else {
+            None
+        };
         rows.push(Row {
             shading,
             color_target: target_of(shading).name(),
@@ -226,6 +270,7 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
             gpu_speedup_over_cpu: cpu_ms.map(|c| c / gpu_ms),
             every_feature_gpu_ms,
             every_feature_ratio: every_feature_gpu_ms.map(|e| e / gpu_ms),
+            time_to_image,
         });
     }
     let (w, h) = (scene.image.width, scene.image.height);
@@ -271,6 +316,12 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     if args.every_feature {
         header += &format!(" {:>12} {:>8}", "uber_gpu_ms", "uber_x");
     }
+    if args.time_to_image {
+        header += &format!(
+            " {:>10} {:>10} {:>10}",
+            "image_warm", "image_cold", "image_cpu"
+        );
+    }
     println!("{header}");
     let figure = |v: Option<f64>, width: usize, digits: usize| match v {
         Some(v) => format!("{v:>width$.digits$}"),
@@ -298,6 +349,12 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
                 " {} {}",
                 figure(r.every_feature_gpu_ms, 12, 1),
                 figure(r.every_feature_ratio, 8, 2)
+            );
+        }
+        if let Some(t) = &r.time_to_image {
+            line += &format!(
+                " {:>10.1} {:>10.1} {:>10.1}",
+                t.warm_ms, t.cold_ms, t.cpu_ms
             );
         }
         println!("{line}");

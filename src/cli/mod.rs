@@ -7,6 +7,7 @@ mod compare;
 mod diff;
 mod info;
 mod render;
+mod time_to_image;
 
 use std::process::ExitCode;
 

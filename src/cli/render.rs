@@ -1,10 +1,12 @@
 //! `shadelab render`: one scene, one mode, one image file.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
 
 use clap::Args;
 use shadelab::gpu::raster::ColorTarget;
-use shadelab::gpu::{GpuContext, GpuOptions};
+use shadelab::gpu::{ms_since, GpuContext, GpuError, GpuOptions};
 use shadelab::memory::MemoryLimit;
 use shadelab::render::Timings;
 use shadelab::rt_scene::RayStats;
@@ -107,36 +109,107 @@ fn apply_overrides(scene: &mut Scene, args: &RenderArgs) -> Result<(), Failure> 
     Ok(())
 }
 
-pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
+/// The GPU opened on a thread of its own while the scene loads (on a
+/// 2-core machine the two overlap): `ms` is how long the opening took.
+struct OpeningDevice {
+    thread: std::thread::JoinHandle<(Result<Arc<GpuContext>, GpuError>, f64)>,
+}
+
+impl OpeningDevice {
+    fn start(options: &GpuOptions) -> Self {
+        let options = options.clone();
+        let thread = std::thread::spawn(move || {
+            let started = Instant::now();
+            let context = GpuContext::new(&options);
+            (context, ms_since(started))
+        });
+        Self { thread }
+    }
+
+    /// The device and the time it took to open.
+    fn finish(self) -> (Result<Arc<GpuContext>, GpuError>, f64) {
+        self.thread
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+    }
+}
+
+/// `--out`, or `<scene name>-<mode>.png` in the current folder.
+fn output_path(args: &RenderArgs, stem: &str) -> PathBuf {
+    args.out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("{stem}-{}.png", args.shading)))
+}
+
+/// The scene with the overrides applied, its name, and the memory estimate
+/// held to the limit; the output's name checked too, all before any
+/// rendering work.
+fn load_and_check(
+    args: &RenderArgs,
+    memory: &MemoryLimit,
+) -> Result<(Scene, String, u64), Failure> {
     let (mut scene, stem) = load_scene(args.scene.as_deref(), memory)?;
-    apply_overrides(&mut scene, &args)?;
+    apply_overrides(&mut scene, args)?;
     let estimate = if args.backend == "cpu" {
         memory.check(&stem, &scene, &[], &[args.shading])?
     } else {
         memory.check(&stem, &scene, &[args.shading], &[])?
     };
+    shadelab::output::ImageFormat::from_path(&output_path(args, &stem))?;
+    Ok((scene, stem, estimate))
+}
+
+pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
+    let command_started = Instant::now();
+    let opening = (args.backend != "cpu").then(|| OpeningDevice::start(options));
+    let loaded = load_and_check(&args, memory);
+    let (scene, stem, estimate) = match loaded {
+        Ok(loaded) => loaded,
+        Err(failure) => {
+            // The scene's error is the answer; the device is closed before
+            // the process exits (not while its driver is still loading).
+            if let Some(opening) = opening {
+                drop(opening.finish());
+            }
+            return Err(failure);
+        }
+    };
+    let scene_ms = ms_since(command_started);
     for warning in &scene.warnings {
         eprintln!("shadelab: warning: {warning}");
     }
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("{stem}-{}.png", args.shading)));
-    // Check the output name before spending time on the render.
+    let out = output_path(&args, &stem);
     let format = shadelab::output::ImageFormat::from_path(&out)?;
     // A PNG holds 8-bit sRGB: the raster modes render straight into it.
     let target = ColorTarget::for_output(format);
-    let (rendered, device, driver) = if args.backend == "cpu" {
-        let (rendered, _) = shadelab::render::render_cpu(&scene, args.shading)?;
-        (rendered, "CPU reference (f64)".to_string(), None)
-    } else {
-        let context = GpuContext::new(options)?;
+    let mut device_ms = None;
+    let (rendered, device, driver) = if let Some(opening) = opening {
+        let (context, opened_ms) = opening.finish();
+        let context = context?;
+        device_ms = Some(opened_ms);
         let rendered =
             shadelab::render::render_gpu_to(&context, &scene, args.shading, args.stats, target)?;
         let info = &context.info;
         (rendered, info.name.clone(), Some(info.driver.clone()))
+    } else {
+        let (rendered, _) = shadelab::render::render_cpu(&scene, args.shading)?;
+        (rendered, "CPU reference (f64)".to_string(), None)
     };
+    let encode_started = Instant::now();
     shadelab::output::write_image(&rendered.image, &out)?;
+    let t = &rendered.timings;
+    let phases = serde_json::json!({
+        "scene_ms": scene_ms,
+        "device_ms": device_ms,
+        "prepare_ms": t.prepare_ms,
+        "pipeline_ms": t.pipeline_ms,
+        "upload_ms": t.upload_ms,
+        "codegen_ms": t.codegen_ms,
+        "render_ms": t.work_ms(),
+        "readback_ms": t.readback_ms,
+        "encode_ms": ms_since(encode_started),
+        "wall_ms": ms_since(command_started),
+    });
     if args.json {
         let value = serde_json::json!({
             "output": out,
@@ -150,6 +223,7 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
                 .then(|| target.name()),
             "traversal": rendered.traversal.map(|t| t.name()),
             "timings_ms": rendered.timings,
+            "phases_ms": phases,
             "memory": {
                 "estimate_bytes": estimate,
                 "peak_bytes": shadelab::memory::peak_resident_bytes(),

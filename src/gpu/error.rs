@@ -31,6 +31,10 @@ pub enum GpuError {
     /// the message names the file (and glslang's line).
     #[error("lighting hook {0}")]
     LightingHook(String),
+    /// Specialising a built-in module before the driver failed: a bug in
+    /// shadelab, not the user's input.
+    #[error("specialising a shader module failed: {0}")]
+    Specialise(String),
     #[error("Vulkan call {call} failed: {result}")]
     Vulkan {
         call: &'static str,

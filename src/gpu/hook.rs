@@ -6,14 +6,15 @@
 //! on disk, keyed by every text that went in, the defines and the driver,
 //! so a sweep over many variants compiles each once.
 
-use std::hash::{Hash, Hasher};
-use std::path::PathBuf;
-
 use super::context::DeviceInfo;
 use super::error::GpuError;
 use super::shader_catalog::{ShaderBlob, ShaderStage, INCLUDES};
+use crate::cache;
 use crate::scene::LightingHook;
 use crate::shader_compile;
+
+/// The cache folder's subfolder of compiled hooks.
+const HOOK_CACHE: &str = "hooks";
 
 /// The include a hook replaces.
 const HOOK_INCLUDE: &str = "lighting_hook.glsl";
@@ -66,14 +67,11 @@ fn declares_capability(words: &[u32], capability: u32) -> bool {
 /// The module, from the cache or compiled (and then cached).
 fn compiled(blob: &ShaderBlob, hook: &LightingHook, driver: &str) -> Result<Vec<u32>, GpuError> {
     let key = cache_key(blob, hook, driver);
-    let cached = cache_path(&key);
-    if let Some(words) = cached.as_ref().and_then(|path| read_cached(path, &key)) {
+    if let Some(words) = cache::read_module(HOOK_CACHE, &key) {
         return Ok(words);
     }
     let words = compile(blob, hook)?;
-    if let Some(path) = cached {
-        write_cached(&path, &key, &words);
-    }
+    cache::write_module(HOOK_CACHE, &key, &words);
     Ok(words)
 }
 
@@ -169,86 +167,19 @@ fn check_interface(
 /// Everything the module depends on: the shader's text and defines, every
 /// include (the hook among them), the compiler's version, the driver.
 fn cache_key(blob: &ShaderBlob, hook: &LightingHook, driver: &str) -> String {
-    let mut hasher = std::collections::hash_map::DefaultHasher::new();
-    blob.source.hash(&mut hasher);
-    INCLUDES.hash(&mut hasher);
-    hook.source.hash(&mut hasher);
+    let digest = cache::digest(&(blob.source, INCLUDES, &hook.source));
     format!(
         "shadelab {} glslang 0.9 {} {:?} {driver} {:016x}",
         env!("CARGO_PKG_VERSION"),
         blob.name,
         blob.defines,
-        hasher.finish()
+        digest
     )
-}
-
-/// `$SHADELAB_CACHE_DIR`, else `$XDG_CACHE_HOME/shadelab`, else
-/// `~/.cache/shadelab`; then `hooks/<hash of the key>.spv`. None without
-/// any of them.
-fn cache_path(key: &str) -> Option<PathBuf> {
-    let env = |name| std::env::var_os(name).filter(|v| !v.is_empty());
-    let dir = env("SHADELAB_CACHE_DIR")
-        .map(PathBuf::from)
-        .or_else(|| env("XDG_CACHE_HOME").map(|d| PathBuf::from(d).join("shadelab")))
-        .or_else(|| env("HOME").map(|d| PathBuf::from(d).join(".cache/shadelab")))?;
-    let mut hasher = std::collections::hash_map::DefaultHasher::new();
-    key.hash(&mut hasher);
-    Some(
-        dir.join("hooks")
-            .join(format!("{:016x}.spv", hasher.finish())),
-    )
-}
-
-/// The cached words, if the file holds this very key (a hash collision or
-/// a torn write reads as a miss).
-fn read_cached(path: &PathBuf, key: &str) -> Option<Vec<u32>> {
-    let bytes = std::fs::read(path).ok()?;
-    let rest = bytes.strip_prefix(key.as_bytes())?.strip_prefix(b"\n")?;
-    if rest.is_empty() || rest.len() % 4 != 0 {
-        return None;
-    }
-    Some(
-        rest.chunks_exact(4)
-            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-            .collect(),
-    )
-}
-
-/// Best effort: a cache that cannot be written is no cache. Written to a
-/// temporary name, then renamed, so a reader never sees half a module.
-fn write_cached(path: &PathBuf, key: &str, words: &[u32]) {
-    let Some(dir) = path.parent() else { return };
-    if std::fs::create_dir_all(dir).is_err() {
-        return;
-    }
-    let mut bytes = Vec::with_capacity(key.len() + 1 + words.len() * 4);
-    bytes.extend_from_slice(key.as_bytes());
-    bytes.push(b'\n');
-    bytes.extend(words.iter().flat_map(|w| w.to_le_bytes()));
-    let temp = path.with_extension(format!("tmp{}", std::process::id()));
-    if std::fs::write(&temp, &bytes).is_ok() && std::fs::rename(&temp, path).is_err() {
-        let _ = std::fs::remove_file(&temp);
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn a_cached_module_reads_back_only_under_its_own_key() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("hooks").join("m.spv");
-        let words = vec![0x0723_0203, 1, 2, 0xdead_beef];
-        write_cached(&path, "key one", &words);
-        assert_eq!(read_cached(&path, "key one"), Some(words.clone()));
-        assert_eq!(read_cached(&path, "key two"), None);
-        // A torn file (a word cut short) is a miss, not a bad module.
-        let mut bytes = std::fs::read(&path).unwrap();
-        bytes.pop();
-        std::fs::write(&path, bytes).unwrap();
-        assert_eq!(read_cached(&path, "key one"), None);
-    }
 
     #[test]
     fn the_key_changes_with_the_hook_the_defines_and_the_driver() {

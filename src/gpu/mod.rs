@@ -23,10 +23,11 @@ pub mod rt_layout;
 mod rt_records;
 pub mod rt_wide;
 pub mod shader_catalog;
+mod specialise;
 mod timestamps;
 mod validation;
 
 pub use context::{list_devices, DeviceInfo, GpuContext, GpuOptions};
 pub use error::GpuError;
 pub use raster::RasterOutput;
-pub use timestamps::GpuTimings;
+pub use timestamps::{ms_since, GpuTimings};

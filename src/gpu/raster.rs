@@ -23,7 +23,7 @@ use super::raster_layout::{
 };
 use super::raster_scene::{build_geometry, lights, specialization};
 use super::shader_catalog::{self as shaders, ShaderBlob};
-use super::timestamps::{GpuTimings, Timestamps};
+use super::timestamps::{ms_since, GpuTimings, Timestamps};
 use crate::camera::View;
 use crate::linear_image::LinearImage;
 use crate::scene::{Interpolation, LightingHook, Scene};
@@ -304,6 +304,7 @@ pub fn render_to(
     let view = View::new(scene, width, height);
     let geometry = build_geometry(scene, &view, mode == RasterMode::Flat);
     let spec = specialization(scene);
+    let prepare_ms = ms_since(started);
 
     let pipeline_started = Instant::now();
     let pipeline = create_pipeline(
@@ -314,8 +315,9 @@ pub fn render_to(
         target,
         scene.lighting_hook.as_deref(),
     )?;
-    let pipeline_ms = pipeline_started.elapsed().as_secs_f64() * 1e3;
+    let pipeline_ms = ms_since(pipeline_started);
 
+    let upload_started = Instant::now();
     let flat = mode == RasterMode::Flat;
     let flat_mesh = flat.then(|| FlatMesh::new(&geometry));
     let (vertex_bytes, index_data): (&[u8], &[u32]) = match &flat_mesh {
@@ -389,6 +391,7 @@ pub fn render_to(
         MemoryLocation::GpuToCpu,
     )?;
     let timestamps = Timestamps::new(context)?;
+    let upload_ms = ms_since(upload_started);
 
     let commands = OneShot::begin(context)?;
     let cmd = commands.cmd;
@@ -567,6 +570,7 @@ pub fn render_to(
     }
     let (submit_ms, gpu_ms) = timestamps.submit_and_measure(&commands)?;
 
+    let readback_started = Instant::now();
     let image = match target {
         ColorTarget::Float32 => LinearImage::from_rgba32f_bytes(width, height, readback.mapped()),
         ColorTarget::Srgb8 => LinearImage::from_srgba8_bytes(width, height, readback.mapped()),
@@ -574,10 +578,14 @@ pub fn render_to(
     Ok(RasterOutput {
         image,
         timings: GpuTimings {
+            prepare_ms,
             pipeline_ms,
+            upload_ms,
+            codegen_ms: None,
             gpu_ms,
             submit_ms,
-            total_ms: started.elapsed().as_secs_f64() * 1e3,
+            readback_ms: ms_since(readback_started),
+            total_ms: ms_since(started),
         },
     })
 }

@@ -27,7 +27,8 @@ use super::rt_bvh::BvhKinds;
 use super::rt_layout::*;
 use super::rt_records::{records, v4};
 use super::shader_catalog::{RAYTRACE_COMP, RAYTRACE_QUERY_COMP, RAYTRACE_WIDE_COMP};
-use super::timestamps::{GpuTimings, Timestamps};
+use super::specialise::specialise;
+use super::timestamps::{ms_since, GpuTimings, Timestamps};
 use crate::camera::View;
 use crate::linear_image::LinearImage;
 use crate::rt_scene::{sample_grid, RayStats, RtScene};
@@ -76,6 +77,7 @@ fn create_pipeline(
     lighting_hook: Option<&LightingHook>,
     traversal: Traversal,
     wide_bvh: bool,
+    driver_specialises: bool,
 ) -> Result<PipelineObjects, GpuError> {
     let device = &context.device;
     let mut p = PipelineObjects::new(context);
@@ -96,23 +98,30 @@ fn create_pipeline(
     // SAFETY: valid device and create infos throughout this function.
     p.layout = unsafe { device.create_pipeline_layout(&layout_info, None) }
         .during("vkCreatePipelineLayout")?;
-    let words = hook::module_words(shader, lighting_hook, &context.info)?;
+    let entries = TraceSpecialization::map_entries();
+    let spec_data = bytemuck::bytes_of(spec);
+    let mut words = hook::module_words(shader, lighting_hook, &context.info)?;
+    if !driver_specialises {
+        words = specialise(&words, &entries, spec_data)?;
+    }
     let module_info = vk::ShaderModuleCreateInfo::default().code(&words);
     // SAFETY: the words are SPIR-V validated by naga (at build time, or with
     // the hook by `hook::module_words`), or for the ray-query engine by
-    // spirv-val at build time.
+    // spirv-val at build time, then specialised by SPIRV-Tools' optimizer.
     let module = unsafe { device.create_shader_module(&module_info, None) }
         .during("vkCreateShaderModule")?;
     p.modules.push(module);
-    let entries = TraceSpecialization::map_entries();
     let spec_info = vk::SpecializationInfo::default()
         .map_entries(&entries)
-        .data(bytemuck::bytes_of(spec));
-    let stage = vk::PipelineShaderStageCreateInfo::default()
+        .data(spec_data);
+    let mut stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
         .module(module)
-        .name(c"main")
-        .specialization_info(&spec_info);
+        .name(c"main");
+    if driver_specialises {
+        // Otherwise the constants are in the module already.
+        stage = stage.specialization_info(&spec_info);
+    }
     let info = vk::ComputePipelineCreateInfo::default()
         .stage(stage)
         .layout(p.layout);
@@ -134,6 +143,10 @@ pub struct TraceOptions {
     /// --every-feature`). The image is the same. Switches that change the
     /// image (shadows, attenuation) stay as the scene sets them.
     pub every_feature: bool,
+    /// Hand the driver the module with its specialization constants and
+    /// their values, as before `specialise` (what specialising before the
+    /// driver saves, and the test that it changes no pixel).
+    pub driver_specialises: bool,
 }
 
 /// Only what the scene uses: the lighting constants of the raster pipelines
@@ -179,7 +192,7 @@ pub fn render(
 ) -> Result<TraceOutput, GpuError> {
     let options = TraceOptions {
         count_rays,
-        every_feature: false,
+        ..TraceOptions::default()
     };
     render_with(context, scene, options)
 }
@@ -209,6 +222,7 @@ pub fn render_with(
             hook.path
         )));
     }
+    let prepare_started = Instant::now();
     let rt = RtScene::new(scene);
     // Refuses what the records cannot hold before building the pipeline.
     let mut r = records(&rt)?;
@@ -217,6 +231,7 @@ pub fn render_with(
         _ => Vec::new(),
     };
     let spec = specialization(scene, &rt, options);
+    let prepare_ms = ms_since(prepare_started);
     let pipeline_started = Instant::now();
     let pipeline = create_pipeline(
         context,
@@ -224,9 +239,11 @@ pub fn render_with(
         scene.lighting_hook.as_deref(),
         traversal,
         r.bvh.wide.is_some(),
+        options.driver_specialises,
     )?;
-    let pipeline_ms = pipeline_started.elapsed().as_secs_f64() * 1e3;
+    let pipeline_ms = ms_since(pipeline_started);
 
+    let upload_started = Instant::now();
     if spec.has_bvh != 0 && r.bvh.root.is_none() {
         // The BVH walk compiled in for a scene with nothing in its BVH: a
         // leaf of one degenerate triangle, which no ray hits.
@@ -327,57 +344,26 @@ pub fn render_with(
     };
 
     let (groups_x, groups_y) = workgroups(width, height, context.info.is_cpu(), cpu_threads());
+    let bound = BoundTrace {
+        pipeline: &pipeline,
+        set: descriptors.set,
+        structure_set: structure.as_ref().map(|(_, set)| set.set),
+        work_queue: work_queue.raw,
+    };
+    let upload_ms = ms_since(upload_started);
+    let codegen_ms = first_use(context, &bound)?;
     let timestamps = Timestamps::new(context)?;
     let commands = OneShot::begin(context)?;
     let cmd = commands.cmd;
     let device = &context.device;
     // SAFETY: every handle recorded here lives until after the submission
-    // completes (dropped at the end of this function); the barriers order
-    // the queue's zeroing before the shader and the shader's writes before
-    // the host reads.
+    // completes (dropped at the end of this function); the barrier orders
+    // the shader's writes before the host reads.
     unsafe {
-        device.cmd_fill_buffer(cmd, work_queue.raw, 0, vk::WHOLE_SIZE, 0);
-        let queue_zeroed = [vk::MemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::CLEAR)
-            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-            .dst_access_mask(
-                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-            )];
-        device.cmd_pipeline_barrier2(
-            cmd,
-            &vk::DependencyInfo::default().memory_barriers(&queue_zeroed),
-        );
-        timestamps.start(cmd);
-        device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.pipeline);
-        device.cmd_bind_descriptor_sets(
-            cmd,
-            vk::PipelineBindPoint::COMPUTE,
-            pipeline.layout,
-            0,
-            &[descriptors.set],
-            &[],
-        );
-        if let Some((_, structure_set)) = &structure {
-            // The structures were built by an earlier submission on this
-            // queue: their writes must reach the shader's reads.
-            let built = [vk::MemoryBarrier2::default()
-                .src_stage_mask(vk::PipelineStageFlags2::ACCELERATION_STRUCTURE_BUILD_KHR)
-                .src_access_mask(vk::AccessFlags2::ACCELERATION_STRUCTURE_WRITE_KHR)
-                .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-                .dst_access_mask(vk::AccessFlags2::ACCELERATION_STRUCTURE_READ_KHR)];
-            device
-                .cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&built));
-            device.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::COMPUTE,
-                pipeline.layout,
-                QUERY_SET,
-                &[structure_set.set],
-                &[],
-            );
-        }
-        device.cmd_dispatch(cmd, groups_x, groups_y, 1);
+        bound.record(device, cmd, 0, |cmd| {
+            timestamps.start(cmd);
+            device.cmd_dispatch(cmd, groups_x, groups_y, 1);
+        });
         let to_host = [vk::MemoryBarrier2::default()
             .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
             .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
@@ -391,6 +377,7 @@ pub fn render_with(
     }
     let (submit_ms, gpu_ms) = timestamps.submit_and_measure(&commands)?;
 
+    let readback_started = Instant::now();
     let image = LinearImage::from_rgba32f_bytes(width, height, output.mapped());
     let counter = |i: usize| {
         let b = &stats.mapped()[i * 4..i * 4 + 4];
@@ -407,14 +394,98 @@ pub fn render_with(
     Ok(TraceOutput {
         image,
         timings: GpuTimings {
+            prepare_ms,
             pipeline_ms,
+            upload_ms,
+            codegen_ms: Some(codegen_ms),
             gpu_ms,
             submit_ms,
-            total_ms: started.elapsed().as_secs_f64() * 1e3,
+            readback_ms: ms_since(readback_started),
+            total_ms: ms_since(started),
         },
         stats,
         traversal,
     })
+}
+
+/// A work-queue head past any image's last item: a dispatch that starts
+/// from it takes no item, so every subgroup ends at once.
+const QUEUE_EXHAUSTED: u32 = 0x8000_0000;
+
+/// The ray tracer's pipeline and what it reads, bound for a dispatch.
+struct BoundTrace<'a> {
+    pipeline: &'a PipelineObjects,
+    set: vk::DescriptorSet,
+    /// The ray-query engine's set of the acceleration structure.
+    structure_set: Option<vk::DescriptorSet>,
+    work_queue: vk::Buffer,
+}
+
+impl BoundTrace<'_> {
+    /// Records the work queue set to `queue_head`, the pipeline and its
+    /// sets bound, then `dispatch`.
+    ///
+    /// # Safety
+    /// `cmd` is recording, and every handle in `self` lives until the
+    /// submission that runs it has completed.
+    unsafe fn record(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        queue_head: u32,
+        dispatch: impl FnOnce(vk::CommandBuffer),
+    ) {
+        device.cmd_fill_buffer(cmd, self.work_queue, 0, vk::WHOLE_SIZE, queue_head);
+        let queue_set = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::CLEAR)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .dst_access_mask(
+                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            )];
+        device.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().memory_barriers(&queue_set),
+        );
+        let p = self.pipeline;
+        device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.pipeline);
+        let bind = vk::PipelineBindPoint::COMPUTE;
+        device.cmd_bind_descriptor_sets(cmd, bind, p.layout, 0, &[self.set], &[]);
+        if let Some(structure_set) = self.structure_set {
+            // The structures were built by an earlier submission on this
+            // queue: their writes must reach the shader's reads.
+            let built = [vk::MemoryBarrier2::default()
+                .src_stage_mask(vk::PipelineStageFlags2::ACCELERATION_STRUCTURE_BUILD_KHR)
+                .src_access_mask(vk::AccessFlags2::ACCELERATION_STRUCTURE_WRITE_KHR)
+                .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+                .dst_access_mask(vk::AccessFlags2::ACCELERATION_STRUCTURE_READ_KHR)];
+            device
+                .cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&built));
+            device.cmd_bind_descriptor_sets(cmd, bind, p.layout, QUERY_SET, &[structure_set], &[]);
+        }
+        dispatch(cmd);
+    }
+}
+
+/// The pipeline's first use, apart from the render, in milliseconds: one
+/// workgroup over an exhausted work queue, which traces nothing. Lavapipe
+/// generates a pipeline's machine code at its first dispatch (or loads it
+/// from Mesa's shader cache), so this is that cost alone, and `gpu_ms`
+/// after it is the trace alone, on a cold cache as on a warm one.
+fn first_use(context: &Arc<GpuContext>, bound: &BoundTrace) -> Result<f64, GpuError> {
+    let started = Instant::now();
+    let commands = OneShot::begin(context)?;
+    let device = &context.device;
+    // SAFETY: `bound`'s handles outlive this function, which waits for the
+    // submission; the shader takes no item and writes no pixel.
+    unsafe {
+        bound.record(device, commands.cmd, QUEUE_EXHAUSTED, |cmd| {
+            device.cmd_dispatch(cmd, 1, 1, 1)
+        });
+    }
+    commands.submit_and_wait()?;
+    context.check_validation()?;
+    Ok(ms_since(started))
 }
 
 /// The threads a CPU device (lavapipe) runs a dispatch on: one per CPU,
@@ -499,8 +570,8 @@ mod tests {
             &scene,
             &rt,
             TraceOptions {
-                count_rays: false,
                 every_feature: true,
+                ..TraceOptions::default()
             },
         );
         let switches = |s: &TraceSpecialization| {

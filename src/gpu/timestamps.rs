@@ -12,8 +12,19 @@ use super::error::{GpuError, VkContext};
 /// Where a render spent its time.
 #[derive(Debug, Clone, Copy, Default, serde::Serialize)]
 pub struct GpuTimings {
+    /// Host work on the scene before the pipeline: geometry, the BVH and
+    /// the records the shaders read.
+    pub prepare_ms: f64,
     /// Shader modules and pipeline creation.
     pub pipeline_ms: f64,
+    /// Buffers, images and descriptors made and the scene's data uploaded.
+    pub upload_ms: f64,
+    /// The driver's work at the pipeline's first use, told apart from the
+    /// render by a dispatch that does no work (the ray tracer): lavapipe
+    /// generates the machine code there, or loads it from Mesa's shader
+    /// cache. `None` where it is not told apart (the raster modes: it is
+    /// inside `submit_ms`).
+    pub codegen_ms: Option<f64>,
     /// GPU time between timestamp queries around the work.
     pub gpu_ms: f64,
     /// Wall time from queue submission to the fence: the GPU's work plus a
@@ -21,8 +32,15 @@ pub struct GpuTimings {
     /// driver's timestamp placement (lavapipe 22.3 stamps a compute dispatch
     /// that follows graphics work at ~0.1 ms, whatever it costs).
     pub submit_ms: f64,
+    /// The image read back from mapped memory into a `LinearImage`.
+    pub readback_ms: f64,
     /// Wall time of the whole render, host work and read-back included.
     pub total_ms: f64,
+}
+
+/// Milliseconds since `start`.
+pub fn ms_since(start: Instant) -> f64 {
+    start.elapsed().as_secs_f64() * 1e3
 }
 
 pub struct Timestamps {

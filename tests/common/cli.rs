@@ -9,14 +9,24 @@ pub struct Run {
     pub stderr: String,
 }
 
+/// The suite's Mesa shader cache (`cache::use_for_mesa_shader_cache` names
+/// one per code generator configuration; the suite runs one).
+pub fn mesa_cache() -> std::path::PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join("mesa-shader-cache")
+}
+
 /// Runs `shadelab ARGS` in `dir` with the validation layer on, and the
-/// lighting hooks' cache in `dir/cache` (not the user's).
+/// lighting hooks' and specialised modules' cache in `dir/cache` (not the
+/// user's).
 pub fn shadelab(dir: &Path, args: &[&str]) -> Run {
     let out = Command::new(env!("CARGO_BIN_EXE_shadelab"))
         .args(args)
         .current_dir(dir)
         .env("SHADELAB_VALIDATION", "1")
         .env("SHADELAB_CACHE_DIR", dir.join("cache"))
+        // One Mesa shader cache for the whole suite, as a user's runs share
+        // one: a fresh one per test would compile every shader again.
+        .env("MESA_SHADER_CACHE_DIR", mesa_cache())
         .output()
         .expect("the binary runs");
     Run {

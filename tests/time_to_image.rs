@@ -1,0 +1,156 @@
+//! What a user waits for: the phases of a whole `render` command as
+//! `--json` reports them, and the caches that make a second run warm
+//! (shadelab's cache folder, with Mesa's shader cache inside it).
+
+mod common;
+
+use std::path::Path;
+use std::process::Command;
+
+use common::cli::shadelab;
+
+const PHASES: [&str; 9] = [
+    "scene_ms",
+    "device_ms",
+    "prepare_ms",
+    "pipeline_ms",
+    "upload_ms",
+    "codegen_ms",
+    "render_ms",
+    "readback_ms",
+    "encode_ms",
+];
+
+fn phases(dir: &Path, args: &[&str]) -> serde_json::Map<String, serde_json::Value> {
+    let mut all = vec!["render", "--width", "64", "--height", "48", "--json"];
+    all.extend_from_slice(args);
+    let run = shadelab(dir, &all);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let json: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    json["phases_ms"].as_object().expect("phases_ms").clone()
+}
+
+/// Each phase is a part of the wall clock, timed one after another: none is
+/// negative and together they fit inside it (a phase counted twice, or one
+/// timed from the wrong start, would overflow it). Only the GPU has a
+/// device and a pipeline; only the ray tracer's first use is told apart.
+#[test]
+fn render_json_gives_the_phases_of_the_whole_command() {
+    let dir = tempfile::tempdir().unwrap();
+    for (args, absent) in [
+        (&["--shading", "raytrace", "-o", "r.png"][..], &[][..]),
+        (
+            &["--shading", "phong", "-o", "p.png"][..],
+            &["codegen_ms"][..],
+        ),
+        (
+            &["--shading", "raytrace", "--backend", "cpu", "-o", "c.png"][..],
+            &[
+                "device_ms",
+                "prepare_ms",
+                "pipeline_ms",
+                "upload_ms",
+                "codegen_ms",
+                "readback_ms",
+            ][..],
+        ),
+    ] {
+        let p = phases(dir.path(), args);
+        let wall = p["wall_ms"].as_f64().expect("wall_ms");
+        let mut sum = 0.0;
+        for name in PHASES {
+            match p[name].as_f64() {
+                Some(ms) => {
+                    assert!(!absent.contains(&name), "{args:?}: {name} = {ms}");
+                    assert!(ms >= 0.0, "{args:?}: {name} = {ms}");
+                    sum += ms;
+                }
+                None => assert!(absent.contains(&name), "{args:?}: no {name}"),
+            }
+        }
+        assert!(
+            sum <= wall,
+            "{args:?}: the phases add up to {sum} > wall {wall}"
+        );
+        assert!(p["render_ms"].as_f64().unwrap() > 0.0, "{args:?}");
+    }
+}
+
+/// Runs `render` with shadelab's cache folder in `cache` and Mesa's cache
+/// left to shadelab (no `MESA_SHADER_CACHE_DIR`), plus `env`.
+fn render_with_cache(dir: &Path, cache: &Path, env: &[(&str, &str)]) {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_shadelab"));
+    command
+        .args(["render", "--width", "32", "--height", "24", "-o", "x.png"])
+        .current_dir(dir)
+        .env("SHADELAB_VALIDATION", "1")
+        .env("SHADELAB_CACHE_DIR", cache)
+        .env_remove("MESA_SHADER_CACHE_DIR")
+        .env_remove("MESA_SHADER_CACHE_DISABLE")
+        .envs(env.iter().copied());
+    let out = command.output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn mesa_folders(cache: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(cache)
+        .map(|entries| {
+            entries
+                .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                .filter(|n| n.starts_with("mesa-"))
+                .collect()
+        })
+        .unwrap_or_default();
+    names.sort();
+    names
+}
+
+/// Mesa's shader cache lives in shadelab's cache folder, one folder a CI
+/// job can keep, and a code generator configuration of its own gets a
+/// folder of its own: a cache built for 256-bit vectors is never handed to
+/// a run at 128 bits (where a foreign cache crashed lavapipe). A command
+/// that opens no GPU leaves no folder; a user's own Mesa folder is kept.
+#[test]
+fn mesa_shader_cache_lives_in_the_cache_folder_per_configuration() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let diff = Command::new(env!("CARGO_BIN_EXE_shadelab"))
+        .args(["diff", "missing-a.png", "missing-b.png"])
+        .current_dir(dir.path())
+        .env("SHADELAB_CACHE_DIR", &cache)
+        .env_remove("MESA_SHADER_CACHE_DIR")
+        .output()
+        .unwrap();
+    assert_eq!(diff.status.code(), Some(2));
+    assert_eq!(mesa_folders(&cache), Vec::<String>::new(), "no GPU opened");
+
+    render_with_cache(dir.path(), &cache, &[]);
+    let first = mesa_folders(&cache);
+    assert_eq!(first.len(), 1, "{first:?}");
+    let filled = std::fs::read_dir(cache.join(&first[0])).unwrap().count();
+    assert!(filled > 0, "Mesa wrote nothing into {}", first[0]);
+
+    render_with_cache(dir.path(), &cache, &[]);
+    assert_eq!(
+        mesa_folders(&cache),
+        first,
+        "the same configuration reuses it"
+    );
+
+    render_with_cache(dir.path(), &cache, &[("LP_NATIVE_VECTOR_WIDTH", "128")]);
+    let both = mesa_folders(&cache);
+    assert_eq!(both.len(), 2, "{both:?}");
+
+    let own = dir.path().join("own-mesa");
+    render_with_cache(
+        dir.path(),
+        &cache,
+        &[("MESA_SHADER_CACHE_DIR", own.to_str().unwrap())],
+    );
+    assert_eq!(mesa_folders(&cache), both, "the user's choice is kept");
+    assert!(own.exists(), "Mesa used the user's folder");
+}
