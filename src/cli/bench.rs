@@ -303,6 +303,11 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     if let Some(path) = &hook_path {
         println!("lighting hook: {path} (the GPU modes; --cpu times the built-in formula)");
     }
+    if args.time_to_image {
+        println!(
+            "image_*: the whole `render` command in a fresh process (ms): caches filled (warm), empty caches (cold), the CPU twin's (--backend cpu)"
+        );
+    }
     if let Some(engine) = rows.iter().find_map(|r| r.traversal) {
         println!("ray tracer's traversal: {engine}");
     }
