@@ -20,20 +20,6 @@ fn trace(scene: &Scene) -> (LinearImage, RayStats) {
     (out.image, out.stats.expect("counted"))
 }
 
-fn mesh_sphere_scene() -> Scene {
-    let mut s = scene(128, 128, 30.0);
-    let sphere = Shape::Sphere {
-        center: DVec3::ZERO,
-        radius: 2.0,
-        segments: 48,
-    };
-    s.objects.push(Object {
-        shape: Shape::Mesh(tessellate(&sphere)),
-        material: 0,
-    });
-    s
-}
-
 #[test]
 fn depth_zero_without_shadows_equals_raster_phong_on_a_mesh() {
     let mut s = mesh_sphere_scene();
@@ -447,16 +433,7 @@ fn the_longest_listed_objects_agree_with_the_cpu() {
 fn every_feature_build_traces_the_same_image() {
     use raytrace::TraceOptions;
     let context = gpu();
-    let mut plain = scene(64, 48, 45.0);
-    plain.objects.push(Object {
-        shape: Shape::Sphere {
-            center: DVec3::ZERO,
-            radius: 1.0,
-            segments: 16,
-        },
-        material: 0,
-    });
-    plain.materials[0].ks = 0.0;
+    let plain = plain_sphere_scene();
     let mut default = shadelab::scene::default_scene();
     default.image.width = 64;
     default.image.height = 48;

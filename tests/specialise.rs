@@ -4,23 +4,7 @@
 mod common;
 
 use common::*;
-use glam::DVec3;
 use shadelab::gpu::raytrace;
-use shadelab::scene::{tessellate, Object, Scene, Shape};
-
-fn mesh_sphere_scene() -> Scene {
-    let mut s = scene(128, 128, 30.0);
-    let sphere = Shape::Sphere {
-        center: DVec3::ZERO,
-        radius: 2.0,
-        segments: 48,
-    };
-    s.objects.push(Object {
-        shape: Shape::Mesh(tessellate(&sphere)),
-        material: 0,
-    });
-    s
-}
 
 /// Specialising the module before the driver (`gpu::specialise`: the
 /// constants' values written in, the code they rule out removed) changes
@@ -54,16 +38,7 @@ fn specialising_before_the_driver_changes_no_pixel() {
             .unwrap()
             .into(),
     );
-    let mut plain = scene(64, 48, 45.0);
-    plain.objects.push(Object {
-        shape: Shape::Sphere {
-            center: DVec3::ZERO,
-            radius: 1.0,
-            segments: 16,
-        },
-        material: 0,
-    });
-    plain.materials[0].ks = 0.0;
+    let mut plain = plain_sphere_scene();
     plain.render.shadows = false;
     for (name, s) in [
         ("default", default),

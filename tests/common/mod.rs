@@ -249,3 +249,35 @@ pub fn grid_scene() -> Scene {
     });
     s
 }
+
+/// A 128x128 view of a tessellated sphere (48 segments): a mesh whose BVH
+/// is big enough for the ray tracer's 4-wide walk.
+pub fn mesh_sphere_scene() -> Scene {
+    let mut s = scene(128, 128, 30.0);
+    let sphere = Shape::Sphere {
+        center: DVec3::ZERO,
+        radius: 2.0,
+        segments: 48,
+    };
+    s.objects.push(Object {
+        shape: Shape::Mesh(tessellate(&sphere)),
+        material: 0,
+    });
+    s
+}
+
+/// A 64x48 view of one exact sphere with no specular term: a scene that
+/// leaves out every optional feature of the ray tracer but shadows.
+pub fn plain_sphere_scene() -> Scene {
+    let mut plain = scene(64, 48, 45.0);
+    plain.objects.push(Object {
+        shape: Shape::Sphere {
+            center: DVec3::ZERO,
+            radius: 1.0,
+            segments: 16,
+        },
+        material: 0,
+    });
+    plain.materials[0].ks = 0.0;
+    plain
+}
