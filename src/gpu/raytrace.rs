@@ -435,6 +435,17 @@ impl BoundTrace<'_> {
         queue_head: u32,
         dispatch: impl FnOnce(vk::CommandBuffer),
     ) {
+        // An earlier dispatch's atomics on the queue (the first use's, in
+        // an earlier submission) come before this write.
+        let queue_used = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::CLEAR)
+            .dst_access_mask(vk::AccessFlags2::TRANSFER_WRITE)];
+        device.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().memory_barriers(&queue_used),
+        );
         device.cmd_fill_buffer(cmd, self.work_queue, 0, vk::WHOLE_SIZE, queue_head);
         let queue_set = [vk::MemoryBarrier2::default()
             .src_stage_mask(vk::PipelineStageFlags2::CLEAR)
