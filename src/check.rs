@@ -151,8 +151,11 @@ pub struct CheckOutcome {
     pub actual: LinearImage,
     /// The figures and the verdict (`judge`).
     pub judgement: Judgement,
+    /// Each render's own time; the two run side by side, so they overlap.
     pub gpu_ms: f64,
     pub cpu_ms: f64,
+    /// Both renders, side by side: what the case took.
+    pub renders_ms: f64,
     /// The GPU ray tracer's engine; `None` for the raster modes.
     pub traversal: Option<crate::scene::Traversal>,
 }
@@ -254,10 +257,12 @@ pub fn check(
     // Side by side: the GPU render leaves a core idle for much of its time
     // (pipeline creation and code generation run on one thread), which the
     // CPU reference fills.
+    let started = std::time::Instant::now();
     let (actual, reference_render) = rayon::join(
         || render_gpu(context, scene, shading),
         || render_cpu(reference, shading),
     );
+    let renders_ms = started.elapsed().as_secs_f64() * 1e3;
     let actual = actual?;
     let (expected, coverage) = reference_render?;
     let judgement = judge(&expected.image, &actual.image, &coverage.near_edge, limits);
@@ -265,6 +270,7 @@ pub fn check(
         shading,
         gpu_ms: actual.timings.total_ms,
         cpu_ms: expected.timings.total_ms,
+        renders_ms,
         traversal: actual.traversal,
         expected: expected.image,
         actual: actual.image,

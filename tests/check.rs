@@ -38,6 +38,18 @@ fn every_mode_of_every_scene_passes() {
             let limits = CheckThresholds::for_shading(mode);
             let o = check(&context, &scene, &scene, mode, &limits).unwrap();
             assert!(o.passed(), "{name} {mode}: {:?}", o.judgement.failures);
+            // The case's time holds both renders, which run side by side:
+            // at least the longer one. (No upper bound: on a busy 2-core
+            // machine the two slow each other, and each one's own clock
+            // starts after the thread hand-over.)
+            let longer = o.gpu_ms.max(o.cpu_ms);
+            assert!(
+                o.renders_ms >= longer,
+                "{name} {mode}: renders {} ms, GPU {} ms, CPU {} ms",
+                o.renders_ms,
+                o.gpu_ms,
+                o.cpu_ms
+            );
         }
     }
 }

@@ -155,7 +155,7 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
             cases.push(TestCase {
                 classname: name.clone(),
                 name: shading.to_string(),
-                time_s: (outcome.gpu_ms + outcome.cpu_ms) / 1e3,
+                time_s: outcome.renders_ms / 1e3,
                 failure: (!outcome.passed()).then(|| outcome.judgement.failures.join("\n")),
                 output: summary,
             });
@@ -173,6 +173,7 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
                 "gpu_ms": outcome.gpu_ms,
                 "traversal": outcome.traversal.map(|t| t.name()),
                 "cpu_ms": outcome.cpu_ms,
+                "renders_ms": outcome.renders_ms,
                 "images": folder.join(shading.to_string()),
             }));
         }
@@ -225,7 +226,7 @@ fn summary(o: &CheckOutcome) -> String {
         .map(|t| format!(", traversal {}", t.name()))
         .unwrap_or_default();
     format!(
-        "interior max {:.1e}  differing edge pixels {:.4}%  FLIP mean {:.1e}  (GPU {:.0} ms{engine}, CPU {:.0} ms){unit}",
+        "interior max {:.1e}  differing edge pixels {:.4}%  FLIP mean {:.1e}  (GPU {:.0} ms{engine}, CPU {:.0} ms, side by side){unit}",
         o.judgement.interior.max_abs,
         o.judgement.edge_share * 100.0,
         o.judgement.flip.mean,
