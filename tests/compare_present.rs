@@ -90,6 +90,7 @@ fn fixture(dir: &Path) -> Report {
                 frame_ms: gpu_ms + 30.0 + k,
                 frame_spread_ms: 1.5 + k,
                 pipeline_ms: 2.5 + 0.25 * k,
+                image_ms: 40.0 + 2.0 * k,
             },
             traversal: None,
             pareto: false,
@@ -203,6 +204,7 @@ fn the_csv_holds_every_figure_of_every_variant() {
             "frame_ms",
             "frame_spread_ms",
             "pipeline_ms",
+            "image_ms",
             "pareto"
         ]
     );
@@ -232,6 +234,7 @@ fn the_csv_holds_every_figure_of_every_variant() {
             t.frame_ms,
             t.frame_spread_ms,
             t.pipeline_ms,
+            t.image_ms,
         ];
         for (k, want) in want.iter().enumerate() {
             // Exact: the CSV writes shortest round-trip decimals.
@@ -243,7 +246,7 @@ fn the_csv_holds_every_figure_of_every_variant() {
                 header[k + 1]
             );
         }
-        assert_eq!(&row[18], if v.pareto { "true" } else { "false" });
+        assert_eq!(&row[19], if v.pareto { "true" } else { "false" });
     }
     assert_eq!(&rows[0][3], "inf", "the PSNR of identical images");
 }

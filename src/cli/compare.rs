@@ -249,10 +249,11 @@ fn print_table(report: &Report, dir: &Path) {
     println!("global reference (model_*): {}", report.reference);
     println!("local reference (local_*):  {}", report.local_reference);
     println!(
-        "{:<40} {:>9} {:>9} {:>11} {:>11} {:>10} {:>11} {:>7}",
+        "{:<40} {:>9} {:>9} {:>9} {:>11} {:>11} {:>10} {:>11} {:>7}",
         "variant",
         "gpu_ms",
         "frame_ms",
+        "image_ms",
         "impl_rmse",
         "model_rmse",
         "model_flip",
@@ -265,10 +266,11 @@ fn print_table(report: &Report, dir: &Path) {
             .map(|e| format!("{:.2e}", e.rmse))
             .unwrap_or_else(|| "-".into());
         println!(
-            "{:<40} {:>9.1} {:>9.1} {:>11.2e} {:>11.2e} {:>10.4} {:>11} {:>7}",
+            "{:<40} {:>9.1} {:>9.1} {:>9.1} {:>11.2e} {:>11.2e} {:>10.4} {:>11} {:>7}",
             v.name,
             v.timing.gpu_ms,
             v.timing.frame_ms,
+            v.timing.image_ms,
             v.implementation_error.rmse,
             v.model_error.rmse,
             v.model_error.flip_mean,

@@ -24,11 +24,18 @@ pub struct Timing {
     /// Queue submission to completion: the GPU's work.
     pub gpu_ms: f64,
     pub gpu_spread_ms: f64,
-    /// The whole frame: pipeline creation, uploads, work, read-back.
+    /// The whole frame: uploads, work, read-back, and the pipeline's
+    /// lookup (built once, by the warm-up, and reused).
     pub frame_ms: f64,
     pub frame_spread_ms: f64,
-    /// Shader modules and pipeline creation, median.
+    /// Shader modules and pipeline creation, paid by the variant's first
+    /// render.
     pub pipeline_ms: f64,
+    /// Time to image: the variant's first render in the run, pipeline
+    /// creation and the driver's code generation (or its cache's load)
+    /// included. 0 in a report from before it was measured.
+    #[serde(default)]
+    pub image_ms: f64,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -302,6 +309,7 @@ mod tests {
                 frame_ms: gpu_ms,
                 frame_spread_ms: 0.0,
                 pipeline_ms: 0.0,
+                image_ms: 0.0,
             },
             traversal: None,
             pareto: false,

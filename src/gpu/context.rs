@@ -12,6 +12,7 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
 use super::error::{GpuError, VkContext};
+use super::pipeline::BuiltPipelines;
 use super::ray_query;
 use super::validation::{messenger_info, MessageLog};
 
@@ -88,6 +89,8 @@ pub struct GpuContext {
     pub(crate) ray_query: Option<ray_query::Support>,
     pub info: DeviceInfo,
     pub validation: bool,
+    /// The pipelines built on this device, for the renders after the first.
+    pub(crate) pipelines: BuiltPipelines,
 }
 
 /// Loads Vulkan and creates an instance, with validation if asked.
@@ -300,6 +303,11 @@ fn choose(candidates: Vec<Candidate>, wanted: Option<&str>) -> Result<Candidate,
 }
 
 impl GpuContext {
+    /// How many built pipelines the device keeps for later renders.
+    pub fn pipelines_kept(&self) -> usize {
+        self.pipelines.len()
+    }
+
     pub fn new(options: &GpuOptions) -> Result<Arc<Self>, GpuError> {
         let log = Box::<MessageLog>::default();
         let (entry, instance) = create_instance(options.validation, &log)?;
@@ -354,6 +362,7 @@ impl GpuContext {
             ray_query,
             info,
             validation: options.validation,
+            pipelines: BuiltPipelines::default(),
         };
         Ok(Arc::new(context))
     }
@@ -523,6 +532,7 @@ impl Drop for GpuContext {
         // creation in reverse.
         unsafe {
             let _ = self.device.device_wait_idle();
+            self.pipelines.clear();
             ManuallyDrop::drop(&mut self.allocator);
             self.device.destroy_device(None);
             if let Some((utils, messenger)) = self.debug.take() {

@@ -1,7 +1,9 @@
 //! The Vulkan objects one pipeline owns (its set layout, layout, shader
-//! modules and the pipeline itself), destroyed together.
+//! modules and the pipeline itself), destroyed together; and the pipelines
+//! a device has built, kept for the renders after the first.
 
-use std::sync::Arc;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
 use ash::vk;
 
@@ -9,7 +11,10 @@ use super::context::GpuContext;
 use super::error::GpuError;
 
 pub struct PipelineObjects {
-    context: Arc<GpuContext>,
+    /// The device's handle, not the context: the context keeps built
+    /// pipelines (`BuiltPipelines`), and an `Arc` back to it would keep it
+    /// alive forever. The context drops its pipelines before the device.
+    device: ash::Device,
     pub set_layout: vk::DescriptorSetLayout,
     /// A second set's layout, where the pipeline has one (null otherwise).
     pub extra_set_layout: vk::DescriptorSetLayout,
@@ -23,7 +28,7 @@ impl PipelineObjects {
     /// created is destroyed if a later step fails.
     pub fn new(context: &Arc<GpuContext>) -> Self {
         Self {
-            context: context.clone(),
+            device: context.device.clone(),
             set_layout: vk::DescriptorSetLayout::null(),
             extra_set_layout: vk::DescriptorSetLayout::null(),
             layout: vk::PipelineLayout::null(),
@@ -46,8 +51,10 @@ pub fn single_pipeline(
 
 impl Drop for PipelineObjects {
     fn drop(&mut self) {
-        let device = &self.context.device;
-        // SAFETY: the GPU work using these objects has completed; null
+        let device = &self.device;
+        // SAFETY: the GPU work using these objects has completed (a render
+        // waits for its submission, the context idles the device before
+        // dropping the kept ones) and the device still exists; null
         // handles (from a failed creation) are ignored by Vulkan.
         unsafe {
             device.destroy_pipeline(self.pipeline, None);
@@ -58,5 +65,53 @@ impl Drop for PipelineObjects {
                 device.destroy_shader_module(*m, None);
             }
         }
+    }
+}
+
+/// How many pipelines a device keeps: a sweep of variants or scenes
+/// longer than this starts again from none (each holds lavapipe's
+/// translated shader, a few megabytes).
+const KEPT_PIPELINES: usize = 64;
+
+/// The pipelines built on one device, by everything that went into them
+/// (module, constants, layout, target): `check`, `compare` and `bench`
+/// render the same variant many times, and lavapipe's pipeline creation
+/// (35 to 100 ms for the ray tracer) is then paid once. A render that finds
+/// its pipeline here reports `pipeline_ms` near zero.
+#[derive(Default)]
+pub struct BuiltPipelines {
+    kept: Mutex<HashMap<String, Arc<PipelineObjects>>>,
+}
+
+impl BuiltPipelines {
+    /// The pipeline built under `key`, or `create`'s, kept for next time.
+    /// The lock is not held while creating, so renders on other threads
+    /// wait for none of it (two may then build the same pipeline once each).
+    pub fn get_or_create(
+        &self,
+        key: String,
+        create: impl FnOnce() -> Result<PipelineObjects, GpuError>,
+    ) -> Result<Arc<PipelineObjects>, GpuError> {
+        let lock = || self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(found) = lock().get(&key) {
+            return Ok(found.clone());
+        }
+        let built = Arc::new(create()?);
+        let mut kept = lock();
+        if kept.len() >= KEPT_PIPELINES {
+            kept.clear();
+        }
+        kept.insert(key, built.clone());
+        Ok(built)
+    }
+
+    /// How many are kept.
+    pub fn len(&self) -> usize {
+        self.kept.lock().unwrap_or_else(|e| e.into_inner()).len()
+    }
+
+    /// Drops every kept pipeline: before the device is destroyed.
+    pub fn clear(&self) {
+        self.kept.lock().unwrap_or_else(|e| e.into_inner()).clear();
     }
 }

@@ -307,14 +307,16 @@ pub fn render_to(
     let prepare_ms = ms_since(started);
 
     let pipeline_started = Instant::now();
-    let pipeline = create_pipeline(
-        context,
-        mode,
-        scene.lighting.interpolation,
-        &spec,
-        target,
-        scene.lighting_hook.as_deref(),
-    )?;
+    let hook = scene.lighting_hook.as_deref();
+    let interpolation = scene.lighting.interpolation;
+    let key = format!(
+        "raster {mode:?} {interpolation:?} {target:?} spec {:?} hook {:016x}",
+        bytemuck::bytes_of(&spec),
+        crate::cache::digest(&hook.map(|h| &h.source)),
+    );
+    let pipeline = context.pipelines.get_or_create(key, || {
+        create_pipeline(context, mode, interpolation, &spec, target, hook)
+    })?;
     let pipeline_ms = ms_since(pipeline_started);
 
     let upload_started = Instant::now();

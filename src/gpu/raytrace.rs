@@ -233,14 +233,17 @@ pub fn render_with(
     let spec = specialization(scene, &rt, options);
     let prepare_ms = ms_since(prepare_started);
     let pipeline_started = Instant::now();
-    let pipeline = create_pipeline(
-        context,
-        &spec,
-        scene.lighting_hook.as_deref(),
-        traversal,
-        r.bvh.wide.is_some(),
-        options.driver_specialises,
-    )?;
+    let hook = scene.lighting_hook.as_deref();
+    let wide = r.bvh.wide.is_some();
+    let driver_specialises = options.driver_specialises;
+    let key = format!(
+        "raytrace {traversal:?} wide {wide} driver {driver_specialises} spec {:?} hook {:016x}",
+        bytemuck::bytes_of(&spec),
+        crate::cache::digest(&hook.map(|h| &h.source)),
+    );
+    let pipeline = context.pipelines.get_or_create(key, || {
+        create_pipeline(context, &spec, hook, traversal, wide, driver_specialises)
+    })?;
     let pipeline_ms = ms_since(pipeline_started);
 
     let upload_started = Instant::now();

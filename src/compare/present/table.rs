@@ -4,7 +4,7 @@ use super::PresentError;
 use crate::compare::report::{Errors, Report};
 
 /// The header, in column order.
-pub const COLUMNS: [&str; 19] = [
+pub const COLUMNS: [&str; 20] = [
     "name",
     "impl_rmse",
     "impl_max_abs",
@@ -23,6 +23,7 @@ pub const COLUMNS: [&str; 19] = [
     "frame_ms",
     "frame_spread_ms",
     "pipeline_ms",
+    "image_ms",
     "pareto",
 ];
 
@@ -53,6 +54,7 @@ pub(crate) fn csv(report: &Report) -> Result<Vec<u8>, PresentError> {
                 t.frame_ms,
                 t.frame_spread_ms,
                 t.pipeline_ms,
+                t.image_ms,
             ]
             .map(|x| x.to_string()),
         );
