@@ -199,9 +199,16 @@ pub fn judge(
     let pixel = limits.edge_pixel_error;
     let scale = comparison_scale(expected);
     let (e, a) = (scaled(expected, scale), scaled(actual, scale));
-    let interior = ErrorStats::compute(&e, &a, Some(&interior_mask), pixel);
-    let edges = ErrorStats::compute(&e, &a, Some(near_edge), pixel);
-    let flip = flip(&e, &a, PIXELS_PER_DEGREE);
+    // FLIP (single-threaded, the costliest figure) beside the statistics.
+    let (flip, (interior, edges)) = rayon::join(
+        || flip(&e, &a, PIXELS_PER_DEGREE),
+        || {
+            (
+                ErrorStats::compute(&e, &a, Some(&interior_mask), pixel),
+                ErrorStats::compute(&e, &a, Some(near_edge), pixel),
+            )
+        },
+    );
 
     let mut failures = Vec::new();
     if !within(interior.max_abs, limits.interior_max_abs) {

@@ -241,11 +241,24 @@ fn write_images(folder: &Path, o: &CheckOutcome) -> Result<(), Failure> {
     let mode = o.shading.to_string();
     let expected = scaled(&o.expected, o.judgement.scale);
     let actual = scaled(&o.actual, o.judgement.scale);
-    write_image(&expected, &folder.join(format!("{mode}-expected.png")))?;
-    write_image(&actual, &folder.join(format!("{mode}-actual.png")))?;
-    write_image(
-        &flip_heatmap(&o.judgement.flip),
-        &folder.join(format!("{mode}-diff.png")),
-    )?;
+    // Three encodings, each on one thread: side by side.
+    let heat = || {
+        write_image(
+            &flip_heatmap(&o.judgement.flip),
+            &folder.join(format!("{mode}-diff.png")),
+        )
+    };
+    let ((e, a), h) = rayon::join(
+        || {
+            rayon::join(
+                || write_image(&expected, &folder.join(format!("{mode}-expected.png"))),
+                || write_image(&actual, &folder.join(format!("{mode}-actual.png"))),
+            )
+        },
+        heat,
+    );
+    e?;
+    a?;
+    h?;
     Ok(())
 }

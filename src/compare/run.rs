@@ -153,9 +153,18 @@ pub fn run(
         }
         let image = image.expect("at least one run");
         let (cpu, _) = render_cpu(scene_v, variant.shading)?;
-        let (implementation_error, _) = errors(&cpu.image, &image);
-        let (model_error, model_flip) = errors(&reference.image, &image);
-        let (local_error, _) = errors(&local_reference.image, &image);
+        // Three FLIPs (single-threaded each, most of a variant's time
+        // outside the GPU), side by side.
+        let ((implementation_error, _), ((model_error, model_flip), (local_error, _))) =
+            rayon::join(
+                || errors(&cpu.image, &image),
+                || {
+                    rayon::join(
+                        || errors(&reference.image, &image),
+                        || errors(&local_reference.image, &image),
+                    )
+                },
+            );
         let stem = file_stem(&name);
         let (image_file, heat_file) = (format!("{stem}.png"), format!("{stem}-heat.png"));
         write_image(&image, &dir.join(&image_file))?;
