@@ -154,3 +154,66 @@ fn mesa_shader_cache_lives_in_the_cache_folder_per_configuration() {
     assert_eq!(mesa_folders(&cache), both, "the user's choice is kept");
     assert!(own.exists(), "Mesa used the user's folder");
 }
+
+fn count(dir: &Path) -> usize {
+    std::fs::read_dir(dir).map_or(0, |d| d.count())
+}
+
+/// `warm` makes the modules and machine code that renders of its scenes
+/// need, at any size: a full-size render after it writes no new module (the
+/// one it needs was made, under the same constants), and Mesa's folder is
+/// filled. With `--depth 0` the ray tracer's constants differ (no
+/// reflection, no refraction), so a render at depth 0 finds its module too.
+#[test]
+fn warm_fills_the_caches_that_the_renders_of_its_scenes_use() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let run = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_shadelab"))
+            .args(args)
+            .current_dir(dir.path())
+            .env("SHADELAB_VALIDATION", "1")
+            .env("SHADELAB_CACHE_DIR", &cache)
+            .env_remove("MESA_SHADER_CACHE_DIR")
+            .env_remove("MESA_SHADER_CACHE_DISABLE")
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let said = run(&["warm", "--shading", "phong,raytrace"]);
+    assert!(
+        said.contains("warmed 2 pipeline(s) for 1 scene(s)"),
+        "{said}"
+    );
+    let modules = count(&cache.join("spirv"));
+    assert_eq!(modules, 1, "the ray tracer's specialised module");
+    let mesa = mesa_folders(&cache);
+    assert_eq!(mesa.len(), 1);
+    assert!(count(&cache.join(&mesa[0])) > 0);
+
+    run(&["render", "--shading", "raytrace", "-o", "r.png"]);
+    assert_eq!(
+        count(&cache.join("spirv")),
+        modules,
+        "render made no module"
+    );
+
+    // Depth 0 is another pipeline: made by a warm that asks for it.
+    run(&["warm", "--shading", "raytrace", "--depth", "0"]);
+    assert_eq!(count(&cache.join("spirv")), modules + 1);
+    run(&[
+        "render",
+        "--shading",
+        "raytrace",
+        "--depth",
+        "0",
+        "-o",
+        "r0.png",
+    ]);
+    assert_eq!(count(&cache.join("spirv")), modules + 1);
+}

@@ -8,6 +8,7 @@ mod diff;
 mod info;
 mod render;
 mod time_to_image;
+mod warm;
 
 use std::process::ExitCode;
 
@@ -53,6 +54,9 @@ enum Command {
     Diff(diff::DiffArgs),
     /// List the Vulkan devices and show which one shadelab uses.
     Info(info::InfoArgs),
+    /// Fill the caches (specialised modules, lavapipe's machine code) for
+    /// scenes, so that later renders of them start warm.
+    Warm(warm::WarmArgs),
 }
 
 /// An error that knows its exit status.
@@ -123,6 +127,7 @@ pub fn run() -> ExitCode {
         Command::Compare(args) => compare::run_command(args, &gpu_options, &memory),
         Command::Diff(args) => diff::run(args),
         Command::Info(args) => info::run(args, &gpu_options),
+        Command::Warm(args) => warm::run(args, &gpu_options, &memory),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

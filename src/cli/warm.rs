@@ -1,0 +1,91 @@
+//! `shadelab warm`: fills the caches for a set of scenes without rendering
+//! them at size, so that the renders after it (a CI job's, or the user's)
+//! start warm: the specialised modules and lavapipe's machine code of every
+//! pipeline those scenes need, in the cache folder (`cache`).
+//!
+//! The code a pipeline gets does not depend on the image's size, so each
+//! scene is rendered at a few pixels: the cost is the pipelines alone.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use shadelab::gpu::{GpuContext, GpuOptions};
+use shadelab::memory::MemoryLimit;
+use shadelab::render::render_gpu;
+use shadelab::shading::Shading;
+
+use super::args::{check_depth, LightingArg, TraversalArg};
+use super::render::load_scene;
+use super::Failure;
+
+/// The size each scene is rendered at: the pipelines are the same at any.
+const WARM_SIZE: u32 = 16;
+
+#[derive(Args)]
+pub struct WarmArgs {
+    /// Scene files; the built-in default scene if none.
+    scenes: Vec<PathBuf>,
+    /// Modes to warm, comma-separated.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "flat,gouraud,phong,raytrace"
+    )]
+    shading: Vec<Shading>,
+    #[command(flatten)]
+    lighting: LightingArg,
+    #[command(flatten)]
+    traversal: TraversalArg,
+    /// Ray tracing: maximum depth (the constants depend on whether it is 0).
+    #[arg(long)]
+    depth: Option<u32>,
+}
+
+pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
+    let started = Instant::now();
+    let paths: Vec<Option<PathBuf>> = if args.scenes.is_empty() {
+        vec![None]
+    } else {
+        args.scenes.iter().cloned().map(Some).collect()
+    };
+    let mut scenes = Vec::new();
+    for path in &paths {
+        let (mut scene, name) = load_scene(path.as_deref(), memory)?;
+        scene.image.width = WARM_SIZE;
+        scene.image.height = WARM_SIZE;
+        args.lighting.apply(&mut scene)?;
+        args.traversal.apply(&mut scene)?;
+        if let Some(d) = args.depth {
+            scene.render.depth = check_depth(d)?;
+        }
+        memory.check(&name, &scene, &args.shading, &[])?;
+        scenes.push((scene, name));
+    }
+    let context = GpuContext::new(options)?;
+    for (scene, _) in &scenes {
+        for &shading in &args.shading {
+            render_gpu(&context, scene, shading)?;
+        }
+    }
+    let folder = shadelab::cache::folder()
+        .map(|f| f.display().to_string())
+        .unwrap_or_else(|| "none (set SHADELAB_CACHE_DIR)".into());
+    let mesa = if std::env::var_os("MESA_SHADER_CACHE_DISABLE").is_some() {
+        "off (MESA_SHADER_CACHE_DISABLE is set): the machine code is not kept".to_string()
+    } else {
+        std::env::var_os("MESA_SHADER_CACHE_DIR").map_or_else(
+            || "Mesa's default folder".to_string(),
+            |d| PathBuf::from(d).display().to_string(),
+        )
+    };
+    println!(
+        "warmed {} pipeline(s) for {} scene(s) in {:.1} s",
+        context.pipelines_kept(),
+        scenes.len(),
+        started.elapsed().as_secs_f64()
+    );
+    println!("cache folder: {folder}");
+    println!("Mesa's shader cache: {mesa}");
+    Ok(())
+}
