@@ -17,6 +17,9 @@ Measures shadelab (target/release/shadelab) against its peers on the same work, 
                      the bench mesh (ci/make-bench-mesh.py); on the default scene and the four
                      spheres also the tracer specialised to the scene vs every feature compiled in
   raster-sphereSEG   flat/gouraud/phong vs wgpu's constant colour/gouraud/phong
+  image-SCENE        time to image: the whole `shadelab render` command as fresh processes, warm
+                     and with empty caches, vs the CPU twin's command (the default scene at its
+                     own size, Phong and ray traced; the first sphere at --size, depth 0)
 and prints a Markdown table (also written as JSON). Peers are installed on first use under
 ${SHADELAB_PEERS_DIR:-$HOME/.cache/shadelab-peers} (a Python venv with pinned numpy, wgpu,
 mitsuba; Debian's libembree-dev and g++ through apt-get when missing; the Embree caster).
@@ -111,6 +114,7 @@ embree_exe=$peers_dir/bin/embree_caster
 bench_cpu=0  # whether `shadelab bench` has --cpu (times the CPU twin itself)
 bench_uber=0 # whether it has --every-feature (the uber-shader build)
 bench_query=0 # whether it has --traversal (the ray-query engine) and the device runs it
+bench_tti=0  # whether it has --time-to-image (the whole render command, cold and warm)
 twin_scenes=()
 for f in "$repo"/assets/*.toml; do twin_scenes+=("$f"); done
 twin_scenes+=(default "$repo/target/bench/mesh.toml")
@@ -136,6 +140,18 @@ define_jobs() {
         [ "$all" = 0 ] || job "rays-sphere$seg.mitsuba-scalar" python -- \
             "$venv_py" "$src/mitsuba_peer.py" scalar_rgb "$s.ply" "$size" "$runs"
     done
+    if [ "$bench_tti" = 1 ]; then
+        # The whole `render` command, fresh processes, warm and with empty caches, against
+        # the CPU twin's command: the default scene at its own size (the smoke run's size in
+        # --smoke), and the 40k sphere (the first SEG) at --size.
+        local own_size=()
+        [ "$smoke" = 1 ] && own_size=(--width "$size" --height "$size")
+        job image-default.shadelab shadelab -- \
+            "$bin" bench --shading phong,raytrace --time-to-image --runs "$runs" "${own_size[@]}" --json
+        job "image-sphere${segs[0]}.shadelab" shadelab -- \
+            "$bin" bench "$scenes/sphere-${segs[0]}.toml" --shading raytrace --depth 0 --time-to-image \
+            "${size_args[@]}"
+    fi
     job rt-four-spheres.shadelab shadelab -- \
         "$bin" bench "$src/four-spheres.toml" --shading raytrace "${uber[@]}" "${size_args[@]}"
     [ "$bench_query" = 0 ] || job rt-four-spheres.shadelab-query shadelab -- \
@@ -210,6 +226,7 @@ if [ -x "$bin" ]; then
     bench_help=$("$bin" bench --help 2>&1) || die "$bin bench --help failed: $(tail -n 1 <<<"$bench_help")"
     if [[ $bench_help == *--cpu* ]]; then bench_cpu=1; fi
     if [[ $bench_help == *--every-feature* ]]; then bench_uber=1; fi
+    if [[ $bench_help == *--time-to-image* ]]; then bench_tti=1; fi
     if [[ $bench_help == *--traversal* ]] &&
         "$bin" info --json 2>/dev/null | grep -q '"no_ray_query_because":null'; then bench_query=1; fi
 elif [ "$setup_only" = 0 ] && [ "$list" = 0 ]; then

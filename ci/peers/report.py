@@ -337,7 +337,36 @@ class Report:
                      peer_value=pm and pm["median_ms"], shadelab_value=gpu,
                      shadelab_total_ms=r and r.get("total_ms"), shadelab_mode=sl_mode, peer_mode=p_mode)
 
+    def time_to_image(self):
+        """The whole `shadelab render` command (`bench --time-to-image`): warm and cold
+        against the CPU twin's command, and cold against warm."""
+        section = "Time to image: the whole `shadelab render` command, fresh processes"
+        for name in sorted(self.res.jobs):
+            m = re.match(r"image-(.+)\.shadelab$", name)
+            bench = self.res.get(name)
+            if not m:
+                continue
+            if not bench:
+                self.add(section, f"{m.group(1)}: time to image", "-", "-", self.missing(name), None,
+                         name, name)
+                continue
+            scene = "built-in default scene" if m.group(1) == "default" else bench.get("scene", m.group(1))
+            size = f"{bench.get('width')}x{bench.get('height')}"
+            for r in bench.get("results", []):
+                t = r.get("time_to_image") or {}
+                warm, cold, cpu = num(t.get("warm_ms")), num(t.get("cold_ms")), num(t.get("cpu_ms"))
+                work = f"{scene}, {r.get('shading')}, {size}"
+                twin = "shadelab CPU twin's command (--backend cpu)"
+                for label, value in (("warm caches", warm), ("empty caches", cold)):
+                    self.add(section, f"{work}, GPU with {label}", twin, fmt_ms(cpu),
+                             fmt_ms(value), cpu / value if cpu and value else None, name, name,
+                             unit="ms", peer_value=cpu, shadelab_value=value)
+                self.add(section, f"{work}, GPU with empty caches", "the same command, warm caches",
+                         fmt_ms(warm), fmt_ms(cold), warm / cold if warm and cold else None,
+                         name, name, unit="ms", peer_value=warm, shadelab_value=cold)
+
     def build(self):
+        self.time_to_image()
         for seg in self.args.segs:
             self.rays(seg)
         self.four_spheres()

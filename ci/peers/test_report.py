@@ -1,8 +1,12 @@
 """Checks of report.py's merging of rounds (ci/bench-peers.sh --rounds), run by ci/test.sh:
 python3 -m unittest discover -s ci/peers -p 'test_*.py'. Standard library only."""
+import json
+import os
+import tempfile
+import types
 import unittest
 
-from report import merge_rounds
+from report import Report, Results, merge_rounds
 
 
 def row(ratio, work="w", peer_job="p", shadelab_job="s", figure=None):
@@ -35,6 +39,34 @@ class MergeRounds(unittest.TestCase):
     def test_a_row_only_a_later_round_has_is_kept(self):
         merged = merge_rounds([[row(1.0, work="a")], [row(1.0, work="a"), row(4.0, work="c")]])
         self.assertEqual([(m["work"], m["ratio"]) for m in merged], [("a", 1.0), ("c", 4.0)])
+
+
+class TimeToImage(unittest.TestCase):
+    def rows(self, bench):
+        with tempfile.TemporaryDirectory() as d:
+            with open(os.path.join(d, "jobs.tsv"), "w") as f:
+                f.write("name\tkind\tstatus\trc\tseconds\n")
+                f.write("image-default.shadelab\tshadelab\tok\t0\t9\n")
+            with open(os.path.join(d, "image-default.shadelab.json"), "w") as f:
+                f.write(json.dumps(bench) + "\n")
+            args = types.SimpleNamespace(size=1024, smoke=False, segs=[100])
+            report = Report(Results(d), args)
+            report.time_to_image()
+            return report.rows
+
+    def test_warm_and_cold_are_held_to_the_cpu_twins_command_and_cold_to_warm(self):
+        bench = {"scene": "default", "width": 640, "height": 480, "results": [
+            {"shading": "raytrace", "time_to_image": {"warm_ms": 120.0, "cold_ms": 600.0, "cpu_ms": 90.0}}]}
+        rows = self.rows(bench)
+        self.assertEqual([r["ratio"] for r in rows], [0.75, 0.15, 0.2])
+        self.assertIn("640x480", rows[0]["work"])
+        self.assertIn("warm caches", rows[0]["work"])
+        self.assertIn("empty caches", rows[1]["work"])
+        self.assertEqual(rows[2]["peer"], "the same command, warm caches")
+
+    def test_a_result_without_the_figures_gives_no_ratio(self):
+        bench = {"scene": "default", "width": 64, "height": 64, "results": [{"shading": "phong"}]}
+        self.assertEqual([r["ratio"] for r in self.rows(bench)], [None, None, None])
 
 
 if __name__ == "__main__":
