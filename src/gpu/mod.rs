@@ -13,6 +13,7 @@ mod pipeline;
 pub mod raster;
 mod raster_cull;
 mod raster_flat;
+mod raster_frame;
 pub mod raster_layout;
 mod raster_scene;
 mod ray_query;

@@ -7,21 +7,17 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use ash::vk;
-use gpu_allocator::MemoryLocation;
 
-use super::buffer::Buffer;
 use super::commands::OneShot;
 use super::context::GpuContext;
-use super::descriptors::{create_set_layout, Descriptors};
+use super::descriptors::create_set_layout;
 use super::error::{GpuError, VkContext};
 use super::hook;
-use super::image::{subresource_range, Image};
+use super::image::subresource_range;
 use super::pipeline::{single_pipeline, PipelineObjects};
-use super::raster_flat::FlatMesh;
-use super::raster_layout::{
-    DrawConstants, FrameUniforms, Specialization, Vertex, BINDINGS, SMOOTH_BINDINGS,
-};
-use super::raster_scene::{build_geometry, lights, specialization};
+use super::raster_frame::Frame;
+use super::raster_layout::{DrawConstants, Specialization, Vertex, BINDINGS, SMOOTH_BINDINGS};
+use super::raster_scene::{build_geometry, specialization};
 use super::shader_catalog::{self as shaders, ShaderBlob};
 use super::timestamps::{ms_since, GpuTimings, Timestamps};
 use crate::camera::View;
@@ -60,7 +56,7 @@ impl ColorTarget {
         }
     }
 
-    fn bytes_per_pixel(self) -> u64 {
+    pub(crate) fn bytes_per_pixel(self) -> u64 {
         match self {
             ColorTarget::Float32 => 16,
             ColorTarget::Srgb8 => 4,
@@ -102,7 +98,7 @@ fn shader_pair(
 
 /// The descriptor bindings a mode's pipeline uses: only flat shading reads
 /// the per-face records.
-fn bindings_of(mode: RasterMode) -> &'static [(u32, vk::DescriptorType)] {
+pub(crate) fn bindings_of(mode: RasterMode) -> &'static [(u32, vk::DescriptorType)] {
     match mode {
         RasterMode::Flat => BINDINGS,
         RasterMode::Gouraud | RasterMode::Phong => SMOOTH_BINDINGS,
@@ -241,7 +237,7 @@ fn create_pipeline(
     Ok(p)
 }
 
-fn image_barrier(
+pub(crate) fn image_barrier(
     image: vk::Image,
     aspect: vk::ImageAspectFlags,
     (old, new): (vk::ImageLayout, vk::ImageLayout),
@@ -300,7 +296,6 @@ pub fn render_to(
     let started = Instant::now();
     let (width, height) = (scene.image.width, scene.image.height);
     check_image_size(context, width, height)?;
-    let device = &context.device;
     let view = View::new(scene, width, height);
     let geometry = build_geometry(scene, &view, mode == RasterMode::Flat);
     let spec = specialization(scene);
@@ -320,263 +315,27 @@ pub fn render_to(
     let pipeline_ms = ms_since(pipeline_started);
 
     let upload_started = Instant::now();
-    let flat = mode == RasterMode::Flat;
-    let flat_mesh = flat.then(|| FlatMesh::new(&geometry));
-    let (vertex_bytes, index_data): (&[u8], &[u32]) = match &flat_mesh {
-        Some(m) => (bytemuck::cast_slice(&m.positions), &m.indices),
-        None => (bytemuck::cast_slice(&geometry.vertices), &geometry.indices),
-    };
-    let vertex_buffer = Buffer::with_data(
-        context,
-        "vertices",
-        vertex_bytes,
-        vk::BufferUsageFlags::VERTEX_BUFFER,
-    )?;
-    let index_buffer = Buffer::with_data(
-        context,
-        "indices",
-        bytemuck::cast_slice(index_data),
-        vk::BufferUsageFlags::INDEX_BUFFER,
-    )?;
-    let light_buffer = Buffer::with_data(
-        context,
-        "lights",
-        bytemuck::cast_slice(&lights(scene, view.eye)),
-        vk::BufferUsageFlags::STORAGE_BUFFER,
-    )?;
-    let ambient = scene.lighting.ambient.as_vec3();
-    let frame = FrameUniforms {
-        ambient_k: [ambient.x, ambient.y, ambient.z, scene.lighting.k as f32],
-    };
-    let frame_buffer = Buffer::with_data(
-        context,
-        "frame",
-        bytemuck::bytes_of(&frame),
-        vk::BufferUsageFlags::UNIFORM_BUFFER,
-    )?;
-    let face_buffer = match &flat_mesh {
-        Some(m) => Some(Buffer::with_data(
-            context,
-            "faces",
-            bytemuck::cast_slice(&m.faces),
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-        )?),
-        None => None,
-    };
-    let mut bound = vec![&light_buffer, &frame_buffer];
-    bound.extend(&face_buffer);
-    let descriptors = Descriptors::new(context, pipeline.set_layout, bindings_of(mode), &bound)?;
-
-    let extent = vk::Extent2D { width, height };
-    let color = Image::new(
-        context,
-        "color",
-        extent,
-        target.format(),
-        vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
-        vk::ImageAspectFlags::COLOR,
-    )?;
-    let depth = Image::new(
-        context,
-        "depth",
-        extent,
-        DEPTH_FORMAT,
-        vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
-        vk::ImageAspectFlags::DEPTH,
-    )?;
-    let pixel_bytes = target.bytes_per_pixel();
-    let readback = Buffer::new(
-        context,
-        "readback",
-        u64::from(width) * u64::from(height) * pixel_bytes,
-        vk::BufferUsageFlags::TRANSFER_DST,
-        MemoryLocation::GpuToCpu,
-    )?;
+    let frame = Frame::new(context, scene, &view, &geometry, mode, target, &pipeline)?;
     let timestamps = Timestamps::new(context)?;
     let upload_ms = ms_since(upload_started);
 
     let commands = OneShot::begin(context)?;
-    let cmd = commands.cmd;
-    let background = scene.image.background.as_vec3();
-    // SAFETY: all handles recorded below are alive until after the submission
-    // completes (they are dropped at the end of this function), and the
-    // barriers order every access.
+    // SAFETY: the frame, the pipeline and the timestamps live until after
+    // the submission completes (they are dropped at the end of this
+    // function).
     unsafe {
-        let to_attachment = [
-            image_barrier(
-                color.raw,
-                vk::ImageAspectFlags::COLOR,
-                (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                ),
-                (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
-                (
-                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                ),
-            ),
-            image_barrier(
-                depth.raw,
-                vk::ImageAspectFlags::DEPTH,
-                (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                ),
-                (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
-                (
-                    vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                        | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
-                        | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                ),
-            ),
-        ];
-        device.cmd_pipeline_barrier2(
-            cmd,
-            &vk::DependencyInfo::default().image_memory_barriers(&to_attachment),
-        );
-        timestamps.start(cmd);
-
-        let color_attachments = [vk::RenderingAttachmentInfo::default()
-            .image_view(color.view)
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue {
-                color: vk::ClearColorValue {
-                    float32: [background.x, background.y, background.z, 1.0],
-                },
-            })];
-        let depth_attachment = vk::RenderingAttachmentInfo::default()
-            .image_view(depth.view)
-            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::DONT_CARE)
-            .clear_value(vk::ClearValue {
-                depth_stencil: vk::ClearDepthStencilValue {
-                    depth: 0.0,
-                    stencil: 0,
-                },
-            });
-        let area = vk::Rect2D {
-            offset: vk::Offset2D { x: 0, y: 0 },
-            extent,
-        };
-        let rendering = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .color_attachments(&color_attachments)
-            .depth_attachment(&depth_attachment);
-        device.cmd_begin_rendering(cmd, &rendering);
-        device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.pipeline);
-        device.cmd_set_viewport(
-            cmd,
-            0,
-            &[vk::Viewport {
-                x: 0.0,
-                y: 0.0,
-                width: width as f32,
-                height: height as f32,
-                min_depth: 0.0,
-                max_depth: 1.0,
-            }],
-        );
-        device.cmd_set_scissor(cmd, 0, &[area]);
-        device.cmd_bind_descriptor_sets(
-            cmd,
-            vk::PipelineBindPoint::GRAPHICS,
-            pipeline.layout,
-            0,
-            &[descriptors.set],
-            &[],
-        );
-        device.cmd_bind_vertex_buffers(cmd, 0, &[vertex_buffer.raw], &[0]);
-        device.cmd_bind_index_buffer(cmd, index_buffer.raw, 0, vk::IndexType::UINT32);
-        let clip = view.clip_from_relative().as_mat4().to_cols_array_2d();
-        for draw in &geometry.draws {
-            let m = &scene.materials[draw.material];
-            let color = m.color.as_vec3();
-            let constants = DrawConstants {
-                clip_from_relative: clip,
-                color_ka: [color.x, color.y, color.z, m.ka as f32],
-                kd_ks_p: [m.kd as f32, m.ks as f32, m.p as f32, 0.0],
-            };
-            device.cmd_push_constants(
-                cmd,
-                pipeline.layout,
-                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-                0,
-                bytemuck::bytes_of(&constants),
-            );
-            let cull = if draw.cull_back {
-                vk::CullModeFlags::BACK
-            } else {
-                vk::CullModeFlags::NONE
-            };
-            device.cmd_set_cull_mode(cmd, cull);
-            device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0);
-        }
-        device.cmd_end_rendering(cmd);
-        timestamps.stop(cmd);
-
-        let to_transfer = [image_barrier(
-            color.raw,
-            vk::ImageAspectFlags::COLOR,
-            (
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            ),
-            (
-                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-            ),
-            (
-                vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::TRANSFER_READ,
-            ),
-        )];
-        device.cmd_pipeline_barrier2(
-            cmd,
-            &vk::DependencyInfo::default().image_memory_barriers(&to_transfer),
-        );
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(
-                vk::ImageSubresourceLayers::default()
-                    .aspect_mask(vk::ImageAspectFlags::COLOR)
-                    .layer_count(1),
-            )
-            .image_extent(vk::Extent3D {
-                width,
-                height,
-                depth: 1,
-            });
-        device.cmd_copy_image_to_buffer(
-            cmd,
-            color.raw,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            readback.raw,
-            &[region],
-        );
-        let to_host = [vk::BufferMemoryBarrier2::default()
-            .buffer(readback.raw)
-            .size(vk::WHOLE_SIZE)
-            .src_stage_mask(vk::PipelineStageFlags2::COPY)
-            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-        device.cmd_pipeline_barrier2(
-            cmd,
-            &vk::DependencyInfo::default().buffer_memory_barriers(&to_host),
+        frame.record(
+            &context.device,
+            commands.cmd,
+            &pipeline,
+            (scene, &view, &geometry),
+            &timestamps,
         );
     }
     let (submit_ms, gpu_ms) = timestamps.submit_and_measure(&commands)?;
 
     let readback_started = Instant::now();
-    let image = match target {
-        ColorTarget::Float32 => LinearImage::from_rgba32f_bytes(width, height, readback.mapped()),
-        ColorTarget::Srgb8 => LinearImage::from_srgba8_bytes(width, height, readback.mapped()),
-    };
+    let image = frame.image();
     Ok(RasterOutput {
         image,
         timings: GpuTimings {

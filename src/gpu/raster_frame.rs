@@ -1,0 +1,378 @@
+//! One raster frame: its resources (the scene's vertices, indices, lights
+//! and uniforms, the descriptors, the colour and depth images, the
+//! read-back buffer) and the commands that draw it and copy it back.
+//! `raster::render_to` runs the phases in order: geometry, pipeline, this
+//! frame's upload, its recording, the submission, the read-back.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::buffer::Buffer;
+use super::context::GpuContext;
+use super::descriptors::Descriptors;
+use super::error::GpuError;
+use super::image::Image;
+use super::pipeline::PipelineObjects;
+use super::raster::{bindings_of, image_barrier, ColorTarget, DEPTH_FORMAT};
+use super::raster_flat::FlatMesh;
+use super::raster_layout::{DrawConstants, FrameUniforms};
+use super::raster_scene::{lights, RasterGeometry as Geometry};
+use super::timestamps::Timestamps;
+use crate::camera::View;
+use crate::linear_image::LinearImage;
+use crate::scene::Scene;
+use crate::shading::RasterMode;
+
+/// What one frame draws from and into, alive until its submission ends.
+pub(crate) struct Frame {
+    vertex_buffer: Buffer,
+    index_buffer: Buffer,
+    descriptors: Descriptors,
+    color: Image,
+    depth: Image,
+    readback: Buffer,
+    target: ColorTarget,
+    extent: vk::Extent2D,
+    // Read by the shaders through the descriptors.
+    _light_buffer: Buffer,
+    _frame_buffer: Buffer,
+    _face_buffer: Option<Buffer>,
+}
+
+impl Frame {
+    /// The scene's data uploaded and the images made, for `pipeline`.
+    pub(crate) fn new(
+        context: &Arc<GpuContext>,
+        scene: &Scene,
+        view: &View,
+        geometry: &Geometry,
+        mode: RasterMode,
+        target: ColorTarget,
+        pipeline: &PipelineObjects,
+    ) -> Result<Self, GpuError> {
+        let (width, height) = (scene.image.width, scene.image.height);
+        let flat = mode == RasterMode::Flat;
+        let flat_mesh = flat.then(|| FlatMesh::new(geometry));
+        let (vertex_bytes, index_data): (&[u8], &[u32]) = match &flat_mesh {
+            Some(m) => (bytemuck::cast_slice(&m.positions), &m.indices),
+            None => (bytemuck::cast_slice(&geometry.vertices), &geometry.indices),
+        };
+        let vertex_buffer = Buffer::with_data(
+            context,
+            "vertices",
+            vertex_bytes,
+            vk::BufferUsageFlags::VERTEX_BUFFER,
+        )?;
+        let index_buffer = Buffer::with_data(
+            context,
+            "indices",
+            bytemuck::cast_slice(index_data),
+            vk::BufferUsageFlags::INDEX_BUFFER,
+        )?;
+        let light_buffer = Buffer::with_data(
+            context,
+            "lights",
+            bytemuck::cast_slice(&lights(scene, view.eye)),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let ambient = scene.lighting.ambient.as_vec3();
+        let frame = FrameUniforms {
+            ambient_k: [ambient.x, ambient.y, ambient.z, scene.lighting.k as f32],
+        };
+        let frame_buffer = Buffer::with_data(
+            context,
+            "frame",
+            bytemuck::bytes_of(&frame),
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+        )?;
+        let face_buffer = match &flat_mesh {
+            Some(m) => Some(Buffer::with_data(
+                context,
+                "faces",
+                bytemuck::cast_slice(&m.faces),
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+            )?),
+            None => None,
+        };
+        let mut bound = vec![&light_buffer, &frame_buffer];
+        bound.extend(&face_buffer);
+        let descriptors =
+            Descriptors::new(context, pipeline.set_layout, bindings_of(mode), &bound)?;
+
+        let extent = vk::Extent2D { width, height };
+        let color = Image::new(
+            context,
+            "color",
+            extent,
+            target.format(),
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+            vk::ImageAspectFlags::COLOR,
+        )?;
+        let depth = Image::new(
+            context,
+            "depth",
+            extent,
+            DEPTH_FORMAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            vk::ImageAspectFlags::DEPTH,
+        )?;
+        let pixel_bytes = target.bytes_per_pixel();
+        let readback = Buffer::new(
+            context,
+            "readback",
+            u64::from(width) * u64::from(height) * pixel_bytes,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        Ok(Self {
+            vertex_buffer,
+            index_buffer,
+            descriptors,
+            color,
+            depth,
+            readback,
+            target,
+            extent,
+            _light_buffer: light_buffer,
+            _frame_buffer: frame_buffer,
+            _face_buffer: face_buffer,
+        })
+    }
+
+    /// Records the frame: the attachments cleared, every draw, the colour
+    /// image copied to the read-back buffer, `timestamps` around the draws.
+    ///
+    /// # Safety
+    /// `cmd` is recording, and `self`, `pipeline` and `timestamps` live
+    /// until the submission that runs it has completed; the barriers order
+    /// every access.
+    pub(crate) unsafe fn record(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        pipeline: &PipelineObjects,
+        (scene, view, geometry): (&Scene, &View, &Geometry),
+        timestamps: &Timestamps,
+    ) {
+        self.to_attachments(device, cmd);
+        timestamps.start(cmd);
+        self.draw(device, cmd, pipeline, (scene, view, geometry));
+        timestamps.stop(cmd);
+        self.copy_back(device, cmd);
+    }
+
+    /// The attachments' layouts for drawing, nothing before them to wait on.
+    ///
+    /// # Safety
+    /// As `record`.
+    unsafe fn to_attachments(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+        let (color, depth) = (&self.color, &self.depth);
+        let to_attachment = [
+            image_barrier(
+                color.raw,
+                vk::ImageAspectFlags::COLOR,
+                (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                ),
+                (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
+                (
+                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                ),
+            ),
+            image_barrier(
+                depth.raw,
+                vk::ImageAspectFlags::DEPTH,
+                (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                ),
+                (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
+                (
+                    vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+                        | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
+                        | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                ),
+            ),
+        ];
+        device.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().image_memory_barriers(&to_attachment),
+        );
+    }
+
+    /// The attachments cleared and every draw of the scene.
+    ///
+    /// # Safety
+    /// As `record`.
+    unsafe fn draw(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        pipeline: &PipelineObjects,
+        (scene, view, geometry): (&Scene, &View, &Geometry),
+    ) {
+        let (color, depth) = (&self.color, &self.depth);
+        let (vertex_buffer, index_buffer, descriptors) =
+            (&self.vertex_buffer, &self.index_buffer, &self.descriptors);
+        let extent = self.extent;
+        let (width, height) = (extent.width, extent.height);
+        let background = scene.image.background.as_vec3();
+
+        let color_attachments = [vk::RenderingAttachmentInfo::default()
+            .image_view(color.view)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue {
+                color: vk::ClearColorValue {
+                    float32: [background.x, background.y, background.z, 1.0],
+                },
+            })];
+        let depth_attachment = vk::RenderingAttachmentInfo::default()
+            .image_view(depth.view)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 0.0,
+                    stencil: 0,
+                },
+            });
+        let area = vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent,
+        };
+        let rendering = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&color_attachments)
+            .depth_attachment(&depth_attachment);
+        device.cmd_begin_rendering(cmd, &rendering);
+        device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.pipeline);
+        device.cmd_set_viewport(
+            cmd,
+            0,
+            &[vk::Viewport {
+                x: 0.0,
+                y: 0.0,
+                width: width as f32,
+                height: height as f32,
+                min_depth: 0.0,
+                max_depth: 1.0,
+            }],
+        );
+        device.cmd_set_scissor(cmd, 0, &[area]);
+        device.cmd_bind_descriptor_sets(
+            cmd,
+            vk::PipelineBindPoint::GRAPHICS,
+            pipeline.layout,
+            0,
+            &[descriptors.set],
+            &[],
+        );
+        device.cmd_bind_vertex_buffers(cmd, 0, &[vertex_buffer.raw], &[0]);
+        device.cmd_bind_index_buffer(cmd, index_buffer.raw, 0, vk::IndexType::UINT32);
+        let clip = view.clip_from_relative().as_mat4().to_cols_array_2d();
+        for draw in &geometry.draws {
+            let m = &scene.materials[draw.material];
+            let color = m.color.as_vec3();
+            let constants = DrawConstants {
+                clip_from_relative: clip,
+                color_ka: [color.x, color.y, color.z, m.ka as f32],
+                kd_ks_p: [m.kd as f32, m.ks as f32, m.p as f32, 0.0],
+            };
+            device.cmd_push_constants(
+                cmd,
+                pipeline.layout,
+                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                0,
+                bytemuck::bytes_of(&constants),
+            );
+            let cull = if draw.cull_back {
+                vk::CullModeFlags::BACK
+            } else {
+                vk::CullModeFlags::NONE
+            };
+            device.cmd_set_cull_mode(cmd, cull);
+            device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0);
+        }
+        device.cmd_end_rendering(cmd);
+    }
+
+    /// The colour image copied into the read-back buffer, for the host.
+    ///
+    /// # Safety
+    /// As `record`.
+    unsafe fn copy_back(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+        let (color, readback) = (&self.color, &self.readback);
+        let (width, height) = (self.extent.width, self.extent.height);
+        let to_transfer = [image_barrier(
+            color.raw,
+            vk::ImageAspectFlags::COLOR,
+            (
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            ),
+            (
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+            ),
+            (
+                vk::PipelineStageFlags2::COPY,
+                vk::AccessFlags2::TRANSFER_READ,
+            ),
+        )];
+        device.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().image_memory_barriers(&to_transfer),
+        );
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(
+                vk::ImageSubresourceLayers::default()
+                    .aspect_mask(vk::ImageAspectFlags::COLOR)
+                    .layer_count(1),
+            )
+            .image_extent(vk::Extent3D {
+                width,
+                height,
+                depth: 1,
+            });
+        device.cmd_copy_image_to_buffer(
+            cmd,
+            color.raw,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            readback.raw,
+            &[region],
+        );
+        let to_host = [vk::BufferMemoryBarrier2::default()
+            .buffer(readback.raw)
+            .size(vk::WHOLE_SIZE)
+            .src_stage_mask(vk::PipelineStageFlags2::COPY)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+        device.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().buffer_memory_barriers(&to_host),
+        );
+    }
+
+    /// The image read back, in linear values.
+    pub(crate) fn image(&self) -> LinearImage {
+        let (width, height) = (self.extent.width, self.extent.height);
+        match self.target {
+            ColorTarget::Float32 => {
+                LinearImage::from_rgba32f_bytes(width, height, self.readback.mapped())
+            }
+            ColorTarget::Srgb8 => {
+                LinearImage::from_srgba8_bytes(width, height, self.readback.mapped())
+            }
+        }
+    }
+}
