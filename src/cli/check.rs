@@ -2,7 +2,10 @@
 //! reference; images for CI to keep, a verdict line per case, optionally a
 //! JUnit report; exit status 1 when any case fails.
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{mpsc, Arc};
 
 use clap::Args;
 use shadelab::check::{check, scaled, CheckOutcome, CheckThresholds};
@@ -57,6 +60,101 @@ pub struct CheckArgs {
     flip_mean: Option<f64>,
 }
 
+/// Why a case gave no outcome: it could not be checked (reported as a case
+/// that failed, the run goes on), or its images could not be written (the
+/// run stops).
+enum CaseError {
+    Check(Failure),
+    Write(Failure),
+}
+
+impl From<shadelab::Error> for CaseError {
+    fn from(e: shadelab::Error) -> Self {
+        CaseError::Check(e.into())
+    }
+}
+
+impl From<Failure> for CaseError {
+    fn from(f: Failure) -> Self {
+        CaseError::Write(f)
+    }
+}
+
+/// How many cases run at once, each on a device of its own: two where there
+/// are two cores and the memory limit holds two of the largest case. Each
+/// case is mostly single-threaded work (lavapipe's pipeline creation and
+/// code generation, FLIP, PNG encoding), so a second case fills the other
+/// core: on a fresh machine, whose code generation is most of the time,
+/// the cases' pipelines are generated two at a time.
+fn case_workers(cases: usize, largest_estimate: u64, memory: &MemoryLimit) -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let fits_two = largest_estimate.saturating_mul(2) <= memory.bytes;
+    if cases >= 2 && cores >= 2 && fits_two {
+        2
+    } else {
+        1
+    }
+}
+
+/// Runs `run` on every job, on `workers` threads (the first with `context`,
+/// each other with one of its own from `open_another`, or none if that
+/// gives none),
+/// and hands each result to `report` in the jobs' order as soon as those
+/// before it are in. An error from `report` stops the workers after their
+/// current job and is returned.
+fn in_order<C: Sync, J: Copy + Sync, T: Send>(
+    context: &C,
+    open_another: impl Fn() -> Option<C> + Sync,
+    jobs: &[J],
+    workers: usize,
+    run: impl Fn(&C, J) -> T + Sync,
+    mut report: impl FnMut(usize, T) -> Result<(), Failure>,
+) -> Result<(), Failure> {
+    let next = AtomicUsize::new(0);
+    let stop = AtomicBool::new(false);
+    let (sender, received) = mpsc::channel::<(usize, T)>();
+    let work = |context: &C, sender: mpsc::Sender<(usize, T)>| loop {
+        let k = next.fetch_add(1, Ordering::Relaxed);
+        if k >= jobs.len() || stop.load(Ordering::Relaxed) {
+            break;
+        }
+        if sender.send((k, run(context, jobs[k]))).is_err() {
+            break;
+        }
+    };
+    let work = &work;
+    std::thread::scope(|scope| {
+        for _ in 1..workers {
+            let sender = sender.clone();
+            let open_another = &open_another;
+            scope.spawn(move || {
+                if let Some(own) = open_another() {
+                    work(&own, sender);
+                }
+            });
+        }
+        let sender_main = sender;
+        let main_worker = scope.spawn(move || work(context, sender_main));
+        let mut waiting = BTreeMap::new();
+        let mut due = 0;
+        let mut outcome = Ok(());
+        for (k, result) in received.iter() {
+            waiting.insert(k, result);
+            while let Some(result) = waiting.remove(&due) {
+                due += 1;
+                if outcome.is_ok() {
+                    outcome = report(due - 1, result);
+                    if outcome.is_err() {
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                }
+            }
+        }
+        let _ = main_worker.join();
+        outcome
+    })
+}
+
 fn io_failure(path: &Path, e: impl std::fmt::Display) -> Failure {
     Failure::usage(format!("cannot write {}: {e}", path.display()))
 }
@@ -86,6 +184,7 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     // rendering.
     args.size.check()?;
     let mut scenes = Vec::new();
+    let mut largest_estimate = 0u64;
     let paths: Vec<Option<&Path>> = if args.scenes.is_empty() {
         vec![None]
     } else {
@@ -96,7 +195,8 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
         args.size.apply(&mut scene)?;
         args.lighting.apply(&mut scene)?;
         args.traversal.apply(&mut scene)?;
-        memory.check(&stem, &scene, &args.shading, &args.shading)?;
+        largest_estimate =
+            largest_estimate.max(memory.check(&stem, &scene, &args.shading, &args.shading)?);
         let mut name = stem;
         if scenes.iter().any(|(_, n): &(_, String)| *n == name) {
             name = format!("{name}-{}", scenes.len() + 1);
@@ -104,6 +204,14 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
         scenes.push((scene, name));
     }
     let context = GpuContext::new(options)?;
+    let jobs: Vec<(usize, Shading)> = (0..scenes.len())
+        .flat_map(|i| args.shading.iter().map(move |&shading| (i, shading)))
+        .collect();
+    for (_, name) in &scenes {
+        let folder = args.out.join(name);
+        std::fs::create_dir_all(&folder).map_err(|e| io_failure(&folder, e))?;
+    }
+    let workers = case_workers(jobs.len(), largest_estimate, memory);
     let mut cases = Vec::new();
     let mut reports = Vec::new();
     let mut failed = 0;
@@ -111,14 +219,27 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     // say) fails on its own; the others still run and the report is still
     // written. The run then exits with that error's status.
     let mut first_error: Option<Failure> = None;
-    for (scene, name) in &scenes {
-        let folder = args.out.join(name);
-        std::fs::create_dir_all(&folder).map_err(|e| io_failure(&folder, e))?;
-        for &shading in &args.shading {
-            let outcome = match check(&context, scene, scene, shading, &limits_for(shading)) {
+    let run_case = |context: &Arc<GpuContext>, (i, shading): (usize, Shading)| {
+        let (scene, name) = &scenes[i];
+        let outcome = check(context, scene, scene, shading, &limits_for(shading))?;
+        write_images(&args.out.join(name), &outcome)?;
+        Ok::<_, CaseError>(outcome)
+    };
+    let open_another = || GpuContext::new(options).ok();
+    in_order(
+        &context,
+        open_another,
+        &jobs,
+        workers,
+        run_case,
+        |k, result| {
+            let (i, shading) = jobs[k];
+            let name = &scenes[i].1;
+            let folder = args.out.join(name);
+            let outcome = match result {
                 Ok(outcome) => outcome,
-                Err(e) => {
-                    let error = Failure::from(e);
+                Err(CaseError::Write(failure)) => return Err(failure),
+                Err(CaseError::Check(error)) => {
                     if !args.json {
                         println!("ERROR {name}/{shading}  {}", error.message);
                     }
@@ -137,10 +258,9 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
                         "error": error.message,
                     }));
                     first_error.get_or_insert(error);
-                    continue;
+                    return Ok(());
                 }
             };
-            write_images(&folder, &outcome)?;
             let verdict = if outcome.passed() { "PASS" } else { "FAIL" };
             if !outcome.passed() {
                 failed += 1;
@@ -176,8 +296,9 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
                 "renders_ms": outcome.renders_ms,
                 "images": folder.join(shading.to_string()),
             }));
-        }
-    }
+            Ok(())
+        },
+    )?;
     if let Some(path) = &args.junit {
         let xml = junit::render("shadelab check", &cases);
         write_atomically(path, xml.as_bytes())?;
@@ -261,4 +382,80 @@ fn write_images(folder: &Path, o: &CheckOutcome) -> Result<(), Failure> {
     a?;
     h?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Results come back in the jobs' order however the workers finish:
+    /// here the early jobs take the longest, so they finish last.
+    #[test]
+    fn results_are_reported_in_the_jobs_order() {
+        let jobs: Vec<u64> = (0..12).collect();
+        let slow_first = |_: &(), j: u64| {
+            std::thread::sleep(std::time::Duration::from_millis(2 * (12 - j)));
+            j * 10
+        };
+        let mut seen = Vec::new();
+        in_order(
+            &(),
+            || Some(()),
+            &jobs,
+            2,
+            slow_first,
+            |k, t| {
+                seen.push((k, t));
+                Ok(())
+            },
+        )
+        .unwrap_or_else(|f| panic!("{}", f.message));
+        let expected: Vec<(usize, u64)> = (0..12).map(|j| (j as usize, j * 10)).collect();
+        assert_eq!(seen, expected);
+    }
+
+    /// An error from the report stops the run: it is returned, and no later
+    /// result is reported.
+    #[test]
+    fn a_report_error_stops_the_run() {
+        let jobs: Vec<u64> = (0..50).collect();
+        let mut reported = 0;
+        let result = in_order(
+            &(),
+            || Some(()),
+            &jobs,
+            2,
+            |_, j| j,
+            |k, _| {
+                reported += 1;
+                if k == 3 {
+                    Err(Failure::usage("stop".into()))
+                } else {
+                    Ok(())
+                }
+            },
+        );
+        assert_eq!(result.err().map(|f| f.message), Some("stop".to_string()));
+        assert_eq!(reported, 4);
+    }
+
+    /// Without a second context the first worker does every job.
+    #[test]
+    fn one_worker_does_all_when_no_other_opens() {
+        let jobs: Vec<u64> = (0..5).collect();
+        let mut seen = Vec::new();
+        in_order(
+            &(),
+            || None,
+            &jobs,
+            2,
+            |_, j| j,
+            |_, t| {
+                seen.push(t);
+                Ok(())
+            },
+        )
+        .unwrap_or_else(|f| panic!("{}", f.message));
+        assert_eq!(seen, jobs);
+    }
 }
