@@ -5,6 +5,7 @@
 
 use clap::Args;
 use shadelab::scene::{LightingHook, Scene, Traversal, MAX_DEPTH, MAX_RESOLUTION};
+use shadelab::shading::Shading;
 
 use super::Failure;
 
@@ -58,6 +59,37 @@ impl LightingArg {
     pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
         if let Some(path) = &self.lighting {
             scene.lighting_hook = Some(std::sync::Arc::new(LightingHook::load(path)?));
+        }
+        Ok(())
+    }
+}
+
+/// `--shading a,b,...`: the modes a command runs over its scenes.
+#[derive(Args)]
+pub struct ModeList {
+    /// Shading modes, comma-separated.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "flat,gouraud,phong,raytrace"
+    )]
+    pub shading: Vec<Shading>,
+}
+
+/// `--depth`: the ray tracer's maximum depth, overriding the scene's.
+#[derive(Args)]
+pub struct DepthArg {
+    /// Ray tracing: maximum recursion depth (overrides the scene's
+    /// render.depth).
+    #[arg(long)]
+    pub depth: Option<u32>,
+}
+
+impl DepthArg {
+    /// Sets the depth on `scene`, refusing one out of range.
+    pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
+        if let Some(d) = self.depth {
+            scene.render.depth = check_depth(d)?;
         }
         Ok(())
     }

@@ -20,7 +20,7 @@ use shadelab::memory::MemoryLimit;
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
-use super::args::{check_depth, check_runs, ImageSize, LightingArg, TraversalArg};
+use super::args::{check_runs, DepthArg, ImageSize, LightingArg, ModeList, TraversalArg};
 use super::render::load_scene;
 use super::time_to_image::{self, TimeToImage};
 use super::Failure;
@@ -29,13 +29,8 @@ use super::Failure;
 pub struct BenchArgs {
     /// Scene file; the built-in default scene if left out.
     scene: Option<PathBuf>,
-    /// Modes to time, comma-separated.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "flat,gouraud,phong,raytrace"
-    )]
-    shading: Vec<Shading>,
+    #[command(flatten)]
+    modes: ModeList,
     /// Timed runs per mode (after one warm-up run).
     #[arg(long, default_value_t = 5)]
     runs: usize,
@@ -45,9 +40,8 @@ pub struct BenchArgs {
     lighting: LightingArg,
     #[command(flatten)]
     traversal: TraversalArg,
-    /// Ray tracing: maximum depth (overrides the scene).
-    #[arg(long)]
-    depth: Option<u32>,
+    #[command(flatten)]
+    depth: DepthArg,
     /// Also time the CPU reference on the same work (the ray tracer's
     /// tracing alone, as the GPU's dispatch; the raster modes' whole
     /// render), and print the GPU's speed-up over it.
@@ -87,7 +81,7 @@ impl BenchArgs {
         };
         flag("--width", self.size.width.map(|v| v.to_string()));
         flag("--height", self.size.height.map(|v| v.to_string()));
-        flag("--depth", self.depth.map(|v| v.to_string()));
+        flag("--depth", self.depth.depth.map(|v| v.to_string()));
         flag("--traversal", self.traversal.traversal.clone());
         let gpu = match &self.lighting.lighting {
             Some(hook) => vec!["--lighting".into(), hook.into()],
@@ -180,11 +174,9 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     args.lighting.apply(&mut scene)?;
     args.traversal.apply(&mut scene)?;
     let hook_path = scene.lighting_hook.as_ref().map(|h| h.path.clone());
-    if let Some(d) = args.depth {
-        scene.render.depth = check_depth(d)?;
-    }
+    args.depth.apply(&mut scene)?;
     let cpu_modes: &[Shading] = if args.cpu { &[Shading::Raytrace] } else { &[] };
-    let mut gpu_modes = args.shading.clone();
+    let mut gpu_modes = args.modes.shading.clone();
     gpu_modes.push(Shading::Flat);
     memory.check(&name, &scene, &gpu_modes, cpu_modes)?;
     let context = GpuContext::new(options)?;
@@ -215,7 +207,7 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     let flat = time(Shading::Flat, false)?;
     let baseline = flat.0;
     let mut rows = Vec::new();
-    for &shading in &args.shading {
+    for &shading in &args.modes.shading {
         let traced = shading.raster_mode().is_none();
         let (total_ms, gpu_ms, total_spread_ms) = if shading == Shading::Flat {
             flat

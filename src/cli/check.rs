@@ -16,7 +16,7 @@ use shadelab::metrics::heatmap::flip_heatmap;
 use shadelab::output::{write_atomically, write_image};
 use shadelab::shading::Shading;
 
-use super::args::{ImageSize, LightingArg, TraversalArg};
+use super::args::{ImageSize, LightingArg, ModeList, TraversalArg};
 use super::render::load_scene;
 use super::Failure;
 
@@ -24,13 +24,8 @@ use super::Failure;
 pub struct CheckArgs {
     /// Scene files; the built-in default scene if none.
     scenes: Vec<PathBuf>,
-    /// Modes to check, comma-separated.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "flat,gouraud,phong,raytrace"
-    )]
-    shading: Vec<Shading>,
+    #[command(flatten)]
+    modes: ModeList,
     /// Folder for <scene>/<mode>-{expected,actual,diff}.png.
     #[arg(long, default_value = "check-out")]
     out: PathBuf,
@@ -195,8 +190,12 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
         args.size.apply(&mut scene)?;
         args.lighting.apply(&mut scene)?;
         args.traversal.apply(&mut scene)?;
-        largest_estimate =
-            largest_estimate.max(memory.check(&stem, &scene, &args.shading, &args.shading)?);
+        largest_estimate = largest_estimate.max(memory.check(
+            &stem,
+            &scene,
+            &args.modes.shading,
+            &args.modes.shading,
+        )?);
         let mut name = stem;
         if scenes.iter().any(|(_, n): &(_, String)| *n == name) {
             name = format!("{name}-{}", scenes.len() + 1);
@@ -205,7 +204,7 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     }
     let context = GpuContext::new(options)?;
     let jobs: Vec<(usize, Shading)> = (0..scenes.len())
-        .flat_map(|i| args.shading.iter().map(move |&shading| (i, shading)))
+        .flat_map(|i| args.modes.shading.iter().map(move |&shading| (i, shading)))
         .collect();
     for (_, name) in &scenes {
         let folder = args.out.join(name);

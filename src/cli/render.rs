@@ -13,7 +13,7 @@ use shadelab::rt_scene::RayStats;
 use shadelab::scene::{self, Scene};
 use shadelab::shading::Shading;
 
-use super::args::{check_depth, ImageSize, LightingArg, TraversalArg};
+use super::args::{DepthArg, ImageSize, LightingArg, TraversalArg};
 use super::Failure;
 
 #[derive(Args)]
@@ -32,9 +32,8 @@ pub struct RenderArgs {
     lighting: LightingArg,
     #[command(flatten)]
     traversal: TraversalArg,
-    /// Ray tracing: maximum recursion depth.
-    #[arg(long)]
-    depth: Option<u32>,
+    #[command(flatten)]
+    depth: DepthArg,
     /// Ray tracing: adaptive depth cut-off on the ray weight.
     #[arg(long)]
     cutoff: Option<f64>,
@@ -84,9 +83,7 @@ fn apply_overrides(scene: &mut Scene, args: &RenderArgs) -> Result<(), Failure> 
     }
     args.lighting.apply(scene)?;
     args.traversal.apply(scene)?;
-    if let Some(d) = args.depth {
-        scene.render.depth = check_depth(d)?;
-    }
+    args.depth.apply(scene)?;
     if let Some(c) = args.cutoff {
         if !c.is_finite() || c < 0.0 {
             return Err(Failure::usage(format!(

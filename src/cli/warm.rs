@@ -13,9 +13,8 @@ use clap::Args;
 use shadelab::gpu::{GpuContext, GpuOptions};
 use shadelab::memory::MemoryLimit;
 use shadelab::render::render_gpu;
-use shadelab::shading::Shading;
 
-use super::args::{check_depth, LightingArg, TraversalArg};
+use super::args::{DepthArg, LightingArg, ModeList, TraversalArg};
 use super::render::load_scene;
 use super::Failure;
 
@@ -26,20 +25,14 @@ const WARM_SIZE: u32 = 16;
 pub struct WarmArgs {
     /// Scene files; the built-in default scene if none.
     scenes: Vec<PathBuf>,
-    /// Modes to warm, comma-separated.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "flat,gouraud,phong,raytrace"
-    )]
-    shading: Vec<Shading>,
+    #[command(flatten)]
+    modes: ModeList,
     #[command(flatten)]
     lighting: LightingArg,
     #[command(flatten)]
     traversal: TraversalArg,
-    /// Ray tracing: maximum depth (the constants depend on whether it is 0).
-    #[arg(long)]
-    depth: Option<u32>,
+    #[command(flatten)]
+    depth: DepthArg,
 }
 
 pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
@@ -56,15 +49,13 @@ pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result
         scene.image.height = WARM_SIZE;
         args.lighting.apply(&mut scene)?;
         args.traversal.apply(&mut scene)?;
-        if let Some(d) = args.depth {
-            scene.render.depth = check_depth(d)?;
-        }
-        memory.check(&name, &scene, &args.shading, &[])?;
+        args.depth.apply(&mut scene)?;
+        memory.check(&name, &scene, &args.modes.shading, &[])?;
         scenes.push((scene, name));
     }
     let context = GpuContext::new(options)?;
     for (scene, _) in &scenes {
-        for &shading in &args.shading {
+        for &shading in &args.modes.shading {
             render_gpu(&context, scene, shading)?;
         }
     }
