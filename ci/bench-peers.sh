@@ -19,7 +19,9 @@ Measures shadelab (target/release/shadelab) against its peers on the same work, 
   raster-sphereSEG   flat/gouraud/phong vs wgpu's constant colour/gouraud/phong
   image-SCENE        time to image: the whole `shadelab render` command as fresh processes, warm
                      and with empty caches, vs the CPU twin's command (the default scene at its
-                     own size, Phong and ray traced; the first sphere at --size, depth 0)
+                     own size, Phong and ray traced; the first sphere at --size, depth 0; the
+                     four spheres), and vs the peers' first image in a fresh process, cold and
+                     warm: Mitsuba llvm_ad_rgb on the sphere, the wgpu tracer on four spheres
 and prints a Markdown table (also written as JSON). Peers are installed on first use under
 ${SHADELAB_PEERS_DIR:-$HOME/.cache/shadelab-peers} (a Python venv with pinned numpy, wgpu,
 mitsuba; Debian's libembree-dev and g++ through apt-get when missing; the Embree caster).
@@ -151,6 +153,14 @@ define_jobs() {
         job "image-sphere${segs[0]}.shadelab" shadelab -- \
             "$bin" bench "$scenes/sphere-${segs[0]}.toml" --shading raytrace --depth 0 --time-to-image \
             "${size_args[@]}"
+        # The peers' first image in a fresh process, cold and warm (first_image.py): Mitsuba
+        # on the same sphere, the wgpu tracer on the four spheres.
+        job "image-sphere${segs[0]}.mitsuba-llvm" python -- "$venv_py" "$src/first_image.py" "$runs" \
+            "$src/mitsuba_peer.py" llvm_ad_rgb "$scenes/sphere-${segs[0]}.ply" "$size" 1
+        job image-four-spheres.shadelab shadelab -- \
+            "$bin" bench "$src/four-spheres.toml" --shading raytrace --time-to-image "${size_args[@]}"
+        job image-four-spheres.wgpu python -- "$venv_py" "$src/first_image.py" "$runs" \
+            "$src/wgpu_rt_peer.py" "$size" 1
     fi
     job rt-four-spheres.shadelab shadelab -- \
         "$bin" bench "$src/four-spheres.toml" --shading raytrace "${uber[@]}" "${size_args[@]}"

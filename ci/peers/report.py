@@ -41,6 +41,13 @@ NOTES = [
     "run, not the median); Mrays/s ~ (pixels + hits) / time, its shadow-ray count assumed.",
     "CPU twin: `bench --cpu`'s cpu_ms where shadelab has it, else `shadelab render --backend "
     "cpu` total_ms (the whole CPU render, BVH build included).",
+    "Time to image: shadelab's figure is the whole `render` command as a fresh process "
+    "(device, scene, pipeline, code generation, trace, PNG); 'empty caches' means new, empty "
+    "Mesa and shadelab cache folders. A peer's first image (ci/peers/first_image.py) is "
+    "measured inside its fresh process, from the scene's load (Mitsuba, BVH included) or its "
+    "buffers (wgpu) to the image in memory, kernel or pipeline compilation included, with new, "
+    "empty Dr.Jit and Mesa caches for 'empty caches'; the library's import and the device's "
+    "set-up are left out, so these rows favour the peer.",
     "Rays are each renderer's own count (in the JSON: peer_rays, shadelab_rays): Embree and "
     "Mitsuba cast a shadow ray from every hit, shadelab may cast fewer (none where the surface "
     "faces away from the light), so its Mrays/s is over slightly less work.",
@@ -364,6 +371,31 @@ class Report:
                 self.add(section, f"{work}, GPU with empty caches", "the same command, warm caches",
                          fmt_ms(warm), fmt_ms(cold), warm / cold if warm and cold else None,
                          name, name, unit="ms", peer_value=warm, shadelab_value=cold)
+                self.first_image_peers(section, m.group(1), work, name, warm, cold)
+
+    # The peers whose first image in a fresh process (first_image.py) is set against the
+    # whole command: job suffix and how the row names them.
+    FIRST_IMAGE_PEERS = (("mitsuba-llvm", "Mitsuba 3 llvm_ad_rgb (CPU)"),
+                         ("wgpu", "wgpu compute tracer (lavapipe)"))
+
+    def first_image_peers(self, section, scene, work, sl_job, warm, cold):
+        """The peers' first image against the whole command, cold against cold and warm
+        against warm. The peer's figure is in-process (scene load to image, its kernels'
+        or pipeline's compilation included; library and device set-up left out), the
+        command's is the whole process: the comparison favours the peer."""
+        for suffix, peer in self.FIRST_IMAGE_PEERS:
+            job = f"image-{scene}.{suffix}"
+            if not self.res.ran(job):
+                continue
+            p = self.res.get(job) or {}
+            for label, key, value in (("empty caches", "cold_image_ms", cold),
+                                      ("warm caches", "warm_image_ms", warm)):
+                pv = num(p.get(key))
+                self.add(section, f"{work}, GPU with {label}",
+                         f"{peer}: first image in a fresh process, {label}",
+                         fmt_ms(pv) if pv else self.missing(job), fmt_ms(value),
+                         pv / value if pv and value else None, job, sl_job, unit="ms",
+                         peer_value=pv, shadelab_value=value)
 
     def build(self):
         self.time_to_image()

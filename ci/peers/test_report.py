@@ -42,13 +42,17 @@ class MergeRounds(unittest.TestCase):
 
 
 class TimeToImage(unittest.TestCase):
-    def rows(self, bench):
+    def rows(self, bench, peers=None):
+        jobs = {"image-default.shadelab": bench}
+        jobs.update(peers or {})
         with tempfile.TemporaryDirectory() as d:
             with open(os.path.join(d, "jobs.tsv"), "w") as f:
                 f.write("name\tkind\tstatus\trc\tseconds\n")
-                f.write("image-default.shadelab\tshadelab\tok\t0\t9\n")
-            with open(os.path.join(d, "image-default.shadelab.json"), "w") as f:
-                f.write(json.dumps(bench) + "\n")
+                for name in jobs:
+                    f.write(f"{name}\tshadelab\tok\t0\t9\n")
+            for name, out in jobs.items():
+                with open(os.path.join(d, f"{name}.json"), "w") as f:
+                    f.write(json.dumps(out) + "\n")
             args = types.SimpleNamespace(size=1024, smoke=False, segs=[100])
             report = Report(Results(d), args)
             report.time_to_image()
@@ -63,6 +67,26 @@ class TimeToImage(unittest.TestCase):
         self.assertIn("warm caches", rows[0]["work"])
         self.assertIn("empty caches", rows[1]["work"])
         self.assertEqual(rows[2]["peer"], "the same command, warm caches")
+
+    def test_a_peers_first_image_is_held_to_the_command_cold_to_cold_and_warm_to_warm(self):
+        bench = {"scene": "default", "width": 640, "height": 480, "results": [
+            {"shading": "raytrace", "time_to_image": {"warm_ms": 100.0, "cold_ms": 400.0, "cpu_ms": 90.0}}]}
+        peers = {"image-default.wgpu": {"cold_image_ms": 300.0, "warm_image_ms": 250.0}}
+        rows = self.rows(bench, peers)
+        self.assertEqual(len(rows), 5)
+        cold, warm = rows[3], rows[4]
+        self.assertEqual((cold["ratio"], warm["ratio"]), (0.75, 2.5))
+        self.assertIn("empty caches", cold["peer"])
+        self.assertIn("empty caches", cold["work"])
+        self.assertIn("warm caches", warm["peer"])
+        self.assertEqual((cold["peer_job"], cold["shadelab_job"]), ("image-default.wgpu", "image-default.shadelab"))
+
+    def test_a_peer_that_did_not_run_gives_no_row_and_one_without_figures_no_ratio(self):
+        bench = {"scene": "default", "width": 64, "height": 64, "results": [
+            {"shading": "raytrace", "time_to_image": {"warm_ms": 100.0, "cold_ms": 400.0, "cpu_ms": 90.0}}]}
+        self.assertEqual(len(self.rows(bench)), 3)
+        rows = self.rows(bench, {"image-default.mitsuba-llvm": {"runs": 1}})
+        self.assertEqual([r["ratio"] for r in rows[3:]], [None, None])
 
     def test_a_result_without_the_figures_gives_no_ratio(self):
         bench = {"scene": "default", "width": 64, "height": 64, "results": [{"shading": "phong"}]}
