@@ -83,6 +83,7 @@
 //! }
 //! ```
 
+pub mod backend_choice;
 pub mod cache;
 pub mod camera;
 pub mod check;

@@ -217,3 +217,112 @@ fn warm_fills_the_caches_that_the_renders_of_its_scenes_use() {
     ]);
     assert_eq!(count(&cache.join("spirv")), modules + 1);
 }
+
+fn auto(
+    dir: &Path,
+    env: &[(&str, &str)],
+    args: &[&str],
+) -> (serde_json::Value, std::process::Output) {
+    let out = Command::new(env!("CARGO_BIN_EXE_shadelab"))
+        .args(["render", "--backend", "auto"])
+        .args(args)
+        .current_dir(dir)
+        .env("SHADELAB_VALIDATION", "1")
+        .env("SHADELAB_CACHE_DIR", dir.join("cache"))
+        .env("MESA_SHADER_CACHE_DIR", common::cli::mesa_cache())
+        .envs(env.iter().copied())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    let json = if args.contains(&"--json") {
+        serde_json::from_str(text.trim()).unwrap()
+    } else {
+        serde_json::Value::Null
+    };
+    (json, out)
+}
+
+/// `--backend auto` says what it chose and why, in the text and the JSON.
+/// A small image with an empty driver cache goes to the CPU reference: its
+/// pilot estimates a few ms against the GPU's 600 ms of code generation, a
+/// margin no machine's noise closes; the image is the CPU reference's.
+#[test]
+fn backend_auto_takes_the_cpu_for_small_work_on_a_cold_driver_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let cold = [("MESA_SHADER_CACHE_DISABLE", "true")];
+    let small = ["--shading", "raytrace", "--width", "64", "--height", "48"];
+    let (json, _) = auto(
+        dir.path(),
+        &cold,
+        &[&small[..], &["-o", "a.png", "--json"]].concat(),
+    );
+    assert_eq!(json["backend"], "cpu");
+    let choice = &json["backend_choice"];
+    assert_eq!(choice["backend"], "cpu");
+    assert_eq!(choice["driver_cache_filled"], false);
+    assert!(
+        choice["cpu_estimate_ms"].as_f64().unwrap() < choice["gpu_estimate_ms"].as_f64().unwrap()
+    );
+    assert_eq!(json["device"], "CPU reference (f64)");
+    let (_, out) = auto(dir.path(), &cold, &[&small[..], &["-o", "b.png"]].concat());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.starts_with("backend auto: cpu: estimated "), "{text}");
+    // The same pixels as --backend cpu.
+    let cpu = shadelab(
+        dir.path(),
+        &[
+            &["render", "--backend", "cpu"][..],
+            &small[..],
+            &["-o", "c.png"],
+        ]
+        .concat(),
+    );
+    assert_eq!(cpu.code, 0, "{}", cpu.stderr);
+    let a = image::open(dir.path().join("a.png")).unwrap().to_rgb8();
+    let c = image::open(dir.path().join("c.png")).unwrap().to_rgb8();
+    assert_eq!(a.as_raw(), c.as_raw());
+}
+
+/// What only the GPU can run goes to the GPU, without a pilot, and says why;
+/// `--backend gpu` and `cpu` carry no choice.
+#[test]
+fn backend_auto_keeps_the_gpu_for_a_hook_and_gives_no_choice_otherwise() {
+    let dir = tempfile::tempdir().unwrap();
+    let hook = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/lighting/blinn-phong.glsl");
+    let hook = hook.to_str().unwrap();
+    let (json, _) = auto(
+        dir.path(),
+        &[],
+        &[
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "--lighting",
+            hook,
+            "-o",
+            "h.png",
+            "--json",
+        ],
+    );
+    assert_eq!(json["backend"], "gpu");
+    assert!(json["backend_choice"]["why"]
+        .as_str()
+        .unwrap()
+        .contains("lighting hook"));
+    assert!(json["backend_choice"]["pilot_ms"].is_null());
+    let run = shadelab(
+        dir.path(),
+        &[
+            "render", "--width", "32", "--height", "24", "-o", "g.png", "--json",
+        ],
+    );
+    let json: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    assert_eq!(json["backend"], "gpu");
+    assert!(json["backend_choice"].is_null());
+}

@@ -5,6 +5,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use clap::Args;
+use shadelab::backend_choice::{self, Backend, Choice};
 use shadelab::gpu::raster::ColorTarget;
 use shadelab::gpu::{ms_since, GpuContext, GpuError, GpuOptions};
 use shadelab::memory::MemoryLimit;
@@ -23,8 +24,10 @@ pub struct RenderArgs {
     /// Shading mode.
     #[arg(long, default_value = "phong")]
     shading: Shading,
-    /// Renderer: the Vulkan pipelines (gpu) or the CPU reference (cpu).
-    #[arg(long, default_value = "gpu", value_parser = ["gpu", "cpu"])]
+    /// Renderer: the Vulkan pipelines (gpu), the CPU reference (cpu), or
+    /// whichever should give the image first (auto: a short CPU pilot set
+    /// against the GPU's fixed costs; the choice is printed).
+    #[arg(long, default_value = "gpu", value_parser = ["gpu", "cpu", "auto"])]
     backend: String,
     #[command(flatten)]
     size: ImageSize,
@@ -138,29 +141,56 @@ fn output_path(args: &RenderArgs, stem: &str) -> PathBuf {
         .unwrap_or_else(|| PathBuf::from(format!("{stem}-{}.png", args.shading)))
 }
 
-/// The scene with the overrides applied, its name, and the memory estimate
-/// held to the limit; the output's name checked too, all before any
-/// rendering work.
-fn load_and_check(
-    args: &RenderArgs,
-    memory: &MemoryLimit,
-) -> Result<(Scene, String, u64), Failure> {
+/// A scene ready to render: overrides applied, the backend chosen, the
+/// memory estimate held to the limit.
+struct Loaded {
+    scene: Scene,
+    stem: String,
+    estimate: u64,
+    backend: Backend,
+    /// `--backend auto`'s choice and its grounds.
+    choice: Option<Choice>,
+}
+
+/// The scene with the overrides applied, its name, the backend (chosen
+/// here for `auto`) and the memory estimate held to the limit; the output's
+/// name checked too, all before any rendering work.
+fn load_and_check(args: &RenderArgs, memory: &MemoryLimit) -> Result<Loaded, Failure> {
     let (mut scene, stem) = load_scene(args.scene.as_deref(), memory)?;
     apply_overrides(&mut scene, args)?;
-    let estimate = if args.backend == "cpu" {
-        memory.check(&stem, &scene, &[], &[args.shading])?
-    } else {
-        memory.check(&stem, &scene, &[args.shading], &[])?
-    };
     shadelab::output::ImageFormat::from_path(&output_path(args, &stem))?;
-    Ok((scene, stem, estimate))
+    let choice = (args.backend == "auto").then(|| backend_choice::choose(&scene, args.shading));
+    let backend = match (&choice, args.backend.as_str()) {
+        (Some(choice), _) => choice.backend,
+        (None, "cpu") => Backend::Cpu,
+        (None, _) => Backend::Gpu,
+    };
+    let estimate = match backend {
+        Backend::Cpu => memory.check(&stem, &scene, &[], &[args.shading])?,
+        Backend::Gpu => memory.check(&stem, &scene, &[args.shading], &[])?,
+    };
+    Ok(Loaded {
+        scene,
+        stem,
+        estimate,
+        backend,
+        choice,
+    })
 }
 
 pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
     let command_started = Instant::now();
-    let opening = (args.backend != "cpu").then(|| OpeningDevice::start(options));
+    // `auto` chooses once the scene is loaded; `gpu` opens the device
+    // meanwhile.
+    let opening = (args.backend == "gpu").then(|| OpeningDevice::start(options));
     let loaded = load_and_check(&args, memory);
-    let (scene, stem, estimate) = match loaded {
+    let Loaded {
+        scene,
+        stem,
+        estimate,
+        mut backend,
+        choice,
+    } = match loaded {
         Ok(loaded) => loaded,
         Err(failure) => {
             // The scene's error is the answer; the device is closed before
@@ -180,10 +210,28 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
     // A PNG holds 8-bit sRGB: the raster modes render straight into it.
     let target = ColorTarget::for_output(format);
     let mut device_ms = None;
-    let (rendered, device, driver) = if let Some(opening) = opening {
-        let (context, opened_ms) = opening.finish();
-        let context = context?;
+    let mut context = None;
+    if backend == Backend::Gpu {
+        let opening = opening.unwrap_or_else(|| OpeningDevice::start(options));
+        let (opened, opened_ms) = opening.finish();
         device_ms = Some(opened_ms);
+        match opened {
+            Ok(opened) => context = Some(opened),
+            // `auto` renders on the CPU where there is no GPU to open, and
+            // says so; `gpu` fails.
+            Err(e) if choice.is_some() => {
+                eprintln!("shadelab: warning: --backend auto: no GPU ({e}); rendering on the CPU reference");
+                backend = Backend::Cpu;
+            }
+            Err(e) => return Err(e.into()),
+        }
+    }
+    if let Some(choice) = &choice {
+        if !args.json {
+            println!("backend auto: {}: {}", backend.name(), choice.why);
+        }
+    }
+    let (rendered, device, driver) = if let Some(context) = context {
         let rendered =
             shadelab::render::render_gpu_to(&context, &scene, args.shading, args.stats, target)?;
         let info = &context.info;
@@ -211,12 +259,13 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
         let value = serde_json::json!({
             "output": out,
             "shading": args.shading,
-            "backend": args.backend,
+            "backend": backend.name(),
+            "backend_choice": choice,
             "width": rendered.image.width,
             "height": rendered.image.height,
             "device": device,
             "driver": driver,
-            "color_target": (args.backend != "cpu" && args.shading.raster_mode().is_some())
+            "color_target": (backend == Backend::Gpu && args.shading.raster_mode().is_some())
                 .then(|| target.name()),
             "traversal": rendered.traversal.map(|t| t.name()),
             "timings_ms": rendered.timings,
