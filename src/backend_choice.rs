@@ -54,6 +54,9 @@ pub struct Choice {
     pub pilot_ms: Option<f64>,
     /// Whether the driver's cache held code already (the GPU's warm case).
     pub driver_cache_filled: bool,
+    /// Whether only the GPU can render it (a lighting hook, the ray-query
+    /// engine): then no GPU is an error, not a fall back to the CPU.
+    pub needs_gpu: bool,
 }
 
 /// The GPU's fixed costs (warm, cold), from `render --json`'s phases on
@@ -86,19 +89,20 @@ const RASTER_PILOT_STRIDE: u32 = 4;
 /// Chooses the backend for `scene` in `shading`.
 pub fn choose(scene: &Scene, shading: Shading) -> Choice {
     let driver_cache_filled = driver_cache_filled();
-    let gpu_only = |why: &str| Choice {
+    let gpu_only = |why: &str, needs_gpu: bool| Choice {
         backend: Backend::Gpu,
         why: why.to_string(),
         cpu_estimate_ms: None,
         gpu_estimate_ms: None,
         pilot_ms: None,
         driver_cache_filled,
+        needs_gpu,
     };
     if scene.lighting_hook.is_some() {
-        return gpu_only("a lighting hook (--lighting) runs on the GPU only");
+        return gpu_only("a lighting hook (--lighting) runs on the GPU only", true);
     }
     if shading == Shading::Raytrace && scene.render.traversal == Traversal::Query {
-        return gpu_only("--traversal query is a GPU engine");
+        return gpu_only("--traversal query is a GPU engine", true);
     }
     let triangles = GeometrySize::of_scene(scene, shading != Shading::Raytrace).triangles;
     let samples = u64::from(scene.image.width)
@@ -109,7 +113,10 @@ pub fn choose(scene: &Scene, shading: Shading) -> Choice {
             1
         };
     if triangles > PILOT_MAX_TRIANGLES || samples > PILOT_MAX_SAMPLES {
-        return gpu_only("large work (more than 50k triangles or 4M samples): the GPU");
+        return gpu_only(
+            "large work (more than 50k triangles or 4M samples): the GPU",
+            false,
+        );
     }
     let started = Instant::now();
     let warm_or_cold = |(warm, cold): (f64, f64)| if driver_cache_filled { warm } else { cold };
@@ -153,6 +160,7 @@ pub fn choose(scene: &Scene, shading: Shading) -> Choice {
         gpu_estimate_ms: Some(gpu_estimate_ms),
         pilot_ms: Some(pilot_ms),
         driver_cache_filled,
+        needs_gpu: false,
     }
 }
 

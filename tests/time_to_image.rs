@@ -326,3 +326,56 @@ fn backend_auto_keeps_the_gpu_for_a_hook_and_gives_no_choice_otherwise() {
     assert_eq!(json["backend"], "gpu");
     assert!(json["backend_choice"].is_null());
 }
+
+/// With no Vulkan driver, `auto` renders on the CPU and says why, unless only
+/// the GPU can render the scene (a hook), which stays an error (exit 3).
+#[test]
+fn backend_auto_without_a_gpu_falls_back_to_the_cpu_except_for_gpu_only_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let no_driver = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_shadelab"))
+            .args(["render", "--backend", "auto", "--json"])
+            .args(args)
+            .current_dir(dir.path())
+            .env("SHADELAB_CACHE_DIR", dir.path().join("cache"))
+            .env("VK_ICD_FILENAMES", "/nonexistent/icd.json")
+            .env("VK_DRIVER_FILES", "/nonexistent/icd.json")
+            .output()
+            .unwrap()
+    };
+    // 2100 x 2100 is past the 4M samples that skip the pilot: the GPU chosen.
+    let out = no_driver(&[
+        "--width",
+        "2100",
+        "--height",
+        "2100",
+        "--depth",
+        "0",
+        "--shading",
+        "raytrace",
+        "-o",
+        "a.png",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["backend"], "cpu");
+    assert!(json["backend_choice"]["why"]
+        .as_str()
+        .unwrap()
+        .starts_with("no GPU to open"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("rendering on the CPU reference"));
+    assert!(dir.path().join("a.png").is_file());
+    let hook = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/lighting/blinn-phong.glsl");
+    let out = no_driver(&["--lighting", hook.to_str().unwrap(), "-o", "h.png"]);
+    assert_eq!(
+        out.status.code(),
+        Some(3),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(!dir.path().join("h.png").exists());
+}

@@ -187,9 +187,9 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
     let Loaded {
         scene,
         stem,
-        estimate,
+        mut estimate,
         mut backend,
-        choice,
+        mut choice,
     } = match loaded {
         Ok(loaded) => loaded,
         Err(failure) => {
@@ -218,10 +218,15 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
         match opened {
             Ok(opened) => context = Some(opened),
             // `auto` renders on the CPU where there is no GPU to open, and
-            // says so; `gpu` fails.
-            Err(e) if choice.is_some() => {
+            // says so, unless only the GPU can render it; `gpu` fails.
+            Err(e) if choice.as_ref().is_some_and(|c| !c.needs_gpu) => {
                 eprintln!("shadelab: warning: --backend auto: no GPU ({e}); rendering on the CPU reference");
                 backend = Backend::Cpu;
+                estimate = memory.check(&stem, &scene, &[], &[args.shading])?;
+                if let Some(choice) = &mut choice {
+                    choice.backend = Backend::Cpu;
+                    choice.why = format!("no GPU to open ({e})");
+                }
             }
             Err(e) => return Err(e.into()),
         }
