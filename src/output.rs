@@ -129,7 +129,21 @@ pub fn decode_image(bytes: &[u8], format: ImageFormat) -> Result<LinearImage, St
         .decode()
         .map_err(|e| e.to_string())?;
     let (width, height) = (decoded.width(), decoded.height());
+    // A 16-bit PNG is read at its 16 bits: as 8 it lost up to 2e-3
+    // (issue 30: 32768/65535 against 128/255 read as no difference).
+    let sixteen_bits = matches!(
+        decoded,
+        image::DynamicImage::ImageLuma16(_)
+            | image::DynamicImage::ImageLumaA16(_)
+            | image::DynamicImage::ImageRgb16(_)
+            | image::DynamicImage::ImageRgba16(_)
+    );
     let pixels = match format {
+        ImageFormat::Png if sixteen_bits => decoded
+            .to_rgb16()
+            .pixels()
+            .map(|p| p.0.map(crate::srgb::srgb16_to_linear))
+            .collect(),
         ImageFormat::Png => decoded
             .to_rgb8()
             .pixels()

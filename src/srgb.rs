@@ -73,7 +73,16 @@ pub fn linear_to_srgb8_exact(v: f32) -> u8 {
 /// The linear value of an 8-bit sRGB value; `linear_to_srgb8` maps it back
 /// to the same byte (tested in `metrics::flip`).
 pub fn srgb8_to_linear(v: u8) -> f32 {
-    let s = f32::from(v) / 255.0;
+    srgb_to_linear(f32::from(v) / 255.0)
+}
+
+/// The linear value of a 16-bit sRGB value (a 16-bit PNG's samples).
+pub fn srgb16_to_linear(v: u16) -> f32 {
+    srgb_to_linear(f32::from(v) / 65535.0)
+}
+
+/// The sRGB decoding of `s` in [0, 1].
+fn srgb_to_linear(s: f32) -> f32 {
     if s <= 0.040_45 {
         s / 12.92
     } else {

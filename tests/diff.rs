@@ -176,7 +176,8 @@ fn bad_thresholds_and_heat_map_names_exit_2() {
         shadelab(dir.path(), &args)
     };
     assert_bad_input(&with(&["--flip-mean", "-1"]), &["--flip-mean"]);
-    assert_bad_input(&with(&["--threshold", "psnr=3"]), &["psnr"]);
+    assert_bad_input(&with(&["--threshold", "ssim=3"]), &["ssim"]);
+    assert_bad_input(&with(&["--threshold", "psnr=inf"]), &["psnr=inf"]);
     assert_bad_input(&with(&["--threshold", "max_abs=x"]), &["max_abs=x"]);
     assert_bad_input(&with(&["--heatmap", "heat.jpg"]), &["heat.jpg"]);
     assert_bad_input(&with(&["--heatmap", "no/such/dir/h.png"]), &["h.png"]);
@@ -368,4 +369,28 @@ fn flip_matches_nvidias_reference() {
     let theirs = read_image(&flip_data("reference-flip-magma.png")).unwrap();
     assert_eq!((ours.width, ours.height), (48, 32));
     assert!(ours == theirs, "the heat map differs from the reference's");
+}
+
+/// A 16-bit PNG is read at 16 bits (issue 30): 32768/65535 against 128/255
+/// differ by 1.9e-3 in sRGB, 2.7e-4 ... 6e-4 in linear intensity; read as 8
+/// bits they were the same byte and `diff` reported max_abs 0.
+#[test]
+fn a_sixteen_bit_png_is_read_at_full_precision() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    image::ImageBuffer::<image::Rgb<u16>, _>::from_pixel(4, 4, image::Rgb([32768u16; 3]))
+        .save(d.join("sixteen.png"))
+        .unwrap();
+    image::RgbImage::from_pixel(4, 4, image::Rgb([128u8; 3]))
+        .save(d.join("eight.png"))
+        .unwrap();
+    let run = common::cli::shadelab(d, &["diff", "eight.png", "sixteen.png", "--json"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let json: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    let max_abs = json["stats"]["max_abs"].as_f64().unwrap();
+    // The exact linear values: sRGB decode of 128/255 and 32768/65535.
+    let decode = |s: f64| ((s + 0.055) / 1.055).powf(2.4);
+    let want = (decode(32768.0 / 65535.0) - decode(128.0 / 255.0)).abs();
+    assert!((max_abs - want).abs() < 1e-6, "{max_abs} against {want}");
+    assert!(max_abs > 1e-4);
 }

@@ -126,3 +126,110 @@ fn the_flip_limit_flips_the_verdict_one_row_over_it() {
         "{under} .. {over}"
     );
 }
+
+/// `--threshold rmse=X,psnr=Y` (issue 30): every channel of every pixel off
+/// by 0.01 gives RMSE 0.01 and PSNR 40 dB exactly, so limits either side of
+/// those flip the verdict, one figure at a time, and name it.
+#[test]
+fn rmse_and_psnr_thresholds_flip_the_verdict_either_side_of_the_figure() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut actual = grey();
+    for p in &mut actual.pixels {
+        *p = [0.51; 3];
+    }
+    shadelab::output::write_image(&grey(), &dir.path().join("e.exr")).unwrap();
+    shadelab::output::write_image(&actual, &dir.path().join("a.exr")).unwrap();
+    let run = |threshold: &str| {
+        // FLIP sees a uniform shift of 0.01 (0.028): not the figure here.
+        let r = shadelab(
+            dir.path(),
+            &[
+                "diff",
+                "e.exr",
+                "a.exr",
+                "--threshold",
+                threshold,
+                "--flip-mean",
+                "1",
+                "--json",
+            ],
+        );
+        let json: serde_json::Value = serde_json::from_str(r.stdout.trim())
+            .unwrap_or_else(|e| panic!("{e}: {} {}", r.stdout, r.stderr));
+        let failed: Vec<String> = json["failures"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| f.as_str().unwrap().to_string())
+            .collect();
+        (r.code, failed)
+    };
+    // 0.51 - 0.5 in f32 is 0.01 to 2e-8: PSNR 40.000 dB to 1e-5.
+    assert_eq!(run("rmse=0.0101,psnr=39.99"), (0, vec![]));
+    let (code, failed) = run("rmse=0.0099,psnr=39.99");
+    assert_eq!((code, failed.len()), (1, 1), "{failed:?}");
+    assert!(failed[0].starts_with("rmse 0.01"), "{failed:?}");
+    let (code, failed) = run("rmse=0.0101,psnr=40.01");
+    assert_eq!((code, failed.len()), (1, 1), "{failed:?}");
+    assert!(
+        failed[0].starts_with("psnr 40.00 is under the limit 40.01"),
+        "{failed:?}"
+    );
+    let bad = shadelab(
+        dir.path(),
+        &["diff", "e.exr", "a.exr", "--threshold", "ssim=0.9"],
+    );
+    assert_eq!(bad.code, 2);
+    assert!(bad.stderr.contains("rmse or psnr"), "{}", bad.stderr);
+}
+
+/// A NaN against a number is no match: PSNR reads `-inf (non-finite
+/// difference)`, not the `inf` of identical images, and fails any floor.
+#[test]
+fn a_non_finite_difference_is_never_shown_as_identical() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut actual = grey();
+    actual.pixels[7] = [f32::NAN, 0.5, 0.5];
+    shadelab::output::write_image(&grey(), &dir.path().join("e.exr")).unwrap();
+    shadelab::output::write_image(&actual, &dir.path().join("a.exr")).unwrap();
+    let text = shadelab(dir.path(), &["diff", "e.exr", "a.exr", "--max-abs", "1e9"]);
+    let psnr_row = text
+        .stdout
+        .lines()
+        .find(|l| l.starts_with("psnr"))
+        .unwrap_or_default();
+    assert!(
+        psnr_row.contains("-inf (non-finite difference)"),
+        "{}",
+        text.stdout
+    );
+    assert!(
+        text.stdout
+            .lines()
+            .any(|l| l.starts_with("non-finite") && l.contains(" 1 ")),
+        "{}",
+        text.stdout
+    );
+    let same = shadelab(
+        dir.path(),
+        &["diff", "e.exr", "e.exr", "--threshold", "psnr=100"],
+    );
+    assert_eq!(
+        same.code, 0,
+        "identical images pass any floor: {}",
+        same.stdout
+    );
+    let floor = shadelab(
+        dir.path(),
+        &[
+            "diff",
+            "e.exr",
+            "a.exr",
+            "--max-abs",
+            "1e9",
+            "--threshold",
+            "psnr=-1000",
+        ],
+    );
+    assert_eq!(floor.code, 1, "{}", floor.stdout);
+}

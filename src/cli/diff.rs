@@ -21,9 +21,10 @@ pub struct DiffArgs {
     expected: PathBuf,
     /// The image to check against it (.png or .exr).
     actual: PathBuf,
-    /// A threshold: `FIGURE=X` for flip_mean, max_abs or p99_abs, or a bare
-    /// X for flip_mean. May be repeated; the flags below win over it.
-    #[arg(long, value_name = "[FIGURE=]X")]
+    /// Thresholds: `FIGURE=X[,FIGURE=X...]` for flip_mean, max_abs,
+    /// p99_abs, rmse (ceilings) or psnr (a floor, dB), or a bare X for
+    /// flip_mean. May be repeated; the flags below win over it.
+    #[arg(long, value_name = "[FIGURE=]X,...")]
     threshold: Vec<String>,
     /// Limit on the mean FLIP error [default: 0.02].
     #[arg(long, value_name = "X", allow_negative_numbers = true)]
@@ -63,21 +64,33 @@ fn check_limit(name: &str, value: f64) -> Result<f64, Failure> {
 /// defaults.
 fn thresholds(args: &DiffArgs) -> Result<Thresholds, Failure> {
     let mut t = Thresholds::default();
-    for entry in &args.threshold {
+    for entry in args.threshold.iter().flat_map(|e| e.split(',')) {
         let (figure, text) = entry.split_once('=').unwrap_or(("flip_mean", entry));
         let value = text.trim().parse::<f64>().map_err(|_| {
             Failure::usage(format!(
                 "--threshold {entry} is invalid; expected X or FIGURE=X with a number X"
             ))
         })?;
+        if figure.trim() == "psnr" {
+            // dB: any finite number is a floor (a negative one lets
+            // anything but a non-finite difference pass).
+            if !value.is_finite() {
+                return Err(Failure::usage(format!(
+                    "--threshold {entry} is invalid; expected a finite number of dB"
+                )));
+            }
+            t.psnr = Some(value);
+            continue;
+        }
         let value = check_limit("--threshold", value)?;
         match figure.trim() {
             "flip_mean" => t.flip_mean = value,
             "max_abs" => t.max_abs = value,
             "p99_abs" => t.p99_abs = value,
+            "rmse" => t.rmse = Some(value),
             other => {
                 return Err(Failure::usage(format!(
-                    "--threshold {entry}: unknown figure {other:?}; expected flip_mean, max_abs or p99_abs"
+                    "--threshold {entry}: unknown figure {other:?}; expected flip_mean, max_abs, p99_abs, rmse or psnr"
                 )))
             }
         }
@@ -174,7 +187,11 @@ fn print_report(args: &DiffArgs, c: &Comparison, verdicts: &[Verdict], edge_thre
         println!(
             "{:<12} {:>12} {:>10}  {}",
             v.figure,
-            format_figure(v.value),
+            if v.figure == "psnr" {
+                metrics::format_psnr(v.value)
+            } else {
+                format_figure(v.value)
+            },
             v.limit,
             if v.pass { "PASS" } else { "FAIL" }
         );
@@ -200,13 +217,7 @@ fn print_report(args: &DiffArgs, c: &Comparison, verdicts: &[Verdict], edge_thre
     row("p99_abs", &|s| format_figure(s.p99_abs));
     row("mean_abs", &|s| format_figure(s.mean_abs));
     row("rmse", &|s| format_figure(s.rmse));
-    row("psnr (dB)", &|s| {
-        if s.psnr.is_finite() {
-            format!("{:.2}", s.psnr)
-        } else {
-            "inf".into()
-        }
-    });
+    row("psnr (dB)", &|s| metrics::format_psnr(s.psnr));
     row(&format!("over {}", c.stats.pixel_threshold), &|s| {
         format_figure(s.fraction_over)
     });

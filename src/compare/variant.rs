@@ -122,12 +122,24 @@ impl FromStr for Variant {
 
     fn from_str(text: &str) -> Result<Self, String> {
         let (mode, settings) = text.split_once(':').unwrap_or((text, ""));
-        let mut v = Variant::plain(mode.trim().parse()?);
+        let mut v = Variant::plain(
+            mode.trim()
+                .parse()
+                .map_err(|e| format!("variant `{text}`: {e}"))?,
+        );
         let raster = v.shading.raster_mode().is_some();
+        let mut seen: Vec<&str> = Vec::new();
         for pair in settings.split(',').map(str::trim).filter(|p| !p.is_empty()) {
             let (key, value) = pair
                 .split_once('=')
                 .ok_or_else(|| format!("variant `{text}`: `{pair}` is not key=value"))?;
+            let key = key.trim();
+            let value = value.trim();
+            // Given twice, one value would win without a word.
+            if seen.contains(&key) {
+                return Err(format!("variant `{text}`: `{key}` is given more than once"));
+            }
+            seen.push(key);
             let bad = |expected: &str| {
                 format!("variant `{text}`: {key}={value} is invalid; expected {expected}")
             };
@@ -266,7 +278,7 @@ mod tests {
     #[test]
     fn bad_variants_say_what_is_wrong() {
         for (text, word) in [
-            ("toon", "toon"),
+            ("toon", "variant `toon`: unknown shading mode `toon`"),
             ("flat:depth=3", "raytrace only"),
             ("raytrace:segments=8", "flat, gouraud and phong only"),
             ("gouraud:segments=2", "3 to 4096"),
@@ -275,6 +287,14 @@ mod tests {
             ("phong:segments", "key=value"),
             ("phong:traversal=query", "raytrace only"),
             ("raytrace:traversal=rtx", "auto, bvh or query"),
+            (
+                "raytrace:depth=3,depth=4",
+                "`depth` is given more than once",
+            ),
+            (
+                "phong:segments=8, segments=8",
+                "`segments` is given more than once",
+            ),
         ] {
             let e = text.parse::<Variant>().unwrap_err();
             assert!(e.contains(word), "{text}: {e}");

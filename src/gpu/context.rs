@@ -250,6 +250,31 @@ pub fn list_devices() -> Result<Vec<DeviceInfo>, GpuError> {
     Ok(described?.into_iter().map(|c| c.info).collect())
 }
 
+/// The position in `devices` (index, name) of the one `wanted` names: a
+/// number is an index and nothing else (a name holding the digit does not
+/// count), text is a case-insensitive part of one device's name. `Err`
+/// lists the devices that match (none, or more than one: ambiguous).
+fn pick_device(devices: &[(usize, &str)], wanted: &str) -> Result<usize, Vec<String>> {
+    let wanted = wanted.trim();
+    if let Ok(index) = wanted.parse::<usize>() {
+        return devices
+            .iter()
+            .position(|&(i, _)| i == index)
+            .ok_or_else(Vec::new);
+    }
+    let lower = wanted.to_lowercase();
+    let matching: Vec<usize> = (0..devices.len())
+        .filter(|&p| devices[p].1.to_lowercase().contains(&lower))
+        .collect();
+    match matching[..] {
+        [one] => Ok(one),
+        _ => Err(matching
+            .iter()
+            .map(|&p| format!("{}: {}", devices[p].0, devices[p].1))
+            .collect()),
+    }
+}
+
 fn choose(candidates: Vec<Candidate>, wanted: Option<&str>) -> Result<Candidate, GpuError> {
     let listing = || {
         candidates
@@ -260,17 +285,22 @@ fn choose(candidates: Vec<Candidate>, wanted: Option<&str>) -> Result<Candidate,
     };
     let picked = match wanted {
         Some(w) => {
-            let by_index = w.parse::<usize>().ok();
-            let lower = w.to_lowercase();
-            let pos = candidates.iter().position(|c| {
-                Some(c.info.index) == by_index || c.info.name.to_lowercase().contains(&lower)
-            });
-            match pos {
-                Some(p) => p,
-                None => {
+            let names: Vec<(usize, &str)> = candidates
+                .iter()
+                .map(|c| (c.info.index, c.info.name.as_str()))
+                .collect();
+            match pick_device(&names, w) {
+                Ok(p) => p,
+                Err(matches) if matches.is_empty() => {
                     return Err(GpuError::DeviceNotFound {
                         wanted: w.to_string(),
                         available: listing(),
+                    })
+                }
+                Err(matches) => {
+                    return Err(GpuError::DeviceAmbiguous {
+                        wanted: w.to_string(),
+                        matches: matches.join(", "),
                     })
                 }
             }
@@ -546,6 +576,36 @@ impl Drop for GpuContext {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    const DEVICES: [(usize, &str); 3] = [
+        (0, "llvmpipe (LLVM 15.0.6, 256 bits)"),
+        (1, "NVIDIA H200"),
+        (2, "NVIDIA GeForce RTX 4090"),
+    ];
+
+    /// A number is an index only: "5" and "1" are in lavapipe's name, and
+    /// once picked it for any digit in it (issue 30).
+    #[test]
+    fn a_number_picks_by_index_and_never_by_name() {
+        assert_eq!(pick_device(&DEVICES, "1"), Ok(1));
+        assert_eq!(pick_device(&DEVICES, " 2 "), Ok(2));
+        assert_eq!(pick_device(&DEVICES, "5"), Err(vec![]));
+        assert_eq!(pick_device(&DEVICES, "15"), Err(vec![]));
+    }
+
+    #[test]
+    fn text_picks_the_one_device_whose_name_holds_it_and_refuses_an_ambiguous_one() {
+        assert_eq!(pick_device(&DEVICES, "LLVMpipe"), Ok(0));
+        assert_eq!(pick_device(&DEVICES, "h200"), Ok(1));
+        assert_eq!(pick_device(&DEVICES, "radeon"), Err(vec![]));
+        assert_eq!(
+            pick_device(&DEVICES, "nvidia"),
+            Err(vec![
+                "1: NVIDIA H200".to_string(),
+                "2: NVIDIA GeForce RTX 4090".to_string()
+            ])
+        );
+    }
 
     fn subgroup(
         size: u32,

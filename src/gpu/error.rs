@@ -12,13 +12,19 @@ pub enum GpuError {
     NoDevice(String),
     #[error("no Vulkan device matches `{wanted}`; available: {available} (see `shadelab info`)")]
     DeviceNotFound { wanted: String, available: String },
+    #[error("`{wanted}` matches more than one Vulkan device: {matches}; give its index or more of its name (see `shadelab info`)")]
+    DeviceAmbiguous { wanted: String, matches: String },
     #[error("the device `{device}` lacks {feature}, which shadelab needs")]
     MissingFeature {
         device: String,
         feature: &'static str,
     },
-    #[error("a {width}x{height} image exceeds this device's limit of {limit} pixels per side; choose a smaller --width/--height")]
-    ImageTooLarge { width: u32, height: u32, limit: u32 },
+    #[error("a {width}x{height} image exceeds {why}; choose a smaller --width/--height")]
+    ImageTooLarge {
+        width: u32,
+        height: u32,
+        why: String,
+    },
     #[error("the meshes' BVH is {depth} levels deep, more than the GPU ray tracer's {limit}; render this scene with --backend cpu")]
     BvhTooDeep { depth: usize, limit: usize },
     #[error("the GPU ray tracer cannot run on `{device}`: it {why}; render with --backend cpu")]
@@ -54,6 +60,7 @@ impl GpuError {
             GpuError::ImageTooLarge { .. }
                 | GpuError::LightingHook(_)
                 | GpuError::DeviceNotFound { .. }
+                | GpuError::DeviceAmbiguous { .. }
                 | GpuError::BvhTooDeep { .. }
                 | GpuError::SceneTooLarge(_)
                 | GpuError::NoRayQuery { .. }

@@ -261,20 +261,47 @@ pub(crate) fn check_image_size(
     width: u32,
     height: u32,
 ) -> Result<(), GpuError> {
-    let limit = context.max_image_dimension();
-    if width == 0
-        || height == 0
-        || width > limit
-        || height > limit
-        || u64::from(width) * u64::from(height) > MAX_PIXELS
-    {
-        return Err(GpuError::ImageTooLarge {
+    image_size_error(context.max_image_dimension(), width, height).map_or(Ok(()), Err)
+}
+
+/// Why a `width` x `height` image cannot be rendered on a device whose
+/// images hold `side_limit` pixels per side at most, naming the limit it
+/// passes: the device's side, or shadelab's cap on the pixel count.
+fn image_size_error(side_limit: u32, width: u32, height: u32) -> Option<GpuError> {
+    if width == 0 || height == 0 || width > side_limit || height > side_limit {
+        return Some(GpuError::ImageTooLarge {
             width,
             height,
-            limit: limit.min(8192),
+            why: format!("this device's limit of {side_limit} pixels per side"),
         });
     }
-    Ok(())
+    let pixels = u64::from(width) * u64::from(height);
+    (pixels > MAX_PIXELS).then(|| GpuError::ImageTooLarge {
+        width,
+        height,
+        why: format!("the limit of {MAX_PIXELS} pixels (8192 x 8192) in all ({pixels} asked)"),
+    })
+}
+
+#[cfg(test)]
+mod size_tests {
+    use super::*;
+
+    /// The message names the limit that was passed (issue 30: 16384x4200
+    /// was refused as over "8192 pixels per side" while 16384x2 renders).
+    #[test]
+    fn the_refusal_names_the_limit_passed() {
+        let long = image_size_error(16384, 16384, 4200).unwrap().to_string();
+        assert!(
+            long.contains("67108864 pixels (8192 x 8192) in all"),
+            "{long}"
+        );
+        assert!(!long.contains("per side"), "{long}");
+        assert!(image_size_error(16384, 16384, 2).is_none());
+        let wide = image_size_error(16384, 20000, 2).unwrap().to_string();
+        assert!(wide.contains("16384 pixels per side"), "{wide}");
+        assert!(image_size_error(16384, 8192, 8192).is_none());
+    }
 }
 
 /// Renders `scene` at its `image` size in `mode`, into the float target.

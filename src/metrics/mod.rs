@@ -151,6 +151,13 @@ pub struct Thresholds {
     pub flip_mean: f64,
     pub max_abs: f64,
     pub p99_abs: f64,
+    /// Limit on the RMSE over every channel; none by default.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rmse: Option<f64>,
+    /// The lowest PSNR (dB) that passes; none by default. Identical images
+    /// (infinite PSNR) pass any; a non-finite difference (NaN) fails.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub psnr: Option<f64>,
 }
 
 impl Default for Thresholds {
@@ -159,6 +166,8 @@ impl Default for Thresholds {
             flip_mean: 0.02,
             max_abs: 1.0,
             p99_abs: 0.05,
+            rmse: None,
+            psnr: None,
         }
     }
 }
@@ -174,18 +183,33 @@ pub struct Verdict {
 
 impl Thresholds {
     /// Each thresholded figure of `comparison` with its verdict.
-    pub fn verdicts(&self, comparison: &Comparison) -> [Verdict; 3] {
+    pub fn verdicts(&self, comparison: &Comparison) -> Vec<Verdict> {
         let verdict = |figure, value: f64, limit: f64| Verdict {
             figure,
             value,
             limit,
             pass: value <= limit,
         };
-        [
+        let mut all = vec![
             verdict("flip_mean", comparison.flip.mean, self.flip_mean),
             verdict("max_abs", comparison.stats.max_abs, self.max_abs),
             verdict("p99_abs", comparison.stats.p99_abs, self.p99_abs),
-        ]
+        ];
+        if let Some(limit) = self.rmse {
+            all.push(verdict("rmse", comparison.stats.rmse, limit));
+        }
+        if let Some(limit) = self.psnr {
+            // A floor, not a ceiling: NaN and -inf (a non-finite
+            // difference) fail it, +inf (identical images) passes.
+            let value = comparison.stats.psnr;
+            all.push(Verdict {
+                figure: "psnr",
+                value,
+                limit,
+                pass: value >= limit,
+            });
+        }
+        all
     }
 
     /// One line per failed threshold, naming the figure, its value and the
@@ -195,14 +219,27 @@ impl Thresholds {
             .iter()
             .filter(|v| !v.pass)
             .map(|v| {
-                format!(
-                    "{} {} exceeds the limit {}",
-                    v.figure,
-                    format_figure(v.value),
-                    v.limit
-                )
+                let (verb, value) = if v.figure == "psnr" {
+                    ("is under", format_psnr(v.value))
+                } else {
+                    ("exceeds", format_figure(v.value))
+                };
+                format!("{} {value} {verb} the limit {}", v.figure, v.limit)
             })
             .collect()
+    }
+}
+
+/// A PSNR for people: dB with two decimals; `inf` for identical pixels;
+/// `-inf (non-finite difference)` where a NaN or infinity on one side made
+/// the error infinite, which is no match at all, not a perfect one.
+pub fn format_psnr(psnr: f64) -> String {
+    if psnr.is_finite() {
+        format!("{psnr:.2}")
+    } else if psnr == f64::INFINITY {
+        "inf".to_string()
+    } else {
+        "-inf (non-finite difference)".to_string()
     }
 }
 
@@ -293,6 +330,8 @@ mod tests {
             flip_mean: 1.0,
             max_abs: 0.25,
             p99_abs: 0.0,
+            rmse: None,
+            psnr: None,
         };
         let failed = strict.check(&c);
         assert_eq!(failed.len(), 1, "{failed:?}");

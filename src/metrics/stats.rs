@@ -141,10 +141,14 @@ impl ErrorStats {
             max_abs: errors.iter().copied().fold(0.0, f64::max),
             mean_abs: errors.iter().sum::<f64>() / count,
             rmse: mse.sqrt(),
+            // An infinite error (NaN against a number) gives -inf, never
+            // the +inf of identical images.
             psnr: if mse == 0.0 {
                 f64::INFINITY
-            } else {
+            } else if mse.is_finite() {
                 -10.0 * mse.log10()
+            } else {
+                f64::NEG_INFINITY
             },
             fraction_over: over as f64 / count,
             pixel_threshold,
@@ -242,6 +246,14 @@ mod tests {
         let s = ErrorStats::compute(&expected, &actual, None, 0.01);
         assert_eq!(s.max_abs, f64::INFINITY);
         assert_eq!(s.non_finite, 1);
+        assert_eq!(
+            s.psnr,
+            f64::NEG_INFINITY,
+            "a NaN is no match, not a perfect one"
+        );
+        // NaN on both sides is no match either.
+        let s = ErrorStats::compute(&actual, &actual.clone(), None, 0.01);
+        assert_eq!((s.psnr, s.non_finite), (f64::NEG_INFINITY, 1));
         // The same infinity on both sides is no error.
         let inf = grey(1, 1, f32::INFINITY);
         let s = ErrorStats::compute(&inf, &inf.clone(), None, 0.01);
