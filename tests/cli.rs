@@ -807,3 +807,67 @@ fn check_reports_a_case_it_cannot_run() {
         .count();
     assert_eq!(failures, 2, "{xml}");
 }
+
+/// Ray-tracing options given to a raster mode change nothing and say so
+/// (issue 30); given to the ray tracer, nothing is said.
+#[test]
+fn ray_tracing_options_on_a_raster_mode_are_warned_about() {
+    let dir = tempfile::tempdir().unwrap();
+    let small = ["--width", "16", "--height", "12"];
+    let run = shadelab(
+        dir.path(),
+        &[
+            &[
+                "render",
+                "--shading",
+                "phong",
+                "--depth",
+                "3",
+                "--samples",
+                "4",
+                "-o",
+                "p.png",
+            ][..],
+            &small,
+        ]
+        .concat(),
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(
+        run.stderr.contains(
+            "warning: --depth, --samples are for the ray tracer; --shading phong ignores them"
+        ),
+        "{}",
+        run.stderr
+    );
+    let run = shadelab(
+        dir.path(),
+        &[
+            &[
+                "render",
+                "--shading",
+                "raytrace",
+                "--depth",
+                "3",
+                "--samples",
+                "4",
+                "-o",
+                "r.png",
+            ][..],
+            &small,
+        ]
+        .concat(),
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(!run.stderr.contains("warning"), "{}", run.stderr);
+    let run = shadelab(
+        dir.path(),
+        &["warm", "--shading", "flat,phong", "--depth", "2"],
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(
+        run.stderr.contains("--depth only changes the ray tracer"),
+        "{}",
+        run.stderr
+    );
+}

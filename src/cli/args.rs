@@ -73,7 +73,58 @@ pub struct ModeList {
         value_delimiter = ',',
         default_value = "flat,gouraud,phong,raytrace"
     )]
-    pub shading: Vec<Shading>,
+    shading: Vec<Shading>,
+}
+
+impl ModeList {
+    /// The modes asked for, each once, in the order first given:
+    /// `--shading phong,phong` is one run of Phong, not two.
+    pub fn modes(&self) -> Vec<Shading> {
+        let mut modes = Vec::new();
+        for &shading in &self.shading {
+            if !modes.contains(&shading) {
+                modes.push(shading);
+            }
+        }
+        modes
+    }
+
+    /// Warns that `given` (ray-tracing flags on the command line) change
+    /// nothing when no mode asked for ray traces.
+    pub fn warn_unused(&self, given: &[&str]) {
+        if !given.is_empty() && !self.shading.contains(&Shading::Raytrace) {
+            eprintln!(
+                "shadelab: warning: {} only {} the ray tracer, and --shading {} has no raytrace",
+                given.join(", "),
+                if given.len() == 1 {
+                    "changes"
+                } else {
+                    "change"
+                },
+                self.shading
+                    .iter()
+                    .map(|s| s.to_string())
+                    .collect::<Vec<_>>()
+                    .join(","),
+            );
+        }
+    }
+}
+
+/// The ray-tracing flags given on a command line, by name.
+pub fn ray_trace_flags(
+    depth: Option<u32>,
+    traversal: &TraversalArg,
+    cpu: bool,
+) -> Vec<&'static str> {
+    [
+        ("--depth", depth.is_some()),
+        ("--traversal", traversal.traversal.is_some()),
+        ("--cpu", cpu),
+    ]
+    .into_iter()
+    .filter_map(|(flag, given)| given.then_some(flag))
+    .collect()
 }
 
 /// `--depth`: the ray tracer's maximum depth, overriding the scene's.

@@ -20,7 +20,9 @@ use shadelab::memory::MemoryLimit;
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
-use super::args::{check_runs, DepthArg, ImageSize, LightingArg, ModeList, TraversalArg};
+use super::args::{
+    check_runs, ray_trace_flags, DepthArg, ImageSize, LightingArg, ModeList, TraversalArg,
+};
 use super::render::load_scene;
 use super::time_to_image::{self, TimeToImage};
 use super::Failure;
@@ -169,6 +171,12 @@ struct Row {
 
 pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
     check_runs(args.runs)?;
+    let modes = args.modes.modes();
+    args.modes.warn_unused(&ray_trace_flags(
+        args.depth.depth,
+        &args.traversal,
+        args.cpu,
+    ));
     let (mut scene, name) = load_scene(args.scene.as_deref(), memory)?;
     args.size.apply(&mut scene)?;
     args.lighting.apply(&mut scene)?;
@@ -176,7 +184,7 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     let hook_path = scene.lighting_hook.as_ref().map(|h| h.path.clone());
     args.depth.apply(&mut scene)?;
     let cpu_modes: &[Shading] = if args.cpu { &[Shading::Raytrace] } else { &[] };
-    let mut gpu_modes = args.modes.shading.clone();
+    let mut gpu_modes = modes.clone();
     gpu_modes.push(Shading::Flat);
     memory.check(&name, &scene, &gpu_modes, cpu_modes)?;
     let context = GpuContext::new(options)?;
@@ -207,7 +215,7 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     let flat = time(Shading::Flat, false)?;
     let baseline = flat.0;
     let mut rows = Vec::new();
-    for &shading in &args.modes.shading {
+    for &shading in &modes {
         let traced = shading.raster_mode().is_none();
         let (total_ms, gpu_ms, total_spread_ms) = if shading == Shading::Flat {
             flat

@@ -155,6 +155,9 @@ fn io_failure(path: &Path, e: impl std::fmt::Display) -> Failure {
 }
 
 pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
+    let modes = args.modes.modes();
+    args.modes
+        .warn_unused(&super::args::ray_trace_flags(None, &args.traversal, false));
     let limits_for = |shading: Shading| {
         let defaults = CheckThresholds::for_shading(shading);
         CheckThresholds {
@@ -190,12 +193,7 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
         args.size.apply(&mut scene)?;
         args.lighting.apply(&mut scene)?;
         args.traversal.apply(&mut scene)?;
-        largest_estimate = largest_estimate.max(memory.check(
-            &stem,
-            &scene,
-            &args.modes.shading,
-            &args.modes.shading,
-        )?);
+        largest_estimate = largest_estimate.max(memory.check(&stem, &scene, &modes, &modes)?);
         let mut name = stem;
         if scenes.iter().any(|(_, n): &(_, String)| *n == name) {
             name = format!("{name}-{}", scenes.len() + 1);
@@ -204,7 +202,7 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     }
     let context = GpuContext::new(options)?;
     let jobs: Vec<(usize, Shading)> = (0..scenes.len())
-        .flat_map(|i| args.modes.shading.iter().map(move |&shading| (i, shading)))
+        .flat_map(|i| modes.iter().map(move |&shading| (i, shading)))
         .collect();
     for (_, name) in &scenes {
         let folder = args.out.join(name);

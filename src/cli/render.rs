@@ -78,6 +78,18 @@ pub fn load_scene(path: Option<&Path>, memory: &MemoryLimit) -> Result<(Scene, S
 /// Applies the command-line overrides to the scene, checking their ranges as
 /// the scene loader checks the file's.
 fn apply_overrides(scene: &mut Scene, args: &RenderArgs) -> Result<(), Failure> {
+    if args.shading != Shading::Raytrace {
+        let given = ray_trace_options_given(args);
+        if !given.is_empty() {
+            eprintln!(
+                "shadelab: warning: {} {} for the ray tracer; --shading {} ignores {}",
+                given.join(", "),
+                if given.len() == 1 { "is" } else { "are" },
+                args.shading,
+                if given.len() == 1 { "it" } else { "them" },
+            );
+        }
+    }
     args.size.apply(scene)?;
     if args.lighting.lighting.is_some() && args.backend == "cpu" {
         return Err(Failure::usage(
@@ -107,6 +119,20 @@ fn apply_overrides(scene: &mut Scene, args: &RenderArgs) -> Result<(), Failure> 
         scene.render.shadows = false;
     }
     Ok(())
+}
+
+/// The ray-tracing options on the command line, by flag.
+fn ray_trace_options_given(args: &RenderArgs) -> Vec<&'static str> {
+    [
+        ("--depth", args.depth.depth.is_some()),
+        ("--cutoff", args.cutoff.is_some()),
+        ("--samples", args.samples.is_some()),
+        ("--no-shadows", args.no_shadows),
+        ("--traversal", args.traversal.traversal.is_some()),
+    ]
+    .into_iter()
+    .filter_map(|(flag, given)| given.then_some(flag))
+    .collect()
 }
 
 /// The GPU opened on a thread of its own while the scene loads (on a

@@ -36,6 +36,12 @@ pub struct WarmArgs {
 }
 
 pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
+    let modes = args.modes.modes();
+    args.modes.warn_unused(&super::args::ray_trace_flags(
+        args.depth.depth,
+        &args.traversal,
+        false,
+    ));
     let started = Instant::now();
     let paths: Vec<Option<PathBuf>> = if args.scenes.is_empty() {
         vec![None]
@@ -50,12 +56,12 @@ pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result
         args.lighting.apply(&mut scene)?;
         args.traversal.apply(&mut scene)?;
         args.depth.apply(&mut scene)?;
-        memory.check(&name, &scene, &args.modes.shading, &[])?;
+        memory.check(&name, &scene, &modes, &[])?;
         scenes.push((scene, name));
     }
     let context = GpuContext::new(options)?;
     for (scene, _) in &scenes {
-        for &shading in &args.modes.shading {
+        for &shading in &modes {
             render_gpu(&context, scene, shading)?;
         }
     }
