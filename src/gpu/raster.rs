@@ -283,26 +283,6 @@ fn image_size_error(side_limit: u32, width: u32, height: u32) -> Option<GpuError
     })
 }
 
-#[cfg(test)]
-mod size_tests {
-    use super::*;
-
-    /// The message names the limit that was passed (issue 30: 16384x4200
-    /// was refused as over "8192 pixels per side" while 16384x2 renders).
-    #[test]
-    fn the_refusal_names_the_limit_passed() {
-        let long = image_size_error(16384, 16384, 4200).unwrap().to_string();
-        assert!(
-            long.contains("67108864 pixels (8192 x 8192) in all"),
-            "{long}"
-        );
-        assert!(!long.contains("per side"), "{long}");
-        assert!(image_size_error(16384, 16384, 2).is_none());
-        let wide = image_size_error(16384, 20000, 2).unwrap().to_string();
-        assert!(wide.contains("16384 pixels per side"), "{wide}");
-        assert!(image_size_error(16384, 8192, 8192).is_none());
-    }
-}
 
 /// Renders `scene` at its `image` size in `mode`, into the float target.
 pub fn render(
@@ -376,4 +356,25 @@ pub fn render_to(
             total_ms: ms_since(started),
         },
     })
+}
+
+#[cfg(test)]
+mod size_tests {
+    use super::*;
+
+    /// The message names the limit that was passed (issue 30: 16384x4200
+    /// was refused as over "8192 pixels per side" while 16384x2 renders).
+    #[test]
+    fn the_refusal_names_the_limit_passed() {
+        let long = image_size_error(16384, 16384, 4200).unwrap().to_string();
+        assert!(
+            long.contains("67108864 pixels (8192 x 8192) in all"),
+            "{long}"
+        );
+        assert!(!long.contains("per side"), "{long}");
+        assert!(image_size_error(16384, 16384, 2).is_none());
+        let wide = image_size_error(16384, 20000, 2).unwrap().to_string();
+        assert!(wide.contains("16384 pixels per side"), "{wide}");
+        assert!(image_size_error(16384, 8192, 8192).is_none());
+    }
 }
