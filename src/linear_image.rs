@@ -49,6 +49,16 @@ impl LinearImage {
         }
     }
 
+    /// Pixels with a NaN or infinite channel: a render that made one has
+    /// gone wrong (a lighting hook's `sqrt` of a negative, say), and a PNG
+    /// would show it as black or white without a word.
+    pub fn non_finite_pixels(&self) -> usize {
+        self.pixels
+            .iter()
+            .filter(|p| !p.iter().all(|c| c.is_finite()))
+            .count()
+    }
+
     pub fn get(&self, x: u32, y: u32) -> [f32; 3] {
         self.pixels[y as usize * self.width as usize + x as usize]
     }

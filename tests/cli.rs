@@ -871,3 +871,68 @@ fn ray_tracing_options_on_a_raster_mode_are_warned_about() {
         run.stderr
     );
 }
+
+/// One reference for every variant (issue 30): by default the global one,
+/// stated; a budget no variant meets is exit status 1 naming the reference
+/// and the metric; a budget met names the fastest variant within it by the
+/// same reference.
+#[test]
+fn compare_measures_every_variant_against_one_reference_and_a_missed_budget_fails() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = [
+        "compare",
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--runs",
+        "1",
+        "--variants",
+        "phong;raytrace:depth=2",
+    ];
+    let run = shadelab(
+        dir.path(),
+        &[&base[..], &["--out", "a", "--budget", "1e-9"]].concat(),
+    );
+    assert_eq!(run.code, 1, "{}\n{}", run.stdout, run.stderr);
+    assert!(
+        run.stderr.contains(
+            "no variant has RMSE <= 0.000000001 against the global (ray-traced) reference"
+        ),
+        "{}",
+        run.stderr
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("a/report.json")).unwrap())
+            .unwrap();
+    assert_eq!(report["plot_reference"], "global");
+    // The variants' plotted errors are their global errors, Phong's too.
+    let run = shadelab(
+        dir.path(),
+        &[&base[..], &["--out", "b", "--budget", "10", "--json"]].concat(),
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let report: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    let variants = report["variants"].as_array().unwrap();
+    let fastest = variants
+        .iter()
+        .min_by(|a, b| {
+            a["timing"]["gpu_ms"]
+                .as_f64()
+                .partial_cmp(&b["timing"]["gpu_ms"].as_f64())
+                .unwrap()
+        })
+        .unwrap();
+    assert_eq!(report["budget"]["fastest"], fastest["name"]);
+    let run = shadelab(
+        dir.path(),
+        &[&base[..], &["--out", "c", "--reference", "local"]].concat(),
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(
+        run.stdout
+            .contains("pareto front and budget: RMSE against the local reference"),
+        "{}",
+        run.stdout
+    );
+}

@@ -67,7 +67,7 @@ fn compare(
     let options = CompareOptions {
         runs: 1,
         shard,
-        reference: ReferenceChoice::Auto,
+        reference: ReferenceChoice::Global,
         metric: Metric::Rmse,
         budget: None,
     };

@@ -93,6 +93,7 @@ fn fixture(dir: &Path) -> Report {
                 image_ms: 40.0 + 2.0 * k,
             },
             traversal: None,
+            non_finite_pixels: 0,
             pareto: false,
         });
     }

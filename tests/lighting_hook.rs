@@ -295,3 +295,94 @@ fn an_unnormalised_normal_darkens_phong_and_leaves_gouraud_alone() {
     );
     assert!(max_difference(&c, &d) <= 1e-5, "{}", max_difference(&c, &d));
 }
+
+/// A hook that returns NaN (issue 30: `sqrt(-1.0 - d)`) is never a quiet
+/// success: `render` writes the image (to see where) and exits 1 naming the
+/// count, in every mode and for PNG (whose 8-bit target would have turned
+/// NaN into a colour) as for EXR; `compare` warns about the variant.
+#[test]
+fn a_hook_that_returns_nan_fails_the_render_and_is_counted() {
+    let dir = tempfile::tempdir().unwrap();
+    let hook = dir.path().join("nan.glsl");
+    std::fs::write(
+        &hook,
+        "vec3 shade_light(vec3 N, vec3 V, vec3 L, float d, vec3 intensity, Surface m, float k) {\n    return intensity * sqrt(-1.0 - d);\n}\n",
+    )
+    .unwrap();
+    let hook = hook.to_str().unwrap();
+    for (shading, out) in [
+        ("phong", "p.png"),
+        ("gouraud", "g.exr"),
+        ("raytrace", "r.png"),
+    ] {
+        let run = common::cli::shadelab(
+            dir.path(),
+            &[
+                "render",
+                "--width",
+                "32",
+                "--height",
+                "24",
+                "--shading",
+                shading,
+                "--lighting",
+                hook,
+                "-o",
+                out,
+                "--json",
+            ],
+        );
+        assert_eq!(run.code, 1, "{shading}: {}", run.stderr);
+        assert!(
+            run.stderr
+                .contains("pixels are not finite (NaN or infinity)"),
+            "{}",
+            run.stderr
+        );
+        assert!(
+            run.stderr.contains("the lighting hook returned them"),
+            "{}",
+            run.stderr
+        );
+        let json: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+        let n = json["non_finite_pixels"].as_u64().unwrap();
+        assert!(n > 0 && n <= 32 * 24, "{shading}: {n}");
+        assert!(dir.path().join(out).is_file());
+    }
+    let fine = common::cli::shadelab(
+        dir.path(),
+        &[
+            "render", "--width", "32", "--height", "24", "-o", "ok.png", "--json",
+        ],
+    );
+    assert_eq!(fine.code, 0, "{}", fine.stderr);
+    let json: serde_json::Value = serde_json::from_str(fine.stdout.trim()).unwrap();
+    assert_eq!(json["non_finite_pixels"], 0);
+    let variants = format!("phong:lighting={hook};phong");
+    let cmp = common::cli::shadelab(
+        dir.path(),
+        &[
+            "compare",
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "--runs",
+            "1",
+            "--variants",
+            &variants,
+            "--out",
+            "c",
+        ],
+    );
+    assert!(
+        cmp.stderr.contains("pixels are not finite"),
+        "{}",
+        cmp.stderr
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("c/report.json")).unwrap())
+            .unwrap();
+    assert!(report["variants"][0]["non_finite_pixels"].as_u64().unwrap() > 0);
+    assert_eq!(report["variants"][1]["non_finite_pixels"], 0);
+}

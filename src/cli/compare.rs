@@ -41,11 +41,11 @@ pub struct CompareArgs {
     merge: Vec<PathBuf>,
     #[command(flatten)]
     size: ImageSize,
-    /// The reference the plot, the Pareto front and the budget measure
-    /// against: `local` (the formula per pixel on exact geometry, no
-    /// shadows or reflections), `global` (the ray-traced reference), or
-    /// `auto`: local for the raster modes, global for ray tracing.
-    #[arg(long, default_value = "auto", value_parser = ["auto", "local", "global"])]
+    /// The one reference the plot, the Pareto front and the budget measure
+    /// every variant against: `global` (the ray-traced reference, the
+    /// scene as it should look) or `local` (the formula per pixel on exact
+    /// geometry, no shadows or reflections). `auto` is read as `global`.
+    #[arg(long, default_value = "global", value_parser = ["global", "local", "auto"])]
     reference: String,
     /// The error figure they use: `rmse` or `flip` (mean FLIP).
     #[arg(long, default_value = "rmse", value_parser = ["rmse", "flip"])]
@@ -112,6 +112,24 @@ pub fn run_command(
         println!("html:   {}", presented.html.display());
         println!("plot:   {}", presented.plot_png.display());
         println!("sheet:  {}", presented.contact_sheet.display());
+    }
+    for v in report.variants.iter().filter(|v| v.non_finite_pixels > 0) {
+        eprintln!(
+            "shadelab: warning: variant {}: {} pixels are not finite (NaN or infinity); its errors are infinite",
+            v.name, v.non_finite_pixels
+        );
+    }
+    // A budget no variant meets is a failed check, as a threshold is.
+    if let Some(budget) = report.budget.as_ref().filter(|b| b.fastest.is_none()) {
+        return Err(Failure {
+            code: 1,
+            message: format!(
+                "no variant has {} <= {} against the {}",
+                report.plot_metric.name(),
+                budget.max_error,
+                report.plot_reference.describe()
+            ),
+        });
     }
     Ok(())
 }
@@ -248,6 +266,11 @@ fn print_table(report: &Report, dir: &Path) {
     );
     println!("global reference (model_*): {}", report.reference);
     println!("local reference (local_*):  {}", report.local_reference);
+    println!(
+        "pareto front and budget: {} against the {}",
+        report.plot_metric.name(),
+        report.plot_reference.describe()
+    );
     println!(
         "{:<40} {:>9} {:>9} {:>9} {:>11} {:>11} {:>10} {:>11} {:>7}",
         "variant",

@@ -234,7 +234,14 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
     let out = output_path(&args, &stem);
     let format = shadelab::output::ImageFormat::from_path(&out)?;
     // A PNG holds 8-bit sRGB: the raster modes render straight into it.
-    let target = ColorTarget::for_output(format);
+    // A lighting hook is the user's code, and may return NaN: the float
+    // target keeps it to be counted, where the 8-bit one turns it into a
+    // colour on the way in.
+    let target = if scene.lighting_hook.is_some() {
+        ColorTarget::Float32
+    } else {
+        ColorTarget::for_output(format)
+    };
     let mut device_ms = None;
     let mut context = None;
     if backend == Backend::Gpu {
@@ -273,6 +280,7 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
     };
     let encode_started = Instant::now();
     shadelab::output::write_image(&rendered.image, &out)?;
+    let non_finite = rendered.image.non_finite_pixels();
     let t = &rendered.timings;
     let phases = serde_json::json!({
         "scene_ms": scene_ms,
@@ -301,6 +309,7 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
             "traversal": rendered.traversal.map(|t| t.name()),
             "timings_ms": rendered.timings,
             "phases_ms": phases,
+            "non_finite_pixels": non_finite,
             "memory": {
                 "estimate_bytes": estimate,
                 "peak_bytes": shadelab::memory::peak_resident_bytes(),
@@ -330,6 +339,27 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
         if args.stats {
             print_stats(rendered.ray_stats.as_ref(), &rendered.timings, args.shading);
         }
+    }
+    if non_finite > 0 {
+        // The image is written, to see where; the run is not a success.
+        let hint = if scene.lighting_hook.is_some() {
+            " (the lighting hook returned them)"
+        } else {
+            ""
+        };
+        return Err(Failure {
+            code: 1,
+            message: format!(
+                "{non_finite} of {} pixels are not finite (NaN or infinity){hint}; {} holds them as {}",
+                rendered.image.pixels.len(),
+                out.display(),
+                if format == shadelab::output::ImageFormat::Exr {
+                    "they are"
+                } else {
+                    "0 or 1 (PNG cannot hold them)"
+                }
+            ),
+        });
     }
     Ok(())
 }

@@ -188,6 +188,7 @@ pub fn run(
                 image_ms: first.total_ms,
             },
             traversal,
+            non_finite_pixels: image.non_finite_pixels(),
             pareto: false,
         });
     }
@@ -264,10 +265,14 @@ pub fn merge(mut shards: Vec<Report>) -> Result<Report, String> {
             ));
         }
         if s.shard.map(|(_, n2)| n2) != n || s.shard.map(|(i, _)| i) != Some(k + 1) {
+            let got = s
+                .shard
+                .map_or("a whole run (no shard)".to_string(), |(i, n)| {
+                    format!("shard {i}/{n}")
+                });
             return Err(format!(
-                "expected shards 1 to {} of one run, one each; got {:?} as the {}th",
+                "expected shards 1 to {} of one run, once each; got {got} where shard {} should be",
                 n.unwrap_or(0),
-                s.shard,
                 k + 1
             ));
         }

@@ -283,7 +283,6 @@ fn image_size_error(side_limit: u32, width: u32, height: u32) -> Option<GpuError
     })
 }
 
-
 /// Renders `scene` at its `image` size in `mode`, into the float target.
 pub fn render(
     context: &Arc<GpuContext>,

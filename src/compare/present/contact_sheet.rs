@@ -1,6 +1,6 @@
 //! `contact-sheet.png`: every variant's image in a grid, scaled to
-//! `THUMB_WIDTH`, with its name and "GPU x ms, RMSE y, FLIP z" (model
-//! error) under it. Pareto variants get a thick orange border, the others a
+//! `THUMB_WIDTH`, with its name and "GPU x ms, RMSE y, FLIP z" (against
+//! the report's one plotted reference) under it. Pareto variants get a thick orange border, the others a
 //! thin grey one.
 
 use image::imageops::{self, FilterType};
@@ -10,7 +10,7 @@ use plotters::style::TextStyle;
 
 use super::font::{Typeset, FAMILY};
 use super::{encode_png, figure, PresentError, VariantImages, PARETO_COLOUR};
-use crate::compare::report::{Report, VariantResult};
+use crate::compare::report::{ReferenceChoice, Report, VariantResult};
 
 pub const THUMB_WIDTH: u32 = 240;
 /// The most columns; fewer when there are fewer variants.
@@ -49,7 +49,7 @@ pub(crate) fn draw(report: &Report, images: &[VariantImages]) -> Result<Vec<u8>,
         report
             .variants
             .iter()
-            .map(|v| label(v, &width))
+            .map(|v| label(v, report.plot_reference, &width))
             .collect::<Result<_, _>>()
             .map_err(|e| err(e.to_string()))?
     };
@@ -89,11 +89,12 @@ pub(crate) fn draw(report: &Report, images: &[VariantImages]) -> Result<Vec<u8>,
         let root = Typeset(BitMapBackend::with_buffer(&mut rgb, (w, h))).into_drawing_area();
         let e = |e: DrawingAreaErrorKind<_>| err(e.to_string());
         let title = format!(
-            "{}, {} x {}, {}: figures are the model error against the reference",
+            "{}, {} x {}, {}: figures are the error against the {}",
             report.scene,
             report.width,
             report.height,
-            report.device_and_driver()
+            report.device_and_driver(),
+            report.plot_reference.describe()
         );
         root.draw_text(
             &title,
@@ -108,7 +109,11 @@ pub(crate) fn draw(report: &Report, images: &[VariantImages]) -> Result<Vec<u8>,
         ))
         .map_err(e)?;
         root.draw_text(
-            "orange border: on the Pareto front of GPU time and model RMSE",
+            &format!(
+                "orange border: on the Pareto front of GPU time and {} against the {}",
+                report.plot_metric.name(),
+                report.plot_reference.describe()
+            ),
             &TextStyle::from((FAMILY, 13).into_font()),
             (PAD as i32 + 30, 36),
         )
@@ -133,12 +138,17 @@ pub(crate) fn draw(report: &Report, images: &[VariantImages]) -> Result<Vec<u8>,
 
 /// The lines under one image: the name (broken after commas when it is too
 /// wide), then the figures, broken after ", " when too wide.
-fn label<E>(v: &VariantResult, width: &impl Fn(&str) -> Result<u32, E>) -> Result<Vec<String>, E> {
+fn label<E>(
+    v: &VariantResult,
+    reference: ReferenceChoice,
+    width: &impl Fn(&str) -> Result<u32, E>,
+) -> Result<Vec<String>, E> {
+    let errors = v.errors_against(reference);
     let figures = format!(
         "GPU {} ms, RMSE {}, FLIP {}",
         figure(v.timing.gpu_ms),
-        figure(v.model_error.rmse),
-        figure(v.model_error.flip_mean)
+        figure(errors.rmse),
+        figure(errors.flip_mean)
     );
     let mut lines = wrap(&v.name, ",", width)?;
     lines.extend(wrap(&figures, ", ", width)?);
