@@ -1,5 +1,6 @@
 //! JUnit XML, the report format CI servers display: one `<testsuite>` of
-//! `<testcase>`s, each passed or carrying one `<failure>`.
+//! `<testcase>`s, each passed, or carrying one `<failure>` (it ran and
+//! missed its thresholds) or one `<error>` (it could not run).
 
 use std::fmt::Write as _;
 
@@ -13,17 +14,21 @@ pub struct TestCase {
     pub time_s: f64,
     /// `None` when the case passed; else the reason, one line per failed figure.
     pub failure: Option<String>,
+    /// Why the case could not run (a scene that does not load, no device,
+    /// a hook that does not compile); such a case has no `failure`.
+    pub error: Option<String>,
     /// Figures worth keeping with the report (printed as `<system-out>`).
     pub output: String,
 }
 
 pub fn render(suite: &str, cases: &[TestCase]) -> String {
     let failures = cases.iter().filter(|c| c.failure.is_some()).count();
+    let errors = cases.iter().filter(|c| c.error.is_some()).count();
     let time: f64 = cases.iter().map(|c| c.time_s).sum();
     let mut xml = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     let _ = writeln!(
         xml,
-        "<testsuites><testsuite name=\"{}\" tests=\"{}\" failures=\"{failures}\" errors=\"0\" time=\"{time:.3}\">",
+        "<testsuites><testsuite name=\"{}\" tests=\"{}\" failures=\"{failures}\" errors=\"{errors}\" time=\"{time:.3}\">",
         escape(suite),
         cases.len()
     );
@@ -35,14 +40,15 @@ pub fn render(suite: &str, cases: &[TestCase]) -> String {
             escape(&case.name),
             case.time_s
         );
-        if let Some(reason) = &case.failure {
-            let first = reason.lines().next().unwrap_or_default();
-            let _ = write!(
-                xml,
-                "<failure message=\"{}\">{}</failure>",
-                escape(first),
-                escape(reason)
-            );
+        for (tag, reason) in [("error", &case.error), ("failure", &case.failure)] {
+            if let Some(reason) = reason {
+                let _ = write!(
+                    xml,
+                    "<{tag} message=\"{}\">{}</{tag}>",
+                    escape(&one_line(reason)),
+                    escape(reason)
+                );
+            }
         }
         if !case.output.is_empty() {
             let _ = write!(xml, "<system-out>{}</system-out>", escape(&case.output));
@@ -51,6 +57,23 @@ pub fn render(suite: &str, cases: &[TestCase]) -> String {
     }
     xml.push_str("</testsuite></testsuites>\n");
     xml
+}
+
+/// The reason as one attribute value: its lines joined, so that a compiler's
+/// message after "does not compile:" is not cut off; at most 2000
+/// characters (the whole text is the element's body).
+fn one_line(reason: &str) -> String {
+    let joined = reason
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join(" | ");
+    if joined.chars().count() > 2000 {
+        joined.chars().take(1999).chain(['…']).collect()
+    } else {
+        joined
+    }
 }
 
 #[cfg(test)]
@@ -65,6 +88,7 @@ mod tests {
                 name: "flat".into(),
                 time_s: 0.5,
                 failure: None,
+                error: None,
                 output: String::new(),
             },
             TestCase {
@@ -72,15 +96,32 @@ mod tests {
                 name: "phong".into(),
                 time_s: 0.25,
                 failure: Some("max error 0.2 > 0.001 <interior>\nsecond line".into()),
+                error: None,
                 output: "fig \"1\"".into(),
+            },
+            TestCase {
+                classname: "b".into(),
+                name: "phong".into(),
+                time_s: 0.0,
+                failure: None,
+                error: Some(
+                    "lighting hook h.glsl does not compile:\nh.glsl:2: 'x' : undeclared".into(),
+                ),
+                output: String::new(),
             },
         ];
         let xml = render("shadelab check", &cases);
-        assert!(xml.contains("tests=\"2\" failures=\"1\""));
+        assert!(xml.contains("tests=\"3\" failures=\"1\" errors=\"1\""));
         assert!(xml.contains("classname=\"a&amp;b\""));
-        assert!(xml.contains("<failure message=\"max error 0.2 &gt; 0.001 &lt;interior&gt;\">"));
+        assert!(xml.contains(
+            "<failure message=\"max error 0.2 &gt; 0.001 &lt;interior&gt; | second line\">"
+        ));
+        // The compiler's words are in the message, not cut at the colon.
+        assert!(xml.contains(
+            "<error message=\"lighting hook h.glsl does not compile: | h.glsl:2: &#39;x&#39; : undeclared\">"
+        ));
         assert!(xml.contains("<system-out>fig &quot;1&quot;</system-out>"));
-        assert_eq!(xml.matches("<testcase").count(), 2);
-        assert_eq!(xml.matches("</testcase>").count(), 2);
+        assert_eq!(xml.matches("<testcase").count(), 3);
+        assert_eq!(xml.matches("</testcase>").count(), 3);
     }
 }

@@ -87,6 +87,44 @@ pub fn write_image(image: &LinearImage, path: &Path) -> Result<(), OutputError> 
     write_atomically(path, &bytes)
 }
 
+/// Makes sure `path` can be written before any work is done for it: its
+/// folder is created if missing, and a probe file is written in it and
+/// removed. A command calls this for every output it will write, so that a
+/// long render never ends in "cannot write".
+pub fn prepare_output_path(path: &Path) -> Result<(), OutputError> {
+    let write_err = |source| OutputError::Write {
+        path: path.to_owned(),
+        source,
+    };
+    if path.file_name().is_none() {
+        return Err(write_err(std::io::Error::other("the path names no file")));
+    }
+    if path.is_dir() {
+        return Err(write_err(std::io::Error::other("it is a folder")));
+    }
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    };
+    prepare_output_folder(&folder).map_err(|e| match e {
+        OutputError::Write { source, .. } => write_err(source),
+        other => other,
+    })
+}
+
+/// Creates `folder` if missing and checks that a file can be written in it.
+pub fn prepare_output_folder(folder: &Path) -> Result<(), OutputError> {
+    let write_err = |source| OutputError::Write {
+        path: folder.to_owned(),
+        source,
+    };
+    std::fs::create_dir_all(folder).map_err(write_err)?;
+    let probe = folder.join(format!(".shadelab-probe.{}.tmp", std::process::id()));
+    std::fs::write(&probe, b"").map_err(write_err)?;
+    let _ = std::fs::remove_file(&probe);
+    Ok(())
+}
+
 /// Writes `bytes` to a temporary file beside `path`, then renames it.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
     let write_err = |source| OutputError::Write {

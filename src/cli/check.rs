@@ -32,6 +32,10 @@ pub struct CheckArgs {
     /// Also write a JUnit XML report here.
     #[arg(long)]
     junit: Option<PathBuf>,
+    /// Which cases' images to write into --out: all, failures (only the
+    /// cases that failed their thresholds) or none.
+    #[arg(long, value_enum, default_value = "all")]
+    images: KeepImages,
     /// Print one JSON object with every figure on stdout.
     #[arg(long)]
     json: bool,
@@ -178,10 +182,14 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
             )));
         }
     }
-    // Check and load everything first: bad input stops the run before any
-    // rendering.
+    // The flags first: a bad one is a usage error before anything runs. A
+    // scene that does not load, or the device, fails its own cases only
+    // (JUnit errors); the run goes on with the rest.
     args.size.check()?;
-    let mut scenes = Vec::new();
+    if let Some(path) = &args.junit {
+        shadelab::output::prepare_output_path(path)?;
+    }
+    let mut scenes: Vec<(Result<shadelab::scene::Scene, Failure>, String)> = Vec::new();
     let mut largest_estimate = 0u64;
     let paths: Vec<Option<&Path>> = if args.scenes.is_empty() {
         vec![None]
@@ -189,115 +197,88 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
         args.scenes.iter().map(|p| Some(p.as_path())).collect()
     };
     for path in paths {
-        let (mut scene, stem) = load_scene(path, memory)?;
-        args.size.apply(&mut scene)?;
-        args.lighting.apply(&mut scene)?;
-        args.traversal.apply(&mut scene)?;
-        largest_estimate = largest_estimate.max(memory.check(&stem, &scene, &modes, &modes)?);
-        let mut name = stem;
-        if scenes.iter().any(|(_, n): &(_, String)| *n == name) {
+        let stem_of = |p: &Path| {
+            p.file_stem()
+                .map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned())
+        };
+        let loaded = load_scene(path, memory).and_then(|(mut scene, stem)| {
+            args.size.apply(&mut scene)?;
+            args.lighting.apply(&mut scene)?;
+            args.traversal.apply(&mut scene)?;
+            let estimate = memory.check(&stem, &scene, &modes, &modes)?;
+            Ok((scene, stem, estimate))
+        });
+        let (scene, mut name) = match loaded {
+            Ok((scene, stem, estimate)) => {
+                largest_estimate = largest_estimate.max(estimate);
+                (Ok(scene), stem)
+            }
+            Err(failure) => (Err(failure), path.map_or_else(|| "default".into(), stem_of)),
+        };
+        if scenes.iter().any(|(_, n)| *n == name) {
             name = format!("{name}-{}", scenes.len() + 1);
         }
         scenes.push((scene, name));
     }
-    let context = GpuContext::new(options)?;
     let jobs: Vec<(usize, Shading)> = (0..scenes.len())
         .flat_map(|i| modes.iter().map(move |&shading| (i, shading)))
         .collect();
-    for (_, name) in &scenes {
-        let folder = args.out.join(name);
-        std::fs::create_dir_all(&folder).map_err(|e| io_failure(&folder, e))?;
+    // No device: every case is an error, said once and in the JUnit file.
+    let (context, no_device) = match GpuContext::new(options) {
+        Ok(context) => (Some(context), None),
+        Err(e) => (None, Some(Failure::from(e))),
+    };
+    if args.images != KeepImages::None && scenes.iter().any(|(scene, _)| scene.is_ok()) {
+        // Writable before any case runs; a scene's folder is made when it
+        // has images to hold.
+        shadelab::output::prepare_output_folder(&args.out)?;
     }
     let workers = case_workers(jobs.len(), largest_estimate, memory);
-    let mut cases = Vec::new();
-    let mut reports = Vec::new();
-    let mut failed = 0;
-    // A case that cannot be checked at all (the device refuses the scene,
-    // say) fails on its own; the others still run and the report is still
-    // written. The run then exits with that error's status.
-    let mut first_error: Option<Failure> = None;
+    let mut report = CaseReport::new(args.json);
     let run_case = |context: &Arc<GpuContext>, (i, shading): (usize, Shading)| {
         let (scene, name) = &scenes[i];
+        let scene = scene.as_ref().map_err(|f| CaseError::Check(f.clone()))?;
         let outcome = check(context, scene, scene, shading, &limits_for(shading))?;
-        write_images(&args.out.join(name), &outcome)?;
+        let keep = match args.images {
+            KeepImages::All => true,
+            KeepImages::Failures => !outcome.passed(),
+            KeepImages::None => false,
+        };
+        if keep {
+            let folder = args.out.join(name);
+            std::fs::create_dir_all(&folder).map_err(|e| io_failure(&folder, e))?;
+            write_images(&folder, &outcome)?;
+        }
         Ok::<_, CaseError>(outcome)
     };
-    let open_another = || GpuContext::new(options).ok();
-    in_order(
-        &context,
-        open_another,
-        &jobs,
-        workers,
-        run_case,
-        |k, result| {
-            let (i, shading) = jobs[k];
-            let name = &scenes[i].1;
-            let folder = args.out.join(name);
-            let outcome = match result {
-                Ok(outcome) => outcome,
-                Err(CaseError::Write(failure)) => return Err(failure),
-                Err(CaseError::Check(error)) => {
-                    if !args.json {
-                        println!("ERROR {name}/{shading}  {}", error.message);
-                    }
-                    failed += 1;
-                    cases.push(TestCase {
-                        classname: name.clone(),
-                        name: shading.to_string(),
-                        time_s: 0.0,
-                        failure: Some(format!("could not be checked: {}", error.message)),
-                        output: String::new(),
-                    });
-                    reports.push(serde_json::json!({
-                        "scene": name,
-                        "shading": shading,
-                        "passed": false,
-                        "error": error.message,
-                    }));
-                    first_error.get_or_insert(error);
-                    return Ok(());
-                }
-            };
-            let verdict = if outcome.passed() { "PASS" } else { "FAIL" };
-            if !outcome.passed() {
-                failed += 1;
+    let mut on_result = |k: usize, result: Result<CheckOutcome, CaseError>| {
+        let (i, shading) = jobs[k];
+        let name = &scenes[i].1;
+        match result {
+            Ok(outcome) => report.outcome(name, shading, &outcome, &args.out),
+            Err(CaseError::Write(failure)) => return Err(failure),
+            Err(CaseError::Check(error)) => report.error(name, shading, error),
+        }
+        Ok(())
+    };
+    match &context {
+        Some(context) => {
+            let open_another = || GpuContext::new(options).ok();
+            in_order(context, open_another, &jobs, workers, run_case, on_result)?;
+        }
+        None => {
+            let no_device = no_device.expect("no context, so an error");
+            for (k, &(i, _)) in jobs.iter().enumerate() {
+                let error = match &scenes[i].0 {
+                    Err(scene_error) => scene_error.clone(),
+                    Ok(_) => no_device.clone(),
+                };
+                on_result(k, Err(CaseError::Check(error)))?;
             }
-            let summary = summary(&outcome);
-            if !args.json {
-                println!("{verdict} {name}/{shading}  {summary}");
-                for f in &outcome.judgement.failures {
-                    println!("     {f}");
-                }
-            }
-            cases.push(TestCase {
-                classname: name.clone(),
-                name: shading.to_string(),
-                time_s: outcome.renders_ms / 1e3,
-                failure: (!outcome.passed()).then(|| outcome.judgement.failures.join("\n")),
-                output: summary,
-            });
-            reports.push(serde_json::json!({
-                "scene": name,
-                "shading": shading,
-                "passed": outcome.passed(),
-                "failures": outcome.judgement.failures,
-                "interior": outcome.judgement.interior,
-                "edges": outcome.judgement.edges,
-                "edge_share": outcome.judgement.edge_share,
-                "flip_mean": outcome.judgement.flip.mean,
-                "flip_p99": outcome.judgement.flip.p99,
-                "scale": outcome.judgement.scale,
-                "gpu_ms": outcome.gpu_ms,
-                "traversal": outcome.traversal.map(|t| t.name()),
-                "cpu_ms": outcome.cpu_ms,
-                "renders_ms": outcome.renders_ms,
-                "images": folder.join(shading.to_string()),
-            }));
-            Ok(())
-        },
-    )?;
+        }
+    }
     if let Some(path) = &args.junit {
-        let xml = junit::render("shadelab check", &cases);
+        let xml = junit::render("shadelab check", &report.cases);
         write_atomically(path, xml.as_bytes())?;
     }
     if args.json {
@@ -306,28 +287,158 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
                 "raster": limits_for(Shading::Phong),
                 "raytrace": limits_for(Shading::Raytrace),
             },
-            "cases": reports,
-            "failed": failed,
+            "cases": report.json,
+            "failed": report.failed,
+            "errors": report.errors,
         });
         println!("{value}");
     } else {
+        let errors = if report.errors > 0 {
+            format!(", {} could not run", report.errors)
+        } else {
+            String::new()
+        };
         println!(
-            "{} of {} cases passed; images in {}",
-            cases.len() - failed,
-            cases.len(),
+            "{} of {} cases passed{errors}; images in {}",
+            report.cases.len() - report.failed - report.errors,
+            report.cases.len(),
             args.out.display()
         );
     }
-    if let Some(error) = first_error {
-        return Err(error);
+    report.exit_status()
+}
+
+/// Which case images `check` writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum KeepImages {
+    /// Every case's expected, actual and diff images.
+    All,
+    /// Only the images of cases that failed their thresholds.
+    Failures,
+    /// None.
+    None,
+}
+
+/// The cases as they come in: the lines printed, the JUnit cases, the JSON
+/// objects, and the counts the exit status is made from.
+struct CaseReport {
+    json_out: bool,
+    cases: Vec<TestCase>,
+    json: Vec<serde_json::Value>,
+    failed: usize,
+    errors: usize,
+    /// Errors already printed in full, with the case that printed each: a
+    /// hook that does not compile fails every case with the same message,
+    /// printed once.
+    printed: Vec<(String, String)>,
+    first_error: Option<Failure>,
+}
+
+impl CaseReport {
+    fn new(json_out: bool) -> Self {
+        Self {
+            json_out,
+            cases: Vec::new(),
+            json: Vec::new(),
+            failed: 0,
+            errors: 0,
+            printed: Vec::new(),
+            first_error: None,
+        }
     }
-    if failed > 0 {
-        return Err(Failure {
-            code: 1,
-            message: format!("{failed} of {} cases failed their thresholds", cases.len()),
+
+    fn outcome(&mut self, name: &str, shading: Shading, outcome: &CheckOutcome, out: &Path) {
+        let verdict = if outcome.passed() { "PASS" } else { "FAIL" };
+        if !outcome.passed() {
+            self.failed += 1;
+        }
+        let summary = summary(outcome);
+        if !self.json_out {
+            println!("{verdict} {name}/{shading}  {summary}");
+            for f in &outcome.judgement.failures {
+                println!("     {f}");
+            }
+        }
+        self.cases.push(TestCase {
+            classname: name.to_string(),
+            name: shading.to_string(),
+            time_s: outcome.renders_ms / 1e3,
+            failure: (!outcome.passed()).then(|| outcome.judgement.failures.join("\n")),
+            error: None,
+            output: summary,
         });
+        self.json.push(serde_json::json!({
+            "scene": name,
+            "shading": shading,
+            "passed": outcome.passed(),
+            "failures": outcome.judgement.failures,
+            "interior": outcome.judgement.interior,
+            "edges": outcome.judgement.edges,
+            "edge_share": outcome.judgement.edge_share,
+            "flip_mean": outcome.judgement.flip.mean,
+            "flip_p99": outcome.judgement.flip.p99,
+            "scale": outcome.judgement.scale,
+            "gpu_ms": outcome.gpu_ms,
+            "traversal": outcome.traversal.map(|t| t.name()),
+            "cpu_ms": outcome.cpu_ms,
+            "renders_ms": outcome.renders_ms,
+            "images": out.join(name).join(shading.to_string()),
+        }));
     }
-    Ok(())
+
+    /// A case that could not run: a JUnit error with its reason.
+    fn error(&mut self, name: &str, shading: Shading, error: Failure) {
+        self.errors += 1;
+        if !self.json_out {
+            match self.printed.iter().find(|(m, _)| *m == error.message) {
+                Some((_, case)) => {
+                    println!("ERROR {name}/{shading}  the same error as {case} above")
+                }
+                None => println!("ERROR {name}/{shading}  {}", error.message),
+            }
+        }
+        if !self.printed.iter().any(|(m, _)| *m == error.message) {
+            self.printed
+                .push((error.message.clone(), format!("{name}/{shading}")));
+        }
+        self.cases.push(TestCase {
+            classname: name.to_string(),
+            name: shading.to_string(),
+            time_s: 0.0,
+            failure: None,
+            error: Some(error.message.clone()),
+            output: String::new(),
+        });
+        self.json.push(serde_json::json!({
+            "scene": name,
+            "shading": shading,
+            "passed": false,
+            "error": error.message,
+        }));
+        self.first_error.get_or_insert(error);
+    }
+
+    /// 0 when every case passed; when none could run, the first error's
+    /// status (2 bad input, 3 no device); else 1.
+    fn exit_status(self) -> Result<(), Failure> {
+        let total = self.cases.len();
+        match self.first_error {
+            Some(error) if self.errors == total => Err(error),
+            _ if self.failed + self.errors == 0 => Ok(()),
+            _ => Err(Failure {
+                code: 1,
+                message: format!(
+                    "{} of {total} cases failed their thresholds{}",
+                    self.failed,
+                    if self.errors > 0 {
+                        format!(" and {} could not run", self.errors)
+                    } else {
+                        String::new()
+                    }
+                ),
+            }),
+        }
+    }
 }
 
 fn summary(o: &CheckOutcome) -> String {

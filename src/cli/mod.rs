@@ -60,6 +60,7 @@ enum Command {
 }
 
 /// An error that knows its exit status.
+#[derive(Debug, Clone)]
 pub struct Failure {
     pub code: u8,
     pub message: String,

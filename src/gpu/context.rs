@@ -134,7 +134,18 @@ fn create_instance(
         create = create.push_next(&mut messenger);
     }
     // SAFETY: every pointer in `create` refers to locals that outlive the call.
-    let instance = unsafe { entry.create_instance(&create, None) }.during("vkCreateInstance")?;
+    let instance = unsafe { entry.create_instance(&create, None) }.map_err(|result| {
+        // The loader's way of saying no driver is installed: say what to
+        // install, as for no device.
+        if result == vk::Result::ERROR_INCOMPATIBLE_DRIVER {
+            GpuError::NoDevice(" (the Vulkan loader found no driver)".into())
+        } else {
+            GpuError::Vulkan {
+                call: "vkCreateInstance",
+                result,
+            }
+        }
+    })?;
     Ok((entry, instance))
 }
 
