@@ -129,20 +129,70 @@ fn cpu_flags() -> String {
 ///
 /// Sets an environment variable that the driver reads when it loads: call it
 /// before any other thread starts (the first thing `main` does).
-pub fn use_for_mesa_shader_cache() -> Option<PathBuf> {
+///
+/// Where the cache folder cannot be written (a read-only home, a CI cache
+/// mounted read-only), Mesa's cache is turned off instead, which silences
+/// the driver's four "Failed to create ... for shader cache" lines per
+/// run, and the warning to print is returned: every run then generates
+/// its shaders' code again.
+pub fn use_for_mesa_shader_cache() -> Result<Option<PathBuf>, String> {
     let env = |name: &str| std::env::var_os(name);
     if env("MESA_SHADER_CACHE_DIR").is_some() || env("MESA_SHADER_CACHE_DISABLE").is_some() {
-        return None;
+        return Ok(None);
     }
-    let dir = folder()?.join(mesa_folder_name(&cpu_flags(), env));
+    let Some(base) = folder() else {
+        return Ok(None);
+    };
+    if let Some(why) = cannot_write(&base) {
+        // Only while no other thread runs: getenv in another thread may race.
+        std::env::set_var("MESA_SHADER_CACHE_DISABLE", "true");
+        return Err(format!(
+            "the cache folder {} cannot be written ({why}): every run generates its shaders' code again; set SHADELAB_CACHE_DIR to a folder that can be",
+            base.display()
+        ));
+    }
+    let dir = base.join(mesa_folder_name(&cpu_flags(), env));
     // Only while no other thread runs: getenv in another thread may race.
     std::env::set_var("MESA_SHADER_CACHE_DIR", &dir);
-    Some(dir)
+    Ok(Some(dir))
+}
+
+/// Why nothing can be written in `dir` (or, where it does not exist yet,
+/// in the nearest folder above it that does, where it would be made);
+/// `None` when a probe file can be made and removed. Leaves nothing.
+fn cannot_write(dir: &Path) -> Option<String> {
+    let mut existing = dir;
+    while !existing.exists() {
+        existing = existing.parent()?;
+    }
+    let probe = existing.join(format!(".shadelab-probe.{}.tmp", std::process::id()));
+    match std::fs::write(&probe, b"") {
+        Ok(()) => {
+            let _ = std::fs::remove_file(&probe);
+            None
+        }
+        Err(e) => Some(e.to_string()),
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_folder_is_writable_where_it_or_the_folder_it_would_be_made_in_is() {
+        let dir = tempfile::tempdir().unwrap();
+        assert_eq!(cannot_write(&dir.path().join("not/yet/made")), None);
+        assert!(!dir.path().join("not").exists(), "the probe made a folder");
+        let blocker = dir.path().join("file");
+        std::fs::write(&blocker, b"").unwrap();
+        assert!(cannot_write(&blocker.join("cache")).is_some());
+        assert_eq!(
+            std::fs::read_dir(dir.path()).unwrap().count(),
+            1,
+            "the probe stayed"
+        );
+    }
 
     #[test]
     fn a_cached_module_reads_back_only_under_its_own_key() {

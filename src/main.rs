@@ -9,6 +9,14 @@ use std::process::ExitCode;
 fn main() -> ExitCode {
     // First, while no other thread runs: it sets an environment variable
     // that the driver reads when it loads.
-    shadelab::cache::use_for_mesa_shader_cache();
+    if let Err(warning) = shadelab::cache::use_for_mesa_shader_cache() {
+        eprintln!("shadelab: warning: {warning}");
+    }
+    // Stopped by Ctrl-C or SIGTERM: no half-written temporary file stays.
+    // 130 is the shell's status for an interrupted command.
+    let _ = ctrlc::set_handler(|| {
+        shadelab::output::remove_temporary_files();
+        std::process::exit(130);
+    });
     cli::run()
 }

@@ -132,10 +132,17 @@ impl MemoryLimit {
 
     /// Three quarters of the memory this process may use: the machine's
     /// (`MemTotal`), or its control group's limit where that is lower, so a
-    /// container's limit is respected. 8 GiB where neither can be read.
+    /// container's limit is respected, under cgroup v2 (`memory.max`) or
+    /// v1 (`memory.limit_in_bytes`). 8 GiB where neither can be read.
     pub fn machine_default() -> Self {
         let meminfo = std::fs::read_to_string("/proc/meminfo").ok();
-        let group = std::fs::read_to_string("/sys/fs/cgroup/memory.max").ok();
+        let own = std::fs::read_to_string("/proc/self/cgroup").unwrap_or_default();
+        let group = control_group_files(&own)
+            .iter()
+            .filter_map(|f| std::fs::read_to_string(f).ok())
+            .filter_map(|text| text.trim().parse::<u64>().ok())
+            .min()
+            .map(|bytes| bytes.to_string());
         Self::default_from(meminfo.as_deref(), group.as_deref())
     }
 
@@ -265,6 +272,38 @@ pub fn parse_size(text: &str) -> Option<u64> {
     (bytes.is_finite() && bytes >= 1.0 && bytes < u64::MAX as f64).then_some(bytes as u64)
 }
 
+/// The files that may hold this process's memory limit, from the text of
+/// `/proc/self/cgroup`: cgroup v2's `memory.max` (line `0::PATH`) and
+/// v1's `memory.limit_in_bytes` (the line whose controllers hold
+/// `memory`), each at the mount's root (what a container sees) and under
+/// the group's own path (what a host's process sees). Missing ones are
+/// skipped by the reader; v1's "no limit" is a huge number, which the
+/// machine's memory then undercuts.
+fn control_group_files(proc_self_cgroup: &str) -> Vec<std::path::PathBuf> {
+    let root = std::path::Path::new("/sys/fs/cgroup");
+    let mut files = vec![
+        root.join("memory.max"),
+        root.join("memory/memory.limit_in_bytes"),
+    ];
+    for line in proc_self_cgroup.lines() {
+        let mut parts = line.splitn(3, ':');
+        let (Some(_), Some(controllers), Some(path)) = (parts.next(), parts.next(), parts.next())
+        else {
+            continue;
+        };
+        let path = path.trim_start_matches('/');
+        if path.is_empty() || path.split('/').any(|c| c == "..") {
+            continue;
+        }
+        if controllers.is_empty() {
+            files.push(root.join(path).join("memory.max"));
+        } else if controllers.split(',').any(|c| c == "memory") {
+            files.push(root.join("memory").join(path).join("memory.limit_in_bytes"));
+        }
+    }
+    files
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -296,6 +335,21 @@ mod tests {
         assert_eq!(default(Some("garbage"), Some("max")), 8 << 30);
         let named = MemoryLimit::default_from(Some(meminfo), None).source;
         assert!(named.contains("24 GiB"), "{named}");
+    }
+
+    #[test]
+    fn the_control_group_limit_is_looked_for_under_cgroup_v1_and_v2() {
+        let v1 = "12:memory:/docker/abc\n11:cpu,cpuacct:/docker/abc\n";
+        let files = control_group_files(v1);
+        assert!(files.contains(&"/sys/fs/cgroup/memory/memory.limit_in_bytes".into()));
+        assert!(files.contains(&"/sys/fs/cgroup/memory/docker/abc/memory.limit_in_bytes".into()));
+        assert!(!files.iter().any(|f| f.to_string_lossy().contains("cpu")));
+        let v2 = "0::/user.slice/session-1.scope\n";
+        let files = control_group_files(v2);
+        assert!(files.contains(&"/sys/fs/cgroup/memory.max".into()));
+        assert!(files.contains(&"/sys/fs/cgroup/user.slice/session-1.scope/memory.max".into()));
+        // A path that climbs out is not followed.
+        assert_eq!(control_group_files("0::/../etc\n").len(), 2);
     }
 
     #[test]

@@ -125,7 +125,23 @@ pub fn prepare_output_folder(folder: &Path) -> Result<(), OutputError> {
     Ok(())
 }
 
+/// The temporary files being written now, removed by
+/// [`remove_temporary_files`] when the process is stopped by a signal.
+static WRITING: std::sync::Mutex<Vec<std::path::PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// Removes the temporary files this process is writing: called from the
+/// SIGINT/SIGTERM handler, so that a stopped render leaves no
+/// `.NAME.PID.tmp` behind (69 to 111 MB for a 4096x4096 EXR).
+pub fn remove_temporary_files() {
+    let files = WRITING.lock().map(|w| w.clone()).unwrap_or_default();
+    for file in files {
+        let _ = std::fs::remove_file(file);
+    }
+}
+
 /// Writes `bytes` to a temporary file beside `path`, then renames it.
+/// Temporary files of this kind in the same folder left by a process
+/// that no longer runs (one killed before it could clean up) are removed.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
     let write_err = |source| OutputError::Write {
         path: path.to_owned(),
@@ -138,11 +154,64 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
     temp_name.push(file_name);
     temp_name.push(format!(".{}.tmp", std::process::id()));
     let temp = path.with_file_name(temp_name);
-    std::fs::write(&temp, bytes).map_err(write_err)?;
-    std::fs::rename(&temp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&temp);
-        write_err(e)
-    })
+    remove_stale_temporary_files(&temp);
+    if let Ok(mut writing) = WRITING.lock() {
+        writing.push(temp.clone());
+    }
+    let written = std::fs::write(&temp, bytes)
+        .and_then(|()| std::fs::rename(&temp, path))
+        .map_err(|e| {
+            let _ = std::fs::remove_file(&temp);
+            write_err(e)
+        });
+    if let Ok(mut writing) = WRITING.lock() {
+        writing.retain(|t| *t != temp);
+    }
+    written
+}
+
+/// Removes `.NAME.PID.tmp` files in `temp`'s folder whose process is gone
+/// (no `/proc/PID`), once per folder and process.
+fn remove_stale_temporary_files(temp: &Path) {
+    static CLEANED: std::sync::Mutex<Vec<std::path::PathBuf>> = std::sync::Mutex::new(Vec::new());
+    let folder = match temp.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    };
+    {
+        let Ok(mut cleaned) = CLEANED.lock() else {
+            return;
+        };
+        if cleaned.contains(&folder) {
+            return;
+        }
+        cleaned.push(folder.clone());
+    }
+    if !Path::new("/proc/self").exists() {
+        return; // no way to tell a live process from a dead one
+    }
+    let Ok(entries) = std::fs::read_dir(&folder) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        if let Some(pid) = name.to_str().and_then(stale_temporary_pid) {
+            if !Path::new(&format!("/proc/{pid}")).exists() {
+                let _ = std::fs::remove_file(entry.path());
+            }
+        }
+    }
+}
+
+/// The PID in a temporary file's name `.NAME.PID.tmp` as `write_atomically`
+/// makes them, or `None` for any other name.
+fn stale_temporary_pid(name: &str) -> Option<u32> {
+    let inner = name.strip_prefix('.')?.strip_suffix(".tmp")?;
+    let (stem, pid) = inner.rsplit_once('.')?;
+    if stem.is_empty() || pid.is_empty() || !pid.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    pid.parse().ok()
 }
 
 /// Reads a PNG (decoded from sRGB to linear) or an EXR (linear as stored).
@@ -194,4 +263,45 @@ pub fn decode_image(bytes: &[u8], format: ImageFormat) -> Result<LinearImage, St
         height,
         pixels,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_names_write_atomically_makes_are_temporary_files() {
+        assert_eq!(stale_temporary_pid(".x.png.1234.tmp"), Some(1234));
+        assert_eq!(stale_temporary_pid(".report.json.7.tmp"), Some(7));
+        for other in [
+            "x.png.1234.tmp",
+            ".x.png.tmp",
+            ".x.png.12a.tmp",
+            "..1.tmp",
+            ".x.png.1234",
+        ] {
+            assert_eq!(stale_temporary_pid(other), None, "{other}");
+        }
+    }
+
+    /// A dead process's temporary file goes, a live one's and the user's
+    /// files stay.
+    #[test]
+    fn a_dead_process_temporary_file_is_removed_on_the_next_write() {
+        let dir = tempfile::tempdir().unwrap();
+        // PIDs are below 2^22 on Linux: this one runs no process.
+        let dead = dir.path().join(".big.exr.4194999.tmp");
+        let live = dir
+            .path()
+            .join(format!(".big.exr.{}.tmp", std::process::id()));
+        let user = dir.path().join(".notes.1.txt");
+        for f in [&dead, &live, &user] {
+            std::fs::write(f, b"x").unwrap();
+        }
+        write_atomically(&dir.path().join("out.json"), b"{}").unwrap();
+        assert!(!dead.exists());
+        assert!(live.exists());
+        assert!(user.exists());
+        assert_eq!(std::fs::read(dir.path().join("out.json")).unwrap(), b"{}");
+    }
 }

@@ -445,9 +445,13 @@ fn missing_scene_file() {
     assert!(files_in(dir.path()).is_empty());
 }
 
+/// An output that cannot be written fails before the render, with nothing
+/// left; a missing folder is created (issue 30: it rendered fully and only
+/// then failed to write), as `check --junit` and `diff --heatmap` do.
 #[test]
-fn unwritable_output_leaves_nothing() {
+fn unwritable_output_leaves_nothing_and_a_missing_folder_is_made() {
     let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("blocker"), b"a file, not a folder").unwrap();
     let run = shadelab(
         dir.path(),
         &[
@@ -457,12 +461,44 @@ fn unwritable_output_leaves_nothing() {
             "--height",
             "16",
             "--out",
-            "no/such/dir/x.png",
+            "blocker/x.png",
+            "--json",
         ],
     );
     assert_eq!(run.code, 2, "{}", run.stderr);
-    assert!(run.stderr.contains("no/such/dir/x.png"), "{}", run.stderr);
-    assert!(files_in(dir.path()).is_empty());
+    assert!(run.stderr.contains("blocker/x.png"), "{}", run.stderr);
+    assert!(
+        run.stdout.is_empty(),
+        "rendered before failing: {}",
+        run.stdout
+    );
+    assert_eq!(files_in(dir.path()), ["blocker"]);
+    let run = shadelab(
+        dir.path(),
+        &[
+            "render",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--out",
+            "new/dir/x.png",
+        ],
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(dir.path().join("new/dir/x.png").is_file());
+    let run = shadelab(
+        dir.path(),
+        &[
+            "diff",
+            "new/dir/x.png",
+            "new/dir/x.png",
+            "--heatmap",
+            "heat/h.png",
+        ],
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(dir.path().join("heat/h.png").is_file());
 }
 
 #[test]
@@ -1096,4 +1132,88 @@ fn check_without_a_driver_or_with_a_broken_hook_says_so_once() {
     );
     let xml = std::fs::read_to_string(dir.path().join("h.xml")).unwrap();
     assert!(xml.contains("errors=\"2\""), "{xml}");
+}
+
+/// A render stopped by SIGTERM while writing leaves no temporary file and
+/// exits 130 (issue 30: a 4096x4096 EXR left 69 to 111 MB behind). The
+/// test waits for the temporary file to appear, then signals; a run that
+/// finished before it was seen is tried again.
+#[test]
+fn a_render_stopped_while_writing_leaves_no_temporary_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut caught = 0;
+    for _ in 0..3 {
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_shadelab"))
+            .args([
+                "render",
+                "--shading",
+                "flat",
+                "--width",
+                "4096",
+                "--height",
+                "4096",
+                "-o",
+                "big.exr",
+            ])
+            .current_dir(dir.path())
+            .env("SHADELAB_CACHE_DIR", dir.path().join("cache"))
+            .env("MESA_SHADER_CACHE_DIR", common::cli::mesa_cache())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        let temp = dir.path().join(format!(".big.exr.{}.tmp", child.id()));
+        let mut seen = false;
+        while child.try_wait().unwrap().is_none() {
+            if temp.exists() {
+                seen = true;
+                let pid = child.id().to_string();
+                let _ = std::process::Command::new("kill")
+                    .args(["-TERM", &pid])
+                    .status();
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_micros(200));
+        }
+        let status = child.wait().unwrap();
+        if seen {
+            caught += 1;
+            assert_eq!(status.code(), Some(130));
+            assert!(!temp.exists(), "the temporary file was left behind");
+            // big.exr may be there: the rename can win the race with the
+            // signal, and then the file is whole.
+            break;
+        }
+        let _ = std::fs::remove_file(dir.path().join("big.exr"));
+    }
+    assert!(caught > 0, "never saw the temporary file being written");
+}
+
+/// `compare --out` reused by a smaller run removes the earlier run's files,
+/// and only them (issue 30: the bigger run's images stayed beside the new
+/// ones), saying so.
+#[test]
+fn compare_into_a_used_folder_removes_only_its_own_earlier_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = [
+        "compare", "--width", "24", "--height", "16", "--runs", "1", "--out", "cmp",
+    ];
+    let run = shadelab(
+        dir.path(),
+        &[&base[..], &["--variants", "flat;gouraud"]].concat(),
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(dir.path().join("cmp/gouraud.png").is_file());
+    std::fs::write(dir.path().join("cmp/notes.txt"), b"mine").unwrap();
+    let run = shadelab(dir.path(), &[&base[..], &["--variants", "flat"]].concat());
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(
+        run.stderr.contains("files of an earlier comparison"),
+        "{}",
+        run.stderr
+    );
+    assert!(!dir.path().join("cmp/gouraud.png").exists());
+    assert!(!dir.path().join("cmp/gouraud-heat.png").exists());
+    assert!(dir.path().join("cmp/flat.png").is_file());
+    assert!(dir.path().join("cmp/notes.txt").is_file());
 }

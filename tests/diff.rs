@@ -180,7 +180,8 @@ fn bad_thresholds_and_heat_map_names_exit_2() {
     assert_bad_input(&with(&["--threshold", "psnr=inf"]), &["psnr=inf"]);
     assert_bad_input(&with(&["--threshold", "max_abs=x"]), &["max_abs=x"]);
     assert_bad_input(&with(&["--heatmap", "heat.jpg"]), &["heat.jpg"]);
-    assert_bad_input(&with(&["--heatmap", "no/such/dir/h.png"]), &["h.png"]);
+    std::fs::write(dir.path().join("blocker"), b"a file").unwrap();
+    assert_bad_input(&with(&["--heatmap", "blocker/h.png"]), &["h.png"]);
     assert!(!dir.path().join("heat.jpg").exists());
 }
 

@@ -379,3 +379,29 @@ fn backend_auto_without_a_gpu_falls_back_to_the_cpu_except_for_gpu_only_work() {
     );
     assert!(!dir.path().join("h.png").exists());
 }
+
+/// A cache folder that cannot be written (issue 30: Mesa printed "Failed to
+/// create ... for shader cache" four times per run and shadelab said
+/// nothing) gets one warning from shadelab and no lines from the driver;
+/// the render still works.
+#[test]
+fn an_unwritable_cache_folder_is_one_warning_and_the_render_works() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("blocker"), b"a file").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_shadelab"))
+        .args(["render", "--width", "16", "--height", "12", "-o", "x.png"])
+        .current_dir(dir.path())
+        .env("SHADELAB_VALIDATION", "1")
+        .env("SHADELAB_CACHE_DIR", dir.path().join("blocker/cache"))
+        .env_remove("MESA_SHADER_CACHE_DIR")
+        .env_remove("MESA_SHADER_CACHE_DISABLE")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert_eq!(stderr.matches("cannot be written").count(), 1, "{stderr}");
+    // The driver's own lines ("Failed to create ... for shader cache", or
+    // "Cannot use ... for shader cache") are not there.
+    assert!(!stderr.contains("for shader cache"), "{stderr}");
+    assert!(dir.path().join("x.png").is_file());
+}

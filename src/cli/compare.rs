@@ -80,12 +80,24 @@ pub fn run_command(
     options: &GpuOptions,
     memory: &MemoryLimit,
 ) -> Result<(), Failure> {
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| Failure::usage(format!("cannot create {}: {e}", args.out.display())))?;
+    shadelab::output::prepare_output_folder(&args.out)?;
     if let Some(e) = args.budget.filter(|e| !e.is_finite() || *e < 0.0) {
         return Err(Failure::usage(format!(
             "--budget {e} is invalid; expected an error >= 0"
         )));
+    }
+    // An earlier run's files in --out would sit beside the new ones (a
+    // smaller run left the bigger one's images): they go, and only they,
+    // unless --out is one of the folders being merged.
+    let merging_into_a_shard = args.merge.iter().any(|m| same_folder(m, &args.out));
+    if !merging_into_a_shard {
+        let cleared = clear_earlier_run(&args.out);
+        if cleared > 0 {
+            eprintln!(
+                "shadelab: note: removed {cleared} files of an earlier comparison from {} (files it did not write are kept)",
+                args.out.display()
+            );
+        }
     }
     let mut report = if args.merge.is_empty() {
         render_variants(&args, options, memory)?
@@ -132,6 +144,48 @@ pub fn run_command(
         });
     }
     Ok(())
+}
+
+/// Whether two paths name one folder.
+fn same_folder(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
+}
+
+/// Removes the files an earlier comparison wrote into `dir`: those its
+/// `report.json` names and the presentation's; nothing else. Returns how
+/// many went. A folder with no readable report is left as it is.
+fn clear_earlier_run(dir: &Path) -> usize {
+    let Ok(text) = std::fs::read_to_string(dir.join("report.json")) else {
+        return 0;
+    };
+    let Ok(earlier) = serde_json::from_str::<Report>(&text) else {
+        return 0;
+    };
+    let mut files: Vec<String> = vec![earlier.reference_image, earlier.local_reference_image];
+    for v in earlier.variants {
+        files.push(v.image);
+        files.push(v.heatmap);
+    }
+    files.extend(
+        [
+            shadelab::compare::present::CONTACT_SHEET,
+            shadelab::compare::present::PLOT_PNG,
+            shadelab::compare::present::PLOT_SVG,
+            shadelab::compare::present::CSV,
+            shadelab::compare::present::HTML,
+            "report.json",
+        ]
+        .map(String::from),
+    );
+    files
+        .iter()
+        // Names only, never paths out of the folder.
+        .filter(|f| !f.is_empty() && Path::new(f).file_name() == Some(std::ffi::OsStr::new(f)))
+        .filter(|f| std::fs::remove_file(dir.join(f)).is_ok())
+        .count()
 }
 
 fn reference_of(args: &CompareArgs) -> ReferenceChoice {

@@ -117,6 +117,7 @@ pub fn run(args: DiffArgs) -> Result<(), Failure> {
     // Check the heat map's name before reading anything.
     if let Some(path) = &args.heatmap {
         ImageFormat::from_path(path)?;
+        output::prepare_output_path(path)?;
     }
     let expected = output::read_image(&args.expected)?;
     let actual = output::read_image(&args.actual)?;

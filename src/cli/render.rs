@@ -184,7 +184,12 @@ struct Loaded {
 fn load_and_check(args: &RenderArgs, memory: &MemoryLimit) -> Result<Loaded, Failure> {
     let (mut scene, stem) = load_scene(args.scene.as_deref(), memory)?;
     apply_overrides(&mut scene, args)?;
-    shadelab::output::ImageFormat::from_path(&output_path(args, &stem))?;
+    // The output's name and folder, before any rendering: its folder is
+    // created, and a folder that cannot be written fails now, not after
+    // the render.
+    let out = output_path(args, &stem);
+    shadelab::output::ImageFormat::from_path(&out)?;
+    shadelab::output::prepare_output_path(&out)?;
     let choice = (args.backend == "auto").then(|| backend_choice::choose(&scene, args.shading));
     let backend = match (&choice, args.backend.as_str()) {
         (Some(choice), _) => choice.backend,
