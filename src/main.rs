@@ -7,6 +7,11 @@ mod cli;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
+    // A reader that closes the pipe early (`shadelab info | head -1`) ends
+    // the process quietly, as for any Unix tool; Rust's default (SIGPIPE
+    // ignored) made `println!` panic with a backtrace.
+    // SAFETY: signal(2) with SIG_DFL, before any other thread exists.
+    unsafe { libc::signal(libc::SIGPIPE, libc::SIG_DFL) };
     // First, while no other thread runs: it sets an environment variable
     // that the driver reads when it loads.
     if let Err(warning) = shadelab::cache::use_for_mesa_shader_cache() {

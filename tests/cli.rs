@@ -1217,3 +1217,31 @@ fn compare_into_a_used_folder_removes_only_its_own_earlier_files() {
     assert!(dir.path().join("cmp/flat.png").is_file());
     assert!(dir.path().join("cmp/notes.txt").is_file());
 }
+
+/// A reader that closes the pipe early (`shadelab render ... | head -1`)
+/// ends the command quietly, not with a panic and a backtrace.
+#[test]
+fn a_closed_output_pipe_is_no_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_shadelab"))
+        .args([
+            "render",
+            "--backend",
+            "cpu",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "-o",
+            "x.png",
+        ])
+        .current_dir(dir.path())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // the reader is gone before the first line
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
