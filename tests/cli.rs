@@ -1245,3 +1245,95 @@ fn a_closed_output_pipe_is_no_panic() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+/// The rough messages of issue 30, item 11, each in the house style: one
+/// line, naming what is wrong.
+#[test]
+fn rough_messages_name_what_is_wrong_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let one_error_line = |run: &common::cli::Run| {
+        let first = run.stderr.lines().next().unwrap_or_default().to_string();
+        assert!(first.starts_with("shadelab: error: "), "{}", run.stderr);
+        assert!(run.stderr.lines().count() <= 2, "{}", run.stderr);
+        first
+    };
+    // A negative size is a range error, not advice to write `-- -5`.
+    let run = shadelab(d, &["render", "--width", "-5"]);
+    assert_eq!(run.code, 2);
+    assert_eq!(
+        one_error_line(&run),
+        "shadelab: error: --width -5 is out of range; expected 1 to 16384 pixels"
+    );
+    // The parser's errors: one line, the suggestion kept, then the usage.
+    let run = shadelab(d, &["render", "--shadin", "phong"]);
+    assert_eq!(run.code, 2);
+    assert!(
+        one_error_line(&run).contains("'--shadin' found (a similar argument exists: '--shading')")
+    );
+    assert!(
+        run.stderr
+            .lines()
+            .nth(1)
+            .unwrap_or_default()
+            .starts_with("usage: shadelab render"),
+        "{}",
+        run.stderr
+    );
+    // A glTF whose .bin is missing names it.
+    std::fs::write(
+        d.join("m.gltf"),
+        r#"{"asset":{"version":"2.0"},"buffers":[{"uri":"gone.bin","byteLength":36}],"bufferViews":[{"buffer":0,"byteLength":36}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0}"#,
+    )
+    .unwrap();
+    let run = shadelab(d, &["render", "m.gltf", "-o", "m.png"]);
+    assert_eq!(run.code, 2);
+    assert!(
+        one_error_line(&run).contains("buffer 0 names the file `gone.bin`, which does not exist")
+    );
+    // A hook with its own #version says so, not glslang's "must occur first".
+    std::fs::write(
+        d.join("v.glsl"),
+        "#version 460\nvec3 shade_light(vec3 N, vec3 V, vec3 L, float d, vec3 intensity, Surface m, float k) { return intensity; }\n",
+    )
+    .unwrap();
+    let run = shadelab(d, &["render", "--lighting", "v.glsl", "-o", "v.png"]);
+    assert_eq!(run.code, 2);
+    assert!(one_error_line(&run).contains("v.glsl line 1: a lighting hook has no #version line"));
+    // A bad variant is named.
+    let run = shadelab(d, &["compare", "--variants", "flat;phnog", "--out", "c"]);
+    assert_eq!(run.code, 2);
+    assert!(
+        one_error_line(&run).contains("variant `phnog`: unknown shading mode"),
+        "{}",
+        run.stderr
+    );
+    // "1 timed run", not "1 timed runs".
+    let run = shadelab(
+        d,
+        &[
+            "compare",
+            "--width",
+            "16",
+            "--height",
+            "12",
+            "--runs",
+            "1",
+            "--variants",
+            "flat",
+            "--out",
+            "c",
+        ],
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let html = std::fs::read_to_string(d.join("c/report.html")).unwrap();
+    assert!(
+        html.contains("1 timed run per variant") && !html.contains("1 timed runs"),
+        "{html}"
+    );
+    assert!(
+        run.stdout.contains("median of 1 run\n") || run.stdout.contains("median of 1 run"),
+        "{}",
+        run.stdout
+    );
+}

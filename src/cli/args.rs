@@ -13,18 +13,20 @@ use super::Failure;
 #[derive(Args)]
 pub struct ImageSize {
     /// Image width in pixels (overrides the scene's [image] width).
-    #[arg(long)]
-    pub width: Option<u32>,
+    // Signed, so that `--width -5` is a range error like `--width 0`, not
+    // the parser's advice to write `-- -5` (which makes -5 a scene path).
+    #[arg(long, allow_negative_numbers = true)]
+    pub width: Option<i64>,
     /// Image height in pixels (overrides the scene's [image] height).
-    #[arg(long)]
-    pub height: Option<u32>,
+    #[arg(long, allow_negative_numbers = true)]
+    pub height: Option<i64>,
 }
 
 impl ImageSize {
     /// Refuses a size the scene loader would refuse.
     pub fn check(&self) -> Result<(), Failure> {
         for (flag, value) in [("--width", self.width), ("--height", self.height)] {
-            if let Some(v) = value.filter(|&v| v == 0 || i64::from(v) > MAX_RESOLUTION) {
+            if let Some(v) = value.filter(|&v| !(1..=MAX_RESOLUTION).contains(&v)) {
                 return Err(Failure::usage(format!(
                     "{flag} {v} is out of range; expected 1 to {MAX_RESOLUTION} pixels"
                 )));
@@ -36,8 +38,10 @@ impl ImageSize {
     /// Checks the size, then sets it on `scene`.
     pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
         self.check()?;
-        scene.image.width = self.width.unwrap_or(scene.image.width);
-        scene.image.height = self.height.unwrap_or(scene.image.height);
+        // In range (checked): 1 to 16384 fits a u32.
+        let pixels = |v: Option<i64>, old: u32| v.map_or(old, |v| v as u32);
+        scene.image.width = pixels(self.width, scene.image.width);
+        scene.image.height = pixels(self.height, scene.image.height);
         Ok(())
     }
 }

@@ -311,12 +311,13 @@ fn merge_folders(args: &CompareArgs) -> Result<Report, Failure> {
 
 fn print_table(report: &Report, dir: &Path) {
     println!(
-        "{} at {}x{} on {}, median of {} runs",
+        "{} at {}x{} on {}, median of {} run{}",
         report.scene,
         report.width,
         report.height,
         report.device_and_driver(),
         report.runs,
+        if report.runs == 1 { "" } else { "s" },
     );
     println!("global reference (model_*): {}", report.reference);
     println!("local reference (local_*):  {}", report.local_reference);

@@ -100,14 +100,56 @@ impl From<shadelab::output::OutputError> for Failure {
     }
 }
 
+/// The parser's error as every other error reads: one `shadelab: error:`
+/// line (with clap's suggestion of a similar name, where it has one), then
+/// the usage and where to read more. Clap's advice to pass a value after
+/// `--` is dropped: after `--` it is a scene path.
+fn parser_error_in_house_style(rendered: &str) -> String {
+    let mut message = String::new();
+    let mut tips = Vec::new();
+    let mut usage = None;
+    for line in rendered.lines().map(str::trim) {
+        if let Some(m) = line.strip_prefix("error: ") {
+            message = m.to_string();
+        } else if let Some(tip) = line.strip_prefix("tip: ") {
+            if !tip.contains("use '--") {
+                tips.push(tip.to_string());
+            }
+        } else if let Some(u) = line.strip_prefix("Usage: ") {
+            usage = Some(u.to_string());
+        }
+    }
+    if message.is_empty() {
+        message = rendered.lines().next().unwrap_or_default().to_string();
+    }
+    let mut text = format!("shadelab: error: {message}");
+    for tip in tips {
+        text.push_str(&format!(" ({tip})"));
+    }
+    if let Some(usage) = usage {
+        let command: Vec<&str> = usage
+            .split_whitespace()
+            .take_while(|w| !w.starts_with(['[', '<', '-']))
+            .collect();
+        text.push_str(&format!(
+            "\nusage: {usage}; see `{} --help`",
+            command.join(" ")
+        ));
+    }
+    text
+}
+
 pub fn run() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {
             // --help and --version are not errors.
-            let code = if e.use_stderr() { 2 } else { 0 };
-            let _ = e.print();
-            return ExitCode::from(code);
+            if !e.use_stderr() {
+                let _ = e.print();
+                return ExitCode::SUCCESS;
+            }
+            eprintln!("{}", parser_error_in_house_style(&e.render().to_string()));
+            return ExitCode::from(2);
         }
     };
     let mut gpu_options = shadelab::gpu::GpuOptions::from_env();
@@ -136,5 +178,31 @@ pub fn run() -> ExitCode {
             eprintln!("shadelab: error: {}", failure.message);
             ExitCode::from(failure.code)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parser_errors_read_as_one_line_then_the_usage() {
+        let clap_text = "error: unexpected argument '--shadin' found\n\n  tip: a similar argument exists: '--shading'\n\nUsage: shadelab render --shading <SHADING> [SCENE]\n\nFor more information, try '--help'.\n";
+        let text = parser_error_in_house_style(clap_text);
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 2, "{text}");
+        assert_eq!(
+            lines[0],
+            "shadelab: error: unexpected argument '--shadin' found (a similar argument exists: '--shading')"
+        );
+        assert_eq!(
+            lines[1],
+            "usage: shadelab render --shading <SHADING> [SCENE]; see `shadelab render --help`"
+        );
+        let dash = "error: unexpected argument '-x' found\n\n  tip: to pass '-x' as a value, use '-- -x'\n";
+        assert_eq!(
+            parser_error_in_house_style(dash),
+            "shadelab: error: unexpected argument '-x' found"
+        );
     }
 }

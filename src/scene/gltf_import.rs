@@ -115,6 +115,7 @@ fn parse(bytes: &[u8], label: String, stem: String, base: &Path) -> Result<GltfF
     let gltf::Gltf { document, blob } = gltf::Gltf::from_slice(bytes)
         .map_err(|e| SceneError::mesh(&label, format!("not a valid glTF 2.0 file ({e})")))?;
     check_buffer_uris(&label, &document)?;
+    check_buffer_files(&label, &document, base)?;
     let buffers = gltf::import_buffers(&document, Some(base), blob).map_err(|e| {
         SceneError::mesh(
             &label,
@@ -185,6 +186,60 @@ fn check_buffer_uris(label: &str, document: &gltf::Document) -> Result<(), Scene
         }
     }
     Ok(())
+}
+
+/// Names the buffer file that is missing, where the `gltf` crate's error
+/// says only "No such file or directory".
+fn check_buffer_files(
+    label: &str,
+    document: &gltf::Document,
+    base: &Path,
+) -> Result<(), SceneError> {
+    for buffer in document.buffers() {
+        let gltf::buffer::Source::Uri(uri) = buffer.source() else {
+            continue;
+        };
+        if uri.contains(':') {
+            continue; // a data: URI, or a scheme the importer refuses itself
+        }
+        let name = percent_decoded(uri);
+        let path = base.join(&name);
+        if !path.is_file() {
+            return Err(SceneError::mesh(
+                label,
+                format!(
+                    "buffer {} names the file `{name}`, which does not exist ({}); put it beside the .gltf or fix the uri",
+                    buffer.index(),
+                    path.display()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// `uri` with its %XX escapes decoded (checked UTF-8 by `check_buffer_uris`).
+fn percent_decoded(uri: &str) -> String {
+    let bytes = uri.as_bytes();
+    let mut decoded = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        let hex = bytes
+            .get(i + 1..i + 3)
+            .filter(|h| h.iter().all(u8::is_ascii_hexdigit))
+            .and_then(|h| u8::from_str_radix(std::str::from_utf8(h).ok()?, 16).ok());
+        match (bytes[i], hex) {
+            (b'%', Some(byte)) => {
+                decoded.push(byte);
+                i += 3;
+            }
+            (byte, _) => {
+                decoded.push(byte);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8_lossy(&decoded).into_owned()
 }
 
 /// The `gltf` crate's validator indexes `accessors` with a primitive's

@@ -12,6 +12,20 @@ impl LightingHook {
             file: file.clone(),
             reason: e.to_string(),
         })?;
+        // shadelab writes the hook into its own shader, after its
+        // `#version`: one in the hook made glslang say only "'#version' :
+        // must occur first".
+        if let Some((number, _)) = source
+            .lines()
+            .enumerate()
+            .find(|(_, l)| l.trim_start().starts_with("#version"))
+        {
+            return Err(SceneError::Invalid {
+                file: file.clone(),
+                line: number + 1,
+                message: "a lighting hook has no #version line (shadelab compiles it into its own shaders, which have one); remove it (docs/lighting-hooks.md)".into(),
+            });
+        }
         Ok(Self { path: file, source })
     }
 }

@@ -85,11 +85,11 @@ pub(crate) fn page(
     };
     let _ = writeln!(
         h,
-        "<p class=\"meta\">{} x {} pixels; device {}; {} timed runs per variant after a warm-up; reference: {}{}; {} variants, {} on the Pareto front.</p>",
+        "<p class=\"meta\">{} x {} pixels; device {}; {} per variant after a warm-up; reference: {}{}; {} variants, {} on the Pareto front.</p>",
         report.width,
         report.height,
         escape(&report.device_and_driver()),
-        report.runs,
+        timed_runs(report.runs),
         escape(&report.reference),
         escape(&shard),
         report.variants.len(),
@@ -178,13 +178,13 @@ fn legend(h: &mut String, report: &Report) {
 <dt>Model error</dt><dd>The variant's GPU image against the scene's global reference image ({}): what the variant's simplifications cost in accuracy, shadows and reflections included.</dd>\n\
 <dt>Local error</dt><dd>The variant's GPU image against the local reference ({}): the formula per pixel on exact geometry, without shadows, reflection or refraction, what Phong shading converges to. The plot, the Pareto front and the budget use {} against the {}.</dd>\n\
 <dt>RMSE, max abs, PSNR, FLIP</dt><dd>Root mean square over every channel of every pixel, and the largest pixel error, both in linear intensity; PSNR in dB with peak 1.0 (&infin; for identical images); FLIP, NVIDIA's perceptual difference, averaged over the pixels (0 none, 1 the most).</dd>\n\
-<dt>Times</dt><dd>Milliseconds, the median of {} timed runs after a warm-up, &plusmn; the spread (slowest minus fastest). GPU: queue submission to completion. Frame: the whole frame, uploads and read-back included (the pipeline is built once and reused). Pipeline: shader modules and pipeline creation, in the variant's first render. To image: that first render whole, the driver's code generation included.</dd>\n\
+<dt>Times</dt><dd>Milliseconds, the median of {} after a warm-up, &plusmn; the spread (slowest minus fastest). GPU: queue submission to completion. Frame: the whole frame, uploads and read-back included (the pipeline is built once and reused). Pipeline: shader modules and pipeline creation, in the variant's first render. To image: that first render whole, the driver's code generation included.</dd>\n\
 <dt><span class=\"swatch\" style=\"background: rgb{:?}\"></span>Pareto front</dt><dd>No other variant is at least as fast (GPU time) and at least as accurate (the plotted error), and strictly better in one. Marked orange in the plot, the table, the contact sheet and the images.</dd>",
         escape(&report.reference),
         escape(&report.local_reference),
         report.plot_metric.name(),
         report.plot_reference.describe(),
-        report.runs,
+        timed_runs(report.runs),
         PARETO_COLOUR
     );
     h.push_str("</dl>\n");
@@ -238,6 +238,15 @@ fn cells(h: &mut String, e: &Errors) {
     );
 }
 
+/// "1 timed run", "3 timed runs".
+fn timed_runs(n: usize) -> String {
+    if n == 1 {
+        "1 timed run".to_string()
+    } else {
+        format!("{n} timed runs")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -256,3 +265,4 @@ mod tests {
         assert_eq!(inline_svg(svg), "<svg width=\"2\"><text>x</text></svg>");
     }
 }
+
