@@ -1337,3 +1337,79 @@ fn rough_messages_name_what_is_wrong_in_one_line() {
         run.stdout
     );
 }
+
+/// A PNG says how it was made (issue 30): the sRGB chunk with its gAMA
+/// fallback, `Software`, and render's settings, the same as `--json`'s.
+#[test]
+fn a_rendered_png_carries_srgb_and_the_settings_it_was_made_with() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = shadelab(
+        dir.path(),
+        &[
+            "render",
+            "--shading",
+            "raytrace",
+            "--width",
+            "24",
+            "--height",
+            "16",
+            "--depth",
+            "2",
+            "--samples",
+            "4",
+            "-o",
+            "r.png",
+            "--json",
+        ],
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let json: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    let settings = &json["settings"];
+    assert_eq!(
+        (settings["depth"].as_u64(), settings["samples"].as_u64()),
+        (Some(2), Some(4))
+    );
+    assert_eq!(settings["scene"], "built-in default scene");
+    assert_eq!(settings["width"], 24);
+    let decoder = png::Decoder::new(std::io::BufReader::new(
+        std::fs::File::open(dir.path().join("r.png")).unwrap(),
+    ));
+    let reader = decoder.read_info().unwrap();
+    let info = reader.info();
+    assert!(info.srgb.is_some(), "no sRGB chunk");
+    // gAMA is there too (the decoder hides it behind sRGB): read the chunks.
+    let bytes = std::fs::read(dir.path().join("r.png")).unwrap();
+    let mut at = 8;
+    let mut gamma = None;
+    while at + 8 <= bytes.len() {
+        let len = u32::from_be_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
+        if &bytes[at + 4..at + 8] == b"gAMA" {
+            gamma = Some(u32::from_be_bytes(
+                bytes[at + 8..at + 12].try_into().unwrap(),
+            ));
+        }
+        at += 12 + len;
+    }
+    assert_eq!(gamma, Some(45455));
+    let text = |key: &str| {
+        info.uncompressed_latin1_text
+            .iter()
+            .find(|t| t.keyword == key)
+            .map(|t| t.text.clone())
+            .unwrap_or_else(|| panic!("no {key} text"))
+    };
+    assert!(text("Software").starts_with("shadelab "));
+    assert_eq!(text("Title"), "default");
+    let stored: serde_json::Value = serde_json::from_str(&text("shadelab:settings")).unwrap();
+    assert_eq!(&stored, settings);
+    assert!(text("Comment").contains("depth=2"), "{}", text("Comment"));
+    // A raster render has no ray-tracing settings to state.
+    let run = shadelab(
+        dir.path(),
+        &[
+            "render", "--width", "24", "--height", "16", "-o", "p.png", "--json",
+        ],
+    );
+    let json: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    assert!(json["settings"]["depth"].is_null() && json["settings"]["traversal"].is_null());
+}

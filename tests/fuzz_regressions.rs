@@ -47,7 +47,8 @@ fn a_buffer_uri_that_is_not_utf8_once_decoded_is_an_error() {
     assert_eq!(run.code, 2);
     // Decoded, and named (issue 30: the missing .bin was not named).
     assert!(
-        run.stderr.contains("buffer 0 names the file `café.bin`, which does not exist"),
+        run.stderr
+            .contains("buffer 0 names the file `café.bin`, which does not exist"),
         "{}",
         run.stderr
     );

@@ -121,6 +121,57 @@ fn apply_overrides(scene: &mut Scene, args: &RenderArgs) -> Result<(), Failure> 
     Ok(())
 }
 
+/// What the image was made with, overrides applied: `--json`'s
+/// `settings` and the PNG's `shadelab:settings` text. The ray tracer's
+/// settings only where it ran.
+fn effective_settings(
+    args: &RenderArgs,
+    scene: &Scene,
+    backend: Backend,
+    rendered: &shadelab::render::Rendered,
+    device: &str,
+    driver: Option<&str>,
+) -> serde_json::Value {
+    let ray_traced = args.shading == Shading::Raytrace;
+    let r = &scene.render;
+    serde_json::json!({
+        "scene": args.scene.as_ref().map_or_else(
+            || "built-in default scene".to_string(),
+            |p| p.display().to_string(),
+        ),
+        "shading": args.shading,
+        "backend": backend.name(),
+        "width": rendered.image.width,
+        "height": rendered.image.height,
+        "depth": ray_traced.then_some(r.depth),
+        "samples": ray_traced.then_some(r.samples),
+        "shadows": ray_traced.then_some(r.shadows),
+        "cutoff": ray_traced.then_some(r.cutoff),
+        "traversal": rendered.traversal.map(|t| t.name()),
+        "lighting": scene.lighting_hook.as_ref().map(|h| h.path.clone()),
+        "device": device,
+        "driver": driver,
+        "shadelab": env!("CARGO_PKG_VERSION"),
+    })
+}
+
+/// The settings as one line for people: `key=value`, the unset left out.
+fn settings_line(settings: &serde_json::Value) -> String {
+    settings
+        .as_object()
+        .map(|o| {
+            o.iter()
+                .filter(|(_, v)| !v.is_null())
+                .map(|(k, v)| match v {
+                    serde_json::Value::String(s) => format!("{k}={s}"),
+                    other => format!("{k}={other}"),
+                })
+                .collect::<Vec<_>>()
+                .join(" ")
+        })
+        .unwrap_or_default()
+}
+
 /// The ray-tracing options on the command line, by flag.
 fn ray_trace_options_given(args: &RenderArgs) -> Vec<&'static str> {
     [
@@ -283,8 +334,21 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
         let (rendered, _) = shadelab::render::render_cpu(&scene, args.shading)?;
         (rendered, "CPU reference (f64)".to_string(), None)
     };
+    let settings = effective_settings(
+        &args,
+        &scene,
+        backend,
+        &rendered,
+        &device,
+        driver.as_deref(),
+    );
+    let metadata = shadelab::output::ImageMetadata::software()
+        .with("Title", stem.as_str())
+        .with("Source", device.as_str())
+        .with("Comment", settings_line(&settings))
+        .with("shadelab:settings", settings.to_string());
     let encode_started = Instant::now();
-    shadelab::output::write_image(&rendered.image, &out)?;
+    shadelab::output::write_image_with(&rendered.image, &out, &metadata)?;
     let non_finite = rendered.image.non_finite_pixels();
     let t = &rendered.timings;
     let phases = serde_json::json!({
@@ -315,6 +379,7 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
             "timings_ms": rendered.timings,
             "phases_ms": phases,
             "non_finite_pixels": non_finite,
+            "settings": settings,
             "memory": {
                 "estimate_bytes": estimate,
                 "peak_bytes": shadelab::memory::peak_resident_bytes(),

@@ -265,4 +265,3 @@ mod tests {
         assert_eq!(inline_svg(svg), "<svg width=\"2\"><text>x</text></svg>");
     }
 }
-
