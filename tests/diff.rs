@@ -395,3 +395,30 @@ fn a_sixteen_bit_png_is_read_at_full_precision() {
     assert!((max_abs - want).abs() < 1e-6, "{max_abs} against {want}");
     assert!(max_abs > 1e-4);
 }
+
+/// An EXR against a PNG of the same render fails on the PNG's clamp; the
+/// failure says why (issue 30), and a diff of one format says nothing.
+#[test]
+fn an_exr_against_a_png_says_the_formats_differ() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut bright = LinearImage::new(4, 4, [0.5; 3]);
+    bright.set(1, 1, [3.0, 3.0, 3.0]);
+    write_image(&bright, &dir.path().join("r.exr")).unwrap();
+    write_image(&bright, &dir.path().join("r.png")).unwrap();
+    let run = shadelab(dir.path(), &["diff", "r.exr", "r.png"]);
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    assert!(
+        run.stderr
+            .contains("one image is an EXR (linear, unclamped) and the other a PNG"),
+        "{}",
+        run.stderr
+    );
+    assert!(
+        run.stdout.contains("note: one image is an EXR"),
+        "{}",
+        run.stdout
+    );
+    let same = shadelab(dir.path(), &["diff", "r.exr", "r.exr"]);
+    assert_eq!(same.code, 0);
+    assert!(!same.stdout.contains("note:"), "{}", same.stdout);
+}

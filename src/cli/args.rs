@@ -68,6 +68,33 @@ impl LightingArg {
     }
 }
 
+/// `--device` and `--max-memory`: the machine a command renders on. Taken
+/// before the subcommand (`shadelab --device 1 render`) or after it
+/// (`shadelab render --device 1`); only the commands that render list them.
+#[derive(Args, Clone, Default)]
+pub struct MachineArgs {
+    /// Vulkan device: an index or part of a name as `shadelab info` lists them
+    /// (default: lavapipe). Also read from SHADELAB_DEVICE.
+    #[arg(long, value_name = "NAME|INDEX")]
+    pub device: Option<String>,
+    /// The most memory a render may plan to take, such as 512M or 4G
+    /// (binary units). A scene whose estimate is over it is refused before
+    /// anything large is allocated. Also read from SHADELAB_MAX_MEMORY;
+    /// default: 3/4 of the machine's memory (or of its control group's).
+    #[arg(long, value_name = "SIZE")]
+    pub max_memory: Option<String>,
+}
+
+impl MachineArgs {
+    /// These, where given, else `outer`'s (the flags before the subcommand).
+    pub fn or(&self, outer: &MachineArgs) -> MachineArgs {
+        MachineArgs {
+            device: self.device.clone().or_else(|| outer.device.clone()),
+            max_memory: self.max_memory.clone().or_else(|| outer.max_memory.clone()),
+        }
+    }
+}
+
 /// `--shading a,b,...`: the modes a command runs over its scenes.
 #[derive(Args)]
 pub struct ModeList {

@@ -68,6 +68,8 @@ pub struct BenchArgs {
     /// Print one JSON object on stdout.
     #[arg(long)]
     json: bool,
+    #[command(flatten)]
+    pub machine: super::args::MachineArgs,
 }
 
 impl BenchArgs {

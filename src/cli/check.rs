@@ -57,6 +57,8 @@ pub struct CheckArgs {
     /// raytrace].
     #[arg(long)]
     flip_mean: Option<f64>,
+    #[command(flatten)]
+    pub machine: super::args::MachineArgs,
 }
 
 /// Why a case gave no outcome: it could not be checked (reported as a case

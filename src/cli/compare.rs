@@ -57,6 +57,8 @@ pub struct CompareArgs {
     /// Print the report as one JSON object on stdout.
     #[arg(long)]
     json: bool,
+    #[command(flatten)]
+    pub machine: super::args::MachineArgs,
 }
 
 fn parse_shard(text: &str) -> Result<(usize, usize), String> {

@@ -48,6 +48,12 @@ pub struct DiffArgs {
     /// Print one JSON object with every figure on stdout.
     #[arg(long)]
     json: bool,
+    // Accepted where a script passes them to every command, and unused:
+    // `diff` renders nothing (hidden from its help).
+    #[arg(long, hide = true, value_name = "NAME|INDEX")]
+    device: Option<String>,
+    #[arg(long, hide = true, value_name = "SIZE")]
+    max_memory: Option<String>,
 }
 
 fn check_limit(name: &str, value: f64) -> Result<f64, Failure> {
@@ -135,6 +141,7 @@ pub fn run(args: DiffArgs) -> Result<(), Failure> {
     }
     let verdicts = thresholds.verdicts(&comparison);
     let failures = thresholds.check(&comparison);
+    let formats_note = formats_differ(&args.expected, &args.actual);
 
     if args.json {
         let mut value = serde_json::to_value(&comparison).expect("figures serialise");
@@ -148,12 +155,16 @@ pub fn run(args: DiffArgs) -> Result<(), Failure> {
             "settings": settings,
             "edge_threshold": edge_threshold,
             "heatmap": args.heatmap,
+            "note": formats_note,
         });
         let object = value.as_object_mut().expect("a comparison is an object");
         object.extend(extra.as_object().expect("an object").clone());
         println!("{value}");
     } else {
         print_report(&args, &comparison, &verdicts, edge_threshold);
+        if let Some(note) = &formats_note {
+            println!("note: {note}");
+        }
     }
 
     if failures.is_empty() {
@@ -162,12 +173,31 @@ pub fn run(args: DiffArgs) -> Result<(), Failure> {
         Err(Failure {
             code: 1,
             message: format!(
-                "{} differs from {} beyond the thresholds: {}",
+                "{} differs from {} beyond the thresholds: {}{}",
                 args.actual.display(),
                 args.expected.display(),
-                failures.join("; ")
+                failures.join("; "),
+                formats_note
+                    .as_ref()
+                    .map(|n| format!(" (note: {n})"))
+                    .unwrap_or_default()
             ),
         })
+    }
+}
+
+/// Where one side is an EXR and the other a PNG, what that does to the
+/// figures: a PNG holds 8-bit sRGB of the intensity clamped to [0, 1], an
+/// EXR the linear intensity unclamped, so the same render differs wherever
+/// it is over 1, and by up to half an 8-bit step elsewhere.
+fn formats_differ(expected: &Path, actual: &Path) -> Option<String> {
+    let format = |p: &Path| ImageFormat::from_path(p).ok();
+    match (format(expected), format(actual)) {
+        (Some(e), Some(a)) if e != a => Some(
+            "one image is an EXR (linear, unclamped) and the other a PNG (8-bit sRGB of the intensity clamped to [0, 1]): the same render differs wherever it is over 1; compare two of one format"
+                .to_string(),
+        ),
+        _ => None,
     }
 }
 

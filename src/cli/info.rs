@@ -10,6 +10,8 @@ pub struct InfoArgs {
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
+    #[command(flatten)]
+    pub machine: super::args::MachineArgs,
 }
 
 pub fn run(args: InfoArgs, options: &GpuOptions) -> Result<(), Failure> {

@@ -23,17 +23,8 @@ use clap::{Parser, Subcommand};
                   A SCENE is a TOML scene file or a glTF (.gltf/.glb); leave it out for the built-in default scene."
 )]
 struct Cli {
-    /// Vulkan device: an index or part of a name as `shadelab info` lists them
-    /// (default: lavapipe). Also read from SHADELAB_DEVICE.
-    #[arg(long, global = true, value_name = "NAME|INDEX")]
-    device: Option<String>,
-
-    /// The most memory a render may plan to take, such as 512M or 4G
-    /// (binary units). A scene whose estimate is over it is refused before
-    /// anything large is allocated. Also read from SHADELAB_MAX_MEMORY;
-    /// default: 3/4 of the machine's memory (or of its control group's).
-    #[arg(long, global = true, value_name = "SIZE")]
-    max_memory: Option<String>,
+    #[command(flatten)]
+    machine: args::MachineArgs,
 
     #[command(subcommand)]
     command: Command,
@@ -152,11 +143,21 @@ pub fn run() -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    let own = match &cli.command {
+        Command::Render(a) => a.machine.clone(),
+        Command::Bench(a) => a.machine.clone(),
+        Command::Check(a) => a.machine.clone(),
+        Command::Compare(a) => a.machine.clone(),
+        Command::Info(a) => a.machine.clone(),
+        Command::Warm(a) => a.machine.clone(),
+        Command::Diff(_) => args::MachineArgs::default(),
+    };
+    let machine = own.or(&cli.machine);
     let mut gpu_options = shadelab::gpu::GpuOptions::from_env();
-    if cli.device.is_some() {
-        gpu_options.device = cli.device;
+    if machine.device.is_some() {
+        gpu_options.device = machine.device;
     }
-    let memory = match shadelab::memory::MemoryLimit::resolve(cli.max_memory.as_deref()) {
+    let memory = match shadelab::memory::MemoryLimit::resolve(machine.max_memory.as_deref()) {
         Ok(limit) => limit,
         Err(e) => {
             eprintln!("shadelab: error: {e}");

@@ -57,6 +57,8 @@ pub struct RenderArgs {
     /// the --json object).
     #[arg(long)]
     stats: bool,
+    #[command(flatten)]
+    pub machine: super::args::MachineArgs,
 }
 
 /// Loads `path` (the default scene when `None`), refusing a glTF file whose

@@ -33,6 +33,8 @@ pub struct WarmArgs {
     traversal: TraversalArg,
     #[command(flatten)]
     depth: DepthArg,
+    #[command(flatten)]
+    pub machine: super::args::MachineArgs,
 }
 
 pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {

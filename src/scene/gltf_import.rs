@@ -1082,6 +1082,13 @@ fn scene_of(file: &GltfFile, limits: &LoadLimits) -> Result<Scene, SceneError> {
                         ),
                     ));
                 }
+                if let Some(range) = light.range() {
+                    warnings.push(format!(
+                        "{}: the point light on {} has range {range}, which is ignored: lights fall off as Il / (d + k) (docs/lighting-model.md)",
+                        file.label,
+                        node_name(node)
+                    ));
+                }
                 lights.push(PointLight {
                     position,
                     intensity,
@@ -1527,6 +1534,14 @@ mod tests {
         assert_eq!(s.lights[0].intensity, DVec3::new(4.0, 2.0, 1.0));
         assert!(
             s.warnings.iter().any(|w| w.contains("spot")),
+            "{:?}",
+            s.warnings
+        );
+        // Intensity is colour times intensity (above); range is ignored, said.
+        assert!(
+            s.warnings
+                .iter()
+                .any(|w| w.contains("has range 10, which is ignored")),
             "{:?}",
             s.warnings
         );
