@@ -122,8 +122,9 @@ fn cpu_flags() -> String {
 }
 
 /// Points Mesa's shader cache into the cache folder (`mesa-<configuration>`,
-/// see `CODEGEN_VARIABLES`), unless the user chose a folder
-/// (`MESA_SHADER_CACHE_DIR`) or turned it off (`MESA_SHADER_CACHE_DISABLE`).
+/// see `CODEGEN_VARIABLES`), or into that subfolder of the folder the user
+/// chose (`MESA_SHADER_CACHE_DIR`), unless the user turned it off
+/// (`MESA_SHADER_CACHE_DISABLE`).
 /// Returns the folder named, if any; Mesa makes it when the driver first
 /// uses it, so a command that never opens the GPU leaves nothing behind.
 ///
@@ -137,8 +138,17 @@ fn cpu_flags() -> String {
 /// its shaders' code again.
 pub fn use_for_mesa_shader_cache() -> Result<Option<PathBuf>, String> {
     let env = |name: &str| std::env::var_os(name);
-    if env("MESA_SHADER_CACHE_DIR").is_some() || env("MESA_SHADER_CACHE_DISABLE").is_some() {
+    if env("MESA_SHADER_CACHE_DISABLE").is_some() {
         return Ok(None);
+    }
+    if let Some(chosen) = env("MESA_SHADER_CACHE_DIR").filter(|d| !d.is_empty()) {
+        // The user's folder, but one under it per configuration all the
+        // same: lavapipe's own cache key misses LP_NATIVE_VECTOR_WIDTH, and
+        // code built at one width crashed renders at another (issue 30).
+        let dir = PathBuf::from(chosen).join(mesa_folder_name(&cpu_flags(), env));
+        // Only while no other thread runs: getenv in another thread may race.
+        std::env::set_var("MESA_SHADER_CACHE_DIR", &dir);
+        return Ok(Some(dir));
     }
     let Some(base) = folder() else {
         return Ok(None);

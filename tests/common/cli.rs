@@ -9,8 +9,8 @@ pub struct Run {
     pub stderr: String,
 }
 
-/// The suite's Mesa shader cache (`cache::use_for_mesa_shader_cache` names
-/// one per code generator configuration; the suite runs one).
+/// The suite's Mesa shader cache (`cache::use_for_mesa_shader_cache` makes
+/// a folder per code generator configuration inside it).
 pub fn mesa_cache() -> std::path::PathBuf {
     Path::new(env!("CARGO_TARGET_TMPDIR")).join("mesa-shader-cache")
 }
