@@ -973,6 +973,35 @@ fn compare_measures_every_variant_against_one_reference_and_a_missed_budget_fail
         "{}",
         run.stdout
     );
+    // Both: two plots, two fronts, two budget answers, each naming its own.
+    let run = shadelab(
+        dir.path(),
+        &[
+            &base[..],
+            &["--out", "d", "--reference", "both", "--budget", "10"],
+        ]
+        .concat(),
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(
+        run.stdout
+            .contains("budget: the fastest variant with RMSE <= 10 against the global"),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        run.stdout
+            .contains("budget: the fastest variant with RMSE <= 10 against the local"),
+        "{}",
+        run.stdout
+    );
+    let global = std::fs::read_to_string(dir.path().join("d/speed-vs-error.svg")).unwrap();
+    let local = std::fs::read_to_string(dir.path().join("d/speed-vs-error-local.svg")).unwrap();
+    assert!(
+        global.contains("against the global (ray-traced) reference")
+            && !global.contains("against the local")
+    );
+    assert!(local.contains("against the local reference") && !local.contains("against the global"));
 }
 
 /// `check` in a CI job (issue 30): a scene that does not load, or is missing,

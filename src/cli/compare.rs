@@ -44,8 +44,10 @@ pub struct CompareArgs {
     /// The one reference the plot, the Pareto front and the budget measure
     /// every variant against: `global` (the ray-traced reference, the
     /// scene as it should look) or `local` (the formula per pixel on exact
-    /// geometry, no shadows or reflections). `auto` is read as `global`.
-    #[arg(long, default_value = "global", value_parser = ["global", "local", "auto"])]
+    /// geometry, no shadows or reflections), or `both`: everything against
+    /// the global one, and a second plot with its own front against the
+    /// local one (speed-vs-error-local.png). `auto` is read as `global`.
+    #[arg(long, default_value = "global", value_parser = ["global", "local", "both", "auto"])]
     reference: String,
     /// The error figure they use: `rmse` or `flip` (mean FLIP).
     #[arg(long, default_value = "rmse", value_parser = ["rmse", "flip"])]
@@ -127,6 +129,25 @@ pub fn run_command(
         println!("plot:   {}", presented.plot_png.display());
         println!("sheet:  {}", presented.contact_sheet.display());
     }
+    if args.reference == "both" {
+        // The local reference's front, drawn apart: never mixed with the
+        // global one on one plot.
+        let mut local = report.clone();
+        local.plot_reference = ReferenceChoice::Local;
+        mark_pareto(&mut local);
+        set_budget(&mut local, args.budget);
+        let (png, _) = shadelab::compare::present::write_plot_as(&local, &args.out, "local")
+            .map_err(|e| Failure {
+                code: if e.is_bad_input() { 2 } else { 3 },
+                message: e.to_string(),
+            })?;
+        if !args.json {
+            println!("plot against the local reference: {}", png.display());
+            if let Some(budget) = &local.budget {
+                println!("{}", budget_line(&local, budget));
+            }
+        }
+    }
     for v in report.variants.iter().filter(|v| v.non_finite_pixels > 0) {
         eprintln!(
             "shadelab: warning: variant {}: {} pixels are not finite (NaN or infinity); its errors are infinite",
@@ -179,6 +200,8 @@ fn clear_earlier_run(dir: &Path) -> usize {
             shadelab::compare::present::CSV,
             shadelab::compare::present::HTML,
             "report.json",
+            "speed-vs-error-local.png",
+            "speed-vs-error-local.svg",
         ]
         .map(String::from),
     );
@@ -190,7 +213,12 @@ fn clear_earlier_run(dir: &Path) -> usize {
         .count()
 }
 
+/// The reference of the report, its plot, front and budget (`both`: the
+/// global one; the local one gets a plot of its own).
 fn reference_of(args: &CompareArgs) -> ReferenceChoice {
+    if args.reference == "both" {
+        return ReferenceChoice::Global;
+    }
     ReferenceChoice::from_name(&args.reference).expect("clap checked it")
 }
 

@@ -116,6 +116,23 @@ pub fn write_presentation(report: &Report, dir: &Path) -> Result<Presented, Pres
     Ok(presented)
 }
 
+/// The plot of `report` (its own reference and front) as
+/// `speed-vs-error-SUFFIX.png` and `.svg` in `dir`: the second plot of
+/// `compare --reference both`. Returns the two paths.
+pub fn write_plot_as(
+    report: &Report,
+    dir: &Path,
+    suffix: &str,
+) -> Result<(PathBuf, PathBuf), PresentError> {
+    font::register()?;
+    let plot = plot::draw(report)?;
+    let png = dir.join(format!("speed-vs-error-{suffix}.png"));
+    let svg = dir.join(format!("speed-vs-error-{suffix}.svg"));
+    write_atomically(&png, &plot.png)?;
+    write_atomically(&svg, plot.svg.as_bytes())?;
+    Ok((png, svg))
+}
+
 /// A PNG as read: its bytes (for data URIs) and its pixels.
 pub(crate) struct Png {
     pub bytes: Vec<u8>,
