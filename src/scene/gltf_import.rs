@@ -1448,7 +1448,10 @@ mod tests {
             d["buffers"][0]["uri"] = "missing.bin".into();
         });
         let e = err_of(&p);
-        assert!(e.contains("nobin.gltf") && e.contains("buffers"), "{e}");
+        assert!(
+            e.contains("nobin.gltf") && e.contains("`missing.bin`, which does not exist"),
+            "{e}"
+        );
         let p = write_gltf(dir.path(), "vec2", &tri, None, None, |d| {
             d["accessors"][0]["type"] = "VEC2".into();
         });
