@@ -1035,7 +1035,7 @@ fn check_runs_every_case_it_can_and_reports_the_others_as_junit_errors() {
                 "missing.toml",
             ][..],
             &small,
-            &["--junit", "ci/report.xml", "--images", "failures"],
+            &["--junit", "junit-out/report.xml", "--images", "failures"],
         ]
         .concat(),
     );
@@ -1058,7 +1058,7 @@ fn check_runs_every_case_it_can_and_reports_the_others_as_junit_errors() {
         run.stderr
     );
     // The JUnit folder is created; one case per scene (phong once).
-    let xml = std::fs::read_to_string(dir.path().join("ci/report.xml")).unwrap();
+    let xml = std::fs::read_to_string(dir.path().join("junit-out/report.xml")).unwrap();
     assert!(
         xml.contains("tests=\"3\" failures=\"0\" errors=\"2\""),
         "{xml}"
