@@ -188,6 +188,14 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     // scene that does not load, or the device, fails its own cases only
     // (JUnit errors); the run goes on with the rest.
     args.size.check()?;
+    // The flags that apply to every scene, checked once: a bad engine name
+    // or a hook file that cannot be read is a usage error, not an error in
+    // every case.
+    {
+        let mut probe = shadelab::scene::default_scene();
+        args.lighting.apply(&mut probe)?;
+        args.traversal.apply(&mut probe)?;
+    }
     if let Some(path) = &args.junit {
         shadelab::output::prepare_output_path(path)?;
     }

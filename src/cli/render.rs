@@ -80,18 +80,6 @@ pub fn load_scene(path: Option<&Path>, memory: &MemoryLimit) -> Result<(Scene, S
 /// Applies the command-line overrides to the scene, checking their ranges as
 /// the scene loader checks the file's.
 fn apply_overrides(scene: &mut Scene, args: &RenderArgs) -> Result<(), Failure> {
-    if args.shading != Shading::Raytrace {
-        let given = ray_trace_options_given(args);
-        if !given.is_empty() {
-            eprintln!(
-                "shadelab: warning: {} {} for the ray tracer; --shading {} ignores {}",
-                given.join(", "),
-                if given.len() == 1 { "is" } else { "are" },
-                args.shading,
-                if given.len() == 1 { "it" } else { "them" },
-            );
-        }
-    }
     args.size.apply(scene)?;
     if args.lighting.lighting.is_some() && args.backend == "cpu" {
         return Err(Failure::usage(
@@ -119,6 +107,19 @@ fn apply_overrides(scene: &mut Scene, args: &RenderArgs) -> Result<(), Failure> 
     }
     if args.no_shadows {
         scene.render.shadows = false;
+    }
+    // Said once the flags are known to be valid: a bad one is the answer.
+    if args.shading != Shading::Raytrace {
+        let given = ray_trace_options_given(args);
+        if !given.is_empty() {
+            eprintln!(
+                "shadelab: warning: {} {} for the ray tracer; --shading {} ignores {}",
+                given.join(", "),
+                if given.len() == 1 { "is" } else { "are" },
+                args.shading,
+                if given.len() == 1 { "it" } else { "them" },
+            );
+        }
     }
     Ok(())
 }
