@@ -512,6 +512,12 @@ fn primitive_mesh(
     let normal_matrix = m3.inverse().transpose();
     let flip = det < 0.0;
 
+    if prim.get(&gltf::Semantic::Colors(0)).is_some() {
+        warnings.push(format!(
+            "{}: {what} has vertex colours (COLOR_0), which shadelab does not model; it renders in its material's colour",
+            file.label
+        ));
+    }
     let pos_acc = prim.get(&gltf::Semantic::Positions).ok_or_else(|| {
         SceneError::mesh(&file.label, format!("{what} has no POSITION attribute"))
     })?;
@@ -752,7 +758,8 @@ fn build_mesh(
 /// material without a PBR block (glTF defaults m = r = 1) from rendering
 /// ambient-only.
 ///
-/// Textures are ignored. Then any of `ka`, `kd`, `ks`, `p`, `kr`, `kt`,
+/// Textures, emission and vertex colours are not modelled (each announced
+/// by a warning, `unmodelled_features`). Then any of `ka`, `kd`, `ks`, `p`, `kr`, `kt`,
 /// `ior` present in the material's `extras` object replaces the computed
 /// value (it must be a finite number, `>= 0`, and `ior > 0`; other extras
 /// keys are ignored). A primitive without a material gets color 0.8 grey,
@@ -830,6 +837,51 @@ pub fn map_material(
         }
     }
     Ok(out)
+}
+
+/// What a glTF material carries that the lighting model does not take:
+/// each named for the warning, so that an asset never renders in other
+/// colours than its author's without a word. Textures and emission are not
+/// modelled (issue 31 adds the base colour texture); `KHR_materials_ior`
+/// is, through `ior`.
+fn unmodelled_features(mat: &gltf::Material, raw_materials: &serde_json::Value) -> Vec<String> {
+    let pbr = mat.pbr_metallic_roughness();
+    let mut features = Vec::new();
+    let mut note = |present: bool, what: &str| {
+        if present {
+            features.push(what.to_string());
+        }
+    };
+    note(pbr.base_color_texture().is_some(), "a base colour texture");
+    note(
+        pbr.metallic_roughness_texture().is_some(),
+        "a metallic-roughness texture",
+    );
+    note(mat.normal_texture().is_some(), "a normal map");
+    note(mat.occlusion_texture().is_some(), "an occlusion texture");
+    note(mat.emissive_texture().is_some(), "an emissive texture");
+    note(
+        mat.emissive_factor() != [0.0; 3],
+        "emission (emissiveFactor)",
+    );
+    note(
+        mat.alpha_mode() == gltf::material::AlphaMode::Mask,
+        "alpha masking (alphaMode MASK)",
+    );
+    let extensions = mat
+        .index()
+        .and_then(|i| {
+            raw_materials
+                .get(i)?
+                .get("extensions")?
+                .as_object()
+                .cloned()
+        })
+        .unwrap_or_default();
+    for name in extensions.keys().filter(|k| *k != "KHR_materials_ior") {
+        features.push(format!("the extension {name}"));
+    }
+    features
 }
 
 /// The material of a primitive without one, as [`map_material`] states it.
@@ -932,6 +984,14 @@ fn contents<'a>(
                                         Some(n) if !n.is_empty() => n.to_string(),
                                         _ => i.to_string(),
                                     };
+                                    let unmodelled = unmodelled_features(&mat, &file.raw.materials);
+                                    if !unmodelled.is_empty() {
+                                        warnings.push(format!(
+                                            "{}: material `{label}` has {}, which shadelab does not model; it renders with its factors alone",
+                                            file.label,
+                                            unmodelled.join(", ")
+                                        ));
+                                    }
                                     map_material(
                                         &file.label,
                                         format!("{}/{label}", file.stem),
@@ -1252,6 +1312,62 @@ mod tests {
         let path = dir.join(format!("{name}.gltf"));
         std::fs::write(&path, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
         path
+    }
+
+    /// What the model does not take is announced, one line per material
+    /// naming each feature, and vertex colours per primitive (issue 31: the
+    /// Duck rendered white-grey without a word).
+    #[test]
+    fn unmodelled_material_features_and_vertex_colours_are_announced() {
+        let dir = tempfile::tempdir().unwrap();
+        let tri = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let p = write_gltf(dir.path(), "painted", &tri, None, None, |d| {
+            d["images"] = serde_json::json!([{"uri": "duck.png"}]);
+            d["textures"] = serde_json::json!([{"source": 0}]);
+            d["materials"] = serde_json::json!([{
+                "name": "duck",
+                "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}},
+                "normalTexture": {"index": 0},
+                "emissiveFactor": [0.5, 0.0, 0.0],
+                "extensions": {"KHR_materials_ior": {"ior": 1.4}, "KHR_materials_clearcoat": {}}
+            }]);
+            d["meshes"][0]["primitives"][0]["material"] = 0.into();
+            // COLOR_0 reuses the positions' accessor (VEC3 floats).
+            d["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = 0.into();
+        });
+        let l = meshes(&p, DMat4::IDENTITY).unwrap();
+        let material: Vec<&String> = l
+            .warnings
+            .iter()
+            .filter(|w| w.contains("material `duck`"))
+            .collect();
+        assert_eq!(material.len(), 1, "{:?}", l.warnings);
+        for feature in [
+            "a base colour texture",
+            "a normal map",
+            "emission (emissiveFactor)",
+            "the extension KHR_materials_clearcoat",
+        ] {
+            assert!(material[0].contains(feature), "{feature}: {}", material[0]);
+        }
+        assert!(
+            !material[0].contains("KHR_materials_ior"),
+            "{}",
+            material[0]
+        );
+        assert!(
+            l.warnings
+                .iter()
+                .any(|w| w.contains("vertex colours (COLOR_0)")),
+            "{:?}",
+            l.warnings
+        );
+        // A plain material says nothing.
+        let plain = write_gltf(dir.path(), "plain", &tri, None, None, |d| {
+            d["materials"] = serde_json::json!([{"name": "grey"}]);
+            d["meshes"][0]["primitives"][0]["material"] = 0.into();
+        });
+        assert!(meshes(&plain, DMat4::IDENTITY).unwrap().warnings.is_empty());
     }
 
     #[test]
