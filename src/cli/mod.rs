@@ -3,6 +3,7 @@
 mod args;
 mod bench;
 mod check;
+mod check_report;
 mod compare;
 mod diff;
 mod info;
