@@ -75,12 +75,8 @@ impl ImageMetadata {
     }
 }
 
-/// Encodes `image` in the format named by `path`'s extension.
-pub fn encode(image: &LinearImage, path: &Path) -> Result<Vec<u8>, OutputError> {
-    encode_with(image, path, &ImageMetadata::software())
-}
-
-/// [`encode`], with `metadata` in a PNG (an EXR carries none).
+/// Encodes `image` in the format named by `path`'s extension, with
+/// `metadata` in a PNG (an EXR carries none).
 pub fn encode_with(
     image: &LinearImage,
     path: &Path,

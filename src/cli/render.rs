@@ -175,18 +175,20 @@ fn settings_line(settings: &serde_json::Value) -> String {
         .unwrap_or_default()
 }
 
-/// The ray-tracing options on the command line, by flag.
+/// The ray-tracing options on the command line, by flag: those every
+/// command shares (`args::ray_trace_flags`) and render's own.
 fn ray_trace_options_given(args: &RenderArgs) -> Vec<&'static str> {
-    [
-        ("--depth", args.depth.depth.is_some()),
+    let mut given = super::args::ray_trace_flags(args.depth.depth, &args.traversal, false);
+    for (flag, present) in [
         ("--cutoff", args.cutoff.is_some()),
         ("--samples", args.samples.is_some()),
         ("--no-shadows", args.no_shadows),
-        ("--traversal", args.traversal.traversal.is_some()),
-    ]
-    .into_iter()
-    .filter_map(|(flag, given)| given.then_some(flag))
-    .collect()
+    ] {
+        if present {
+            given.push(flag);
+        }
+    }
+    given
 }
 
 /// The GPU opened on a thread of its own while the scene loads (on a
