@@ -20,6 +20,9 @@ struct Variant {
 
 const SMOOTH: &[(&str, Option<&str>)] = &[];
 const SCREEN_LINEAR: &[(&str, Option<&str>)] = &[("SCREEN_LINEAR", None)];
+const VERTEX_COLOR: &[(&str, Option<&str>)] = &[("VERTEX_COLOR", None)];
+const SCREEN_LINEAR_VERTEX_COLOR: &[(&str, Option<&str>)] =
+    &[("SCREEN_LINEAR", None), ("VERTEX_COLOR", None)];
 const RAY_QUERY: &[(&str, Option<&str>)] = &[("RAY_QUERY", None)];
 const WIDE_BVH: &[(&str, Option<&str>)] = &[("WIDE_BVH", None)];
 
@@ -83,6 +86,50 @@ const VARIANTS: &[Variant] = &[
         source: "phong.frag.glsl",
         stage: glslang::ShaderStage::Fragment,
         defines: SCREEN_LINEAR,
+    },
+    // With vertex colours: a second vertex stream, only for scenes that
+    // have them (the fragment stages of flat and Gouraud do not change).
+    Variant {
+        name: "FLAT_VERT_COLOR",
+        source: "flat.vert.glsl",
+        stage: glslang::ShaderStage::Vertex,
+        defines: VERTEX_COLOR,
+    },
+    Variant {
+        name: "GOURAUD_VERT_COLOR",
+        source: "gouraud.vert.glsl",
+        stage: glslang::ShaderStage::Vertex,
+        defines: VERTEX_COLOR,
+    },
+    Variant {
+        name: "GOURAUD_VERT_SCREEN_COLOR",
+        source: "gouraud.vert.glsl",
+        stage: glslang::ShaderStage::Vertex,
+        defines: SCREEN_LINEAR_VERTEX_COLOR,
+    },
+    Variant {
+        name: "PHONG_VERT_COLOR",
+        source: "phong.vert.glsl",
+        stage: glslang::ShaderStage::Vertex,
+        defines: VERTEX_COLOR,
+    },
+    Variant {
+        name: "PHONG_FRAG_COLOR",
+        source: "phong.frag.glsl",
+        stage: glslang::ShaderStage::Fragment,
+        defines: VERTEX_COLOR,
+    },
+    Variant {
+        name: "PHONG_VERT_SCREEN_COLOR",
+        source: "phong.vert.glsl",
+        stage: glslang::ShaderStage::Vertex,
+        defines: SCREEN_LINEAR_VERTEX_COLOR,
+    },
+    Variant {
+        name: "PHONG_FRAG_SCREEN_COLOR",
+        source: "phong.frag.glsl",
+        stage: glslang::ShaderStage::Fragment,
+        defines: SCREEN_LINEAR_VERTEX_COLOR,
     },
     Variant {
         name: "RAYTRACE_COMP",

@@ -21,6 +21,14 @@ layout(std430, set = 0, binding = 2) readonly buffer FaceBuffer {
 };
 
 layout(location = 0) in vec3 in_position;
+#ifdef VERTEX_COLOR
+// The face's colour: the mean of its corners' vertex colours, computed on
+// the host like the centroid (the second vertex stream).
+layout(location = 1) in vec3 in_tint;
+#define SURFACE tinted(draw_surface(), in_tint)
+#else
+#define SURFACE draw_surface()
+#endif
 layout(location = 0) flat out vec3 out_color;
 
 void main() {
@@ -29,6 +37,6 @@ void main() {
     uint face = uint(gl_VertexIndex);
     vec3 P = faces[face].center.xyz;
     vec3 N = faces[face].normal.xyz;
-    out_color = shade(P, N, normalize(-P), draw_surface(), frame.ambient_k.rgb, frame.ambient_k.w);
+    out_color = shade(P, N, normalize(-P), SURFACE, frame.ambient_k.rgb, frame.ambient_k.w);
     gl_Position = draw.clip_from_relative * vec4(in_position, 1.0);
 }

@@ -10,6 +10,14 @@
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
+#ifdef VERTEX_COLOR
+// The vertex's own colour enters the formula where it runs, at the vertex
+// (the second vertex stream).
+layout(location = 2) in vec3 in_tint;
+#define SURFACE tinted(draw_surface(), in_tint)
+#else
+#define SURFACE draw_surface()
+#endif
 layout(location = 0) out vec3 out_intensity;
 #ifdef SCREEN_LINEAR
 layout(location = 1) out float out_w;
@@ -17,7 +25,7 @@ layout(location = 1) out float out_w;
 
 void main() {
     vec3 P = in_position;
-    vec3 intensity = shade(P, surface_normal(in_normal), normalize(-P), draw_surface(), frame.ambient_k.rgb, frame.ambient_k.w);
+    vec3 intensity = shade(P, surface_normal(in_normal), normalize(-P), SURFACE, frame.ambient_k.rgb, frame.ambient_k.w);
     gl_Position = draw.clip_from_relative * vec4(P, 1.0);
 #ifdef SCREEN_LINEAR
     out_intensity = intensity * gl_Position.w;

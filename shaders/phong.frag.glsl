@@ -12,6 +12,17 @@ layout(location = 1) in vec3 in_normal;
 #ifdef SCREEN_LINEAR
 layout(location = 2) in float in_w;
 #endif
+#ifdef VERTEX_COLOR
+// The interpolated vertex colour (times w, screen-linearly).
+layout(location = 3) in vec3 in_tint;
+#ifdef SCREEN_LINEAR
+#define SURFACE tinted(draw_surface(), in_tint / in_w)
+#else
+#define SURFACE tinted(draw_surface(), in_tint)
+#endif
+#else
+#define SURFACE draw_surface()
+#endif
 layout(location = 0) out vec4 out_color;
 
 void main() {
@@ -22,5 +33,5 @@ void main() {
     vec3 P = in_position;
     vec3 N = in_normal;
 #endif
-    out_color = vec4(shade(P, surface_normal(N), normalize(-P), draw_surface(), frame.ambient_k.rgb, frame.ambient_k.w), 1.0);
+    out_color = vec4(shade(P, surface_normal(N), normalize(-P), SURFACE, frame.ambient_k.rgb, frame.ambient_k.w), 1.0);
 }

@@ -11,6 +11,12 @@ layout(location = 1) out vec3 out_normal;
 #ifdef SCREEN_LINEAR
 layout(location = 2) out float out_w;
 #endif
+#ifdef VERTEX_COLOR
+// The vertex colour, interpolated like the normal (the second vertex
+// stream).
+layout(location = 2) in vec3 in_tint;
+layout(location = 3) out vec3 out_tint;
+#endif
 
 void main() {
     gl_Position = draw.clip_from_relative * vec4(in_position, 1.0);
@@ -18,8 +24,14 @@ void main() {
     out_position = in_position * gl_Position.w;
     out_normal = in_normal * gl_Position.w;
     out_w = gl_Position.w;
+#ifdef VERTEX_COLOR
+    out_tint = in_tint * gl_Position.w;
+#endif
 #else
     out_position = in_position;
     out_normal = in_normal;
+#ifdef VERTEX_COLOR
+    out_tint = in_tint;
+#endif
 #endif
 }

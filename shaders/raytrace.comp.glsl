@@ -856,6 +856,20 @@ Surfel resolve(vec3 o, vec3 d, Hit hit) {
     return Surfel(p, hit.normal, hit.normal, hit.material);
 }
 
+// The vertex colour at a hit, interpolated like the normal: it multiplies
+// the material's colour (docs/lighting-model.md, "Surface colour"). One
+// off the meshes. Called only with VERTEX_COLORS.
+vec3 hit_tint(Hit hit) {
+    uint index = hit.shape & ~KIND_MASK;
+    if (HAS_BVH && (hit.shape & KIND_MASK) == KIND_TRIANGLE) {
+        float bu = hit.uv.x;
+        float bv = hit.uv.y;
+        return (1.0 - bu - bv) * triangle_colors[index].c0.rgb + bu * triangle_colors[index].c1.rgb
+               + bv * triangle_colors[index].c2.rgb;
+    }
+    return vec3(1.0);
+}
+
 // Pushes a secondary ray's origin off the surface, to the side it leaves to,
 // by an amount that grows with the hit's distance from the eye.
 vec3 offset_origin(vec3 p, vec3 geometric, vec3 dir) {
@@ -990,7 +1004,13 @@ vec3 trace_sample(vec3 dir, bool live) {
                 s = resolve(ray.origin, ray.dir, hit);
             }
             material = material_at(s.material);
-            local = local_shading(s, surface_of(material), ray.dir, hits);
+            Surface surface = surface_of(material);
+            if (VERTEX_COLORS) {
+                if (hits) {
+                    surface.color *= hit_tint(hit);
+                }
+            }
+            local = local_shading(s, surface, ray.dir, hits);
         }
         live = false;
         if (hits) {

@@ -94,6 +94,11 @@ pub struct RtScene {
     pub planes: Vec<RtPlane>,
     pub boxes: Vec<RtBox>,
     pub triangles: Vec<RtTriangle>,
+    /// The vertex colours of each of `triangles`, in their order; empty
+    /// when no mesh of the scene has any (`DVec3::ONE` for the corners of
+    /// a mesh without them in a scene where another has them). Apart from
+    /// `triangles` so that a scene without colours pays nothing for them.
+    pub triangle_colors: Vec<[DVec3; 3]>,
     /// Over `triangles`, built from their f32-rounded positions. Its boxes
     /// bound the f32 triangles; both tracers widen them (`widened_box`).
     pub bvh: Bvh2,
@@ -113,6 +118,7 @@ impl RtScene {
             planes: Vec::new(),
             boxes: Vec::new(),
             triangles: Vec::new(),
+            triangle_colors: Vec::new(),
             bvh: Bvh2::default(),
             materials: scene.materials.clone(),
             lights: scene
@@ -138,6 +144,13 @@ impl RtScene {
             })
             .sum();
         rt.triangles.reserve_exact(triangle_count);
+        let coloured = scene
+            .objects
+            .iter()
+            .any(|o| matches!(&o.shape, Shape::Mesh(m) if !m.colors.is_empty()));
+        if coloured {
+            rt.triangle_colors.reserve_exact(triangle_count);
+        }
         for (index, object) in scene.objects.iter().enumerate() {
             let (material, object_index) = (object.material as u32, index as u32);
             match &object.shape {
@@ -184,6 +197,12 @@ impl RtScene {
                             material,
                             object: object_index,
                         });
+                        if coloured {
+                            rt.triangle_colors.push(
+                                [a, b, c]
+                                    .map(|i| mesh.colors.get(i).copied().unwrap_or(DVec3::ONE)),
+                            );
+                        }
                     }
                 }
             }

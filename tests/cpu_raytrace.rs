@@ -8,7 +8,7 @@ use common::cli::shadelab;
 use common::*;
 use glam::{DMat3, DVec3};
 use shadelab::cpu::intersect::Ray;
-use shadelab::cpu::lighting::shade;
+use shadelab::cpu::lighting::{shade, Surface};
 use shadelab::cpu::raytrace::{
     offset_epsilon, render as raytrace, sample_offsets, PathSignature, Tracer,
 };
@@ -40,7 +40,14 @@ fn traced(scene: &Scene, origin: DVec3, dir: DVec3) -> (DVec3, RayStats) {
 
 /// The formula at world point `p` with normal `n`, seen along `d`.
 fn formula(scene: &Scene, m: &Material, p: DVec3, n: DVec3, d: DVec3) -> DVec3 {
-    shade(&scene.lighting, &scene.lights, m, p, n, p - d)
+    shade(
+        &scene.lighting,
+        &scene.lights,
+        Surface::plain(m),
+        p,
+        n,
+        p - d,
+    )
 }
 
 #[test]

@@ -9,7 +9,7 @@ use std::path::PathBuf;
 
 use common::*;
 use glam::{DMat3, DMat4, DQuat, DVec3};
-use shadelab::cpu::lighting::shade;
+use shadelab::cpu::lighting::{shade, Surface};
 use shadelab::scene::{self, Scene, TriangleMesh};
 use shadelab::shading::Shading;
 
@@ -77,6 +77,7 @@ fn triangles(positions: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> TriangleMesh {
         normals: vec![DVec3::Z; positions.len()],
         positions,
         triangles,
+        colors: Vec::new(),
     }
 }
 
@@ -217,7 +218,7 @@ fn mirroring_transform_keeps_the_lit_side_lit() {
     let want = shade(
         &s.lighting,
         &s.lights,
-        &s.materials[0],
+        Surface::plain(&s.materials[0]),
         centroid,
         DVec3::Z,
         s.camera.position,

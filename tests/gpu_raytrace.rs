@@ -8,7 +8,7 @@ mod common;
 
 use common::*;
 use glam::{DMat3, DVec3};
-use shadelab::cpu::lighting::shade;
+use shadelab::cpu::lighting::{shade, Surface};
 use shadelab::gpu::raytrace;
 use shadelab::rt_scene::RayStats;
 use shadelab::scene::{tessellate, Material, Object, PointLight, Scene, Shape};
@@ -108,7 +108,14 @@ fn a_point_in_shadow_receives_exactly_the_ambient_term() {
     let (image, _) = trace(&lit);
     let dir = pixel_ray(&v, x, y);
     let hit = v.eye + dir * (-v.eye.y / dir.y);
-    let want = shade(&lit.lighting, &lit.lights, m, hit, DVec3::Y, v.eye);
+    let want = shade(
+        &lit.lighting,
+        &lit.lights,
+        Surface::plain(m),
+        hit,
+        DVec3::Y,
+        v.eye,
+    );
     assert!(
         max_abs_diff(to_dvec(image.get(x, y)), want) < 1e-4,
         "{:?} vs {want}",

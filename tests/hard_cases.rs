@@ -369,6 +369,7 @@ fn slivers_render_as_the_plain_square() {
         positions: corners,
         normals: vec![up; 4],
         triangles: vec![[0, 3, 2], [0, 2, 1]],
+        colors: Vec::new(),
     });
     let context = gpu();
     for mode in [Shading::Phong, Shading::Raytrace] {
@@ -571,6 +572,7 @@ fn grid_on_pixel_centres() -> (
             positions,
             normals,
             triangles,
+            colors: Vec::new(),
         }),
         material: 0,
     });

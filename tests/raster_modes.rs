@@ -5,7 +5,7 @@ mod common;
 
 use common::*;
 use glam::{DVec2, DVec3};
-use shadelab::cpu::lighting::shade;
+use shadelab::cpu::lighting::{shade, Surface};
 use shadelab::scene::{tessellate, Interpolation, Object, Scene, Shape};
 use shadelab::shading::Shading;
 
@@ -46,7 +46,7 @@ fn flat_gives_each_triangle_one_colour_the_formula_at_its_centroid() {
         let want = shade(
             &s.lighting,
             &s.lights,
-            &s.materials[0],
+            Surface::plain(&s.materials[0]),
             centroid,
             normal,
             v.eye,
@@ -82,7 +82,7 @@ fn vertex_intensity(s: &Scene, world: DVec3, normal: DVec3) -> DVec3 {
     shade(
         &s.lighting,
         &s.lights,
-        &s.materials[0],
+        Surface::plain(&s.materials[0]),
         world,
         normal,
         s.camera.position,

@@ -6,7 +6,7 @@ mod common;
 
 use common::*;
 use glam::DVec3;
-use shadelab::cpu::lighting::shade;
+use shadelab::cpu::lighting::{shade, Surface};
 use shadelab::scene::{Object, PointLight, Scene, Shape};
 use shadelab::shading::Shading;
 use shadelab::LinearImage;
@@ -83,7 +83,7 @@ fn expected_values(scene: &Scene) -> Vec<(u32, u32, DVec3)> {
                 let i = shade(
                     &scene.lighting,
                     &scene.lights,
-                    &scene.materials[0],
+                    Surface::plain(&scene.materials[0]),
                     p,
                     n,
                     v.eye,

@@ -186,6 +186,10 @@ fn specialization_constants_match_by_id_and_name() {
             "MATERIAL_COUNT",
             offset_of!(TraceSpecialization, material_count),
         ),
+        (
+            "VERTEX_COLORS",
+            offset_of!(TraceSpecialization, vertex_colors),
+        ),
     ];
     assert_eq!(fields.len(), rt_layout::SPEC_CONSTANTS.len());
     for (name, offset) in fields {
@@ -211,7 +215,10 @@ fn every_stage_is_present() {
             count(ShaderStage::Fragment),
             count(ShaderStage::Compute)
         ),
-        (5, 5, 3)
+        // Flat, Gouraud and Phong (the last two also screen-linear), each
+        // with and without vertex colours; flat's and Gouraud's fragment
+        // stages serve both.
+        (10, 7, 3)
     );
     // The second ray tracer is the ray-query engine, and it has its set.
     assert!(ALL_SHADERS.iter().any(|s| {

@@ -43,6 +43,8 @@ layout(constant_id = 13) const bool BVH_BOXES = false;
 // then how many there are; otherwise each lane reads its own.
 layout(constant_id = 14) const bool MATERIALS_LISTED = false;
 layout(constant_id = 15) const int MATERIAL_COUNT = 0;
+// Whether some mesh has vertex colours (`triangle_colors` below).
+layout(constant_id = 16) const bool VERTEX_COLORS = false;
 
 layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     vec4 ambient_k;       // rgb: Ia, w: k
@@ -147,6 +149,14 @@ layout(std430, set = 0, binding = 8) readonly buffer MaterialBuffer { RtMaterial
 layout(std430, set = 0, binding = 9) buffer OutputBuffer { vec4 pixels[]; };
 // primary, shadow, reflected, refracted, pruned, deepest level, 2 unused.
 layout(std430, set = 0, binding = 10) buffer StatsBuffer { uint counters[8]; };
+// Each triangle's vertex colours, in the order of `triangle_shading`
+// (rt_layout::GpuTriangleColors), read only with VERTEX_COLORS.
+struct TriangleColors {
+    vec4 c0;
+    vec4 c1;
+    vec4 c2;
+};
+layout(std430, set = 0, binding = 12) readonly buffer TriangleColorBuffer { TriangleColors triangle_colors[]; };
 // The work queue: the next work item to take (zeroed before each dispatch;
 // see main).
 layout(std430, set = 0, binding = 11) buffer WorkQueueBuffer { uint next_item; };

@@ -18,6 +18,9 @@ pub struct ClipVertex {
     pub normal: DVec3,
     /// Gouraud intensity (unused in the other modes).
     pub intensity: DVec3,
+    /// The vertex colour (`DVec3::ONE` where the mesh has none): Phong
+    /// interpolates it.
+    pub color: DVec3,
     /// What the attributes above are multiplied by: the clip-space `w` for
     /// screen-linear interpolation, 1 otherwise (see `cpu::raster`).
     pub weight: f64,
@@ -30,6 +33,7 @@ impl ClipVertex {
             position: self.position.lerp(other.position, t),
             normal: self.normal.lerp(other.normal, t),
             intensity: self.intensity.lerp(other.intensity, t),
+            color: self.color.lerp(other.color, t),
             weight: self.weight + (other.weight - self.weight) * t,
         }
     }
@@ -70,6 +74,7 @@ mod tests {
             position: DVec3::splat(tag),
             normal: DVec3::Z,
             intensity: DVec3::splat(tag),
+            color: DVec3::ONE,
             weight: 1.0,
         }
     }

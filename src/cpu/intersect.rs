@@ -45,6 +45,8 @@ pub struct Hit {
     /// The geometric normal, used only to offset secondary rays (the shading
     /// normal for spheres, planes and boxes).
     pub geometric_normal: DVec3,
+    /// The vertex colour at the hit (`DVec3::ONE` where there is none).
+    pub tint: DVec3,
 }
 
 /// `sign(x)` with `sign(0) = 1`, as the spec writes it.
@@ -355,6 +357,7 @@ impl<'a> Accel<'a> {
                         primitive: Primitive::Sphere(i as u32),
                         normal: n,
                         geometric_normal: n,
+                        tint: DVec3::ONE,
                     });
                 }
             }
@@ -369,6 +372,7 @@ impl<'a> Accel<'a> {
                         primitive: Primitive::Plane(i as u32),
                         normal: pl.normal,
                         geometric_normal: pl.normal,
+                        tint: DVec3::ONE,
                     });
                 }
             }
@@ -386,6 +390,7 @@ impl<'a> Accel<'a> {
                         },
                         normal: n,
                         geometric_normal: n,
+                        tint: DVec3::ONE,
                     });
                 }
             }
@@ -406,6 +411,10 @@ impl<'a> Accel<'a> {
                         primitive: Primitive::Triangle(k),
                         normal: triangle_normal(tri, u, v),
                         geometric_normal: tri.geometric_normal(),
+                        tint: s
+                            .triangle_colors
+                            .get(k as usize)
+                            .map_or(DVec3::ONE, |c| (1.0 - u - v) * c[0] + u * c[1] + v * c[2]),
                     });
                     *t_max = t;
                 }

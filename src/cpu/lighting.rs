@@ -19,21 +19,47 @@ pub const FACING_EPS: f64 = 1e-5;
 
 use crate::scene::{Lighting, Material, PointLight};
 
+/// What the formula reads of the surface at a point: its material, and the
+/// colour the point adds to the material's (its vertex colour; `DVec3::ONE`
+/// where it has none). The formula's `C` is `material.color * tint`
+/// (docs/lighting-model.md, "Surface colour").
+#[derive(Debug, Clone, Copy)]
+pub struct Surface<'a> {
+    pub material: &'a Material,
+    pub tint: DVec3,
+}
+
+impl<'a> Surface<'a> {
+    /// The material's colour alone.
+    pub fn plain(material: &'a Material) -> Self {
+        Surface {
+            material,
+            tint: DVec3::ONE,
+        }
+    }
+
+    /// `C` at the point. A tint of one multiplies exactly, so an untinted
+    /// surface's `C` is the material's colour bit for bit.
+    pub fn color(&self) -> DVec3 {
+        self.material.color * self.tint
+    }
+}
+
 /// Intensity `I` (linear RGB) at point `p` with unit normal `n` (or zero),
 /// seen from `eye`.
 pub fn shade(
     lighting: &Lighting,
     lights: &[PointLight],
-    material: &Material,
+    surface: Surface,
     p: DVec3,
     n: DVec3,
     eye: DVec3,
 ) -> DVec3 {
     if n == DVec3::ZERO {
-        return lighting.ambient * material.ka * material.color;
+        return lighting.ambient * surface.material.ka * surface.color();
     }
     let v = (eye - p).normalize();
-    shade_visible(lighting, lights, material, p, n, v, |_, _| true)
+    shade_visible(lighting, lights, surface, p, n, v, |_, _| true)
 }
 
 /// `shade` with the unit vector toward the viewer `v` given (the ray tracer
@@ -44,13 +70,14 @@ pub fn shade(
 pub fn shade_visible(
     lighting: &Lighting,
     lights: &[PointLight],
-    material: &Material,
+    surface: Surface,
     p: DVec3,
     n: DVec3,
     v: DVec3,
     mut visible: impl FnMut(usize, &PointLight) -> bool,
 ) -> DVec3 {
-    let c = material.color;
+    let material = surface.material;
+    let c = surface.color();
     let mut intensity = lighting.ambient * material.ka * c;
     if n == DVec3::ZERO {
         return intensity;
@@ -122,7 +149,7 @@ mod tests {
         let i = shade(
             &lighting(),
             &[light],
-            &material(20.0),
+            Surface::plain(&material(20.0)),
             DVec3::ZERO,
             DVec3::Y,
             DVec3::new(0.0, 4.0, 0.0),
@@ -146,7 +173,7 @@ mod tests {
         let i = shade(
             &lighting(),
             &[light],
-            &material(2.0),
+            Surface::plain(&material(2.0)),
             DVec3::X,
             DVec3::ZERO,
             DVec3::Y,
@@ -156,7 +183,7 @@ mod tests {
         let i = shade(
             &lighting(),
             &[light],
-            &material(2.0),
+            Surface::plain(&material(2.0)),
             DVec3::ZERO,
             DVec3::Y,
             DVec3::Y,
@@ -170,12 +197,39 @@ mod tests {
         let i = shade(
             &lighting(),
             &[above],
-            &material(0.0),
+            Surface::plain(&material(0.0)),
             DVec3::ZERO,
             DVec3::Y,
             DVec3::X,
         );
         let expected = ambient + DVec3::new(1.0, 0.5, 0.25) * 0.6 + DVec3::splat(0.4);
         assert!((i - expected).abs().max_element() < 1e-12);
+    }
+
+    /// A tint scales the ambient and diffuse terms channel by channel and
+    /// leaves the specular term the light's colour.
+    #[test]
+    fn a_tint_colours_ambient_and_diffuse_but_not_the_highlight() {
+        let light = PointLight {
+            position: DVec3::new(0.0, 3.0, 0.0),
+            intensity: DVec3::splat(8.0),
+        };
+        let m = material(20.0);
+        let tint = DVec3::new(0.5, 0.25, 2.0);
+        let i = shade(
+            &lighting(),
+            &[light],
+            Surface { material: &m, tint },
+            DVec3::ZERO,
+            DVec3::Y,
+            DVec3::new(0.0, 4.0, 0.0),
+        );
+        // As in `light_straight_above_matches_hand_computation`, with C = (1, 0.5, 0.25) * tint.
+        let c = DVec3::new(0.5, 0.125, 0.5);
+        let expected = c * (0.2 * 0.5 + 2.0 * 0.6) + DVec3::splat(2.0 * 0.4);
+        assert!(
+            (i - expected).abs().max_element() < 1e-12,
+            "{i} vs {expected}"
+        );
     }
 }

@@ -14,7 +14,7 @@ use glam::{DVec2, DVec3, DVec4};
 use rayon::prelude::*;
 
 use super::clip::{clip_near, ClipVertex};
-use super::lighting::shade;
+use super::lighting::{shade, Surface};
 use crate::camera::View;
 use crate::linear_image::LinearImage;
 use crate::scene::{tessellate, Interpolation, Scene};
@@ -105,6 +105,8 @@ struct Triangle {
     vertices: [ClipVertex; 3],
     /// Flat mode: the colour of the whole (unclipped) triangle.
     flat_color: DVec3,
+    /// Whether its mesh has vertex colours (Phong interpolates them).
+    coloured: bool,
     /// Pixel bounds (inclusive), clamped to the image.
     min: (u32, u32),
     max: (u32, u32),
@@ -142,17 +144,23 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
     for (object_index, object) in scene.objects.iter().enumerate() {
         let material = &scene.materials[object.material];
         let mesh = tessellate(&object.shape);
+        // The vertex colour, one where the mesh has none.
+        let tint_at = |i: usize| mesh.colors.get(i).copied().unwrap_or(DVec3::ONE);
         let vertices: Vec<ClipVertex> = mesh
             .positions
             .iter()
             .zip(&mesh.normals)
-            .map(|(p, n)| {
+            .enumerate()
+            .map(|(i, (p, n))| {
                 let rel = *p - view.eye;
+                let tint = tint_at(i);
                 let intensity = if mode == RasterMode::Gouraud {
+                    // Gouraud runs the formula at the vertex, with the
+                    // vertex's own colour.
                     shade(
                         &scene.lighting,
                         &scene.lights,
-                        material,
+                        Surface { material, tint },
                         *p,
                         n.normalize_or_zero(),
                         view.eye,
@@ -174,6 +182,7 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
                     position: rel * weight,
                     normal: *n * weight,
                     intensity: intensity * weight,
+                    color: tint * weight,
                     weight,
                 }
             })
@@ -185,10 +194,14 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
             let flat_color = if mode == RasterMode::Flat {
                 let [pa, pb, pc] = tri.map(|i| mesh.positions[i as usize]);
                 let normal = (pb - pa).cross(pc - pa).normalize_or_zero();
+                // Flat runs the formula at the centroid, whose colour is
+                // the mean of the corners'.
+                let [ta, tb, tc] = tri.map(|i| tint_at(i as usize));
+                let tint = (ta + tb + tc) / 3.0;
                 shade(
                     &scene.lighting,
                     &scene.lights,
-                    material,
+                    Surface { material, tint },
                     (pa + pb + pc) / 3.0,
                     normal,
                     view.eye,
@@ -200,7 +213,8 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
             for k in 1..polygon.len().saturating_sub(1) {
                 let verts = [polygon[0], polygon[k], polygon[k + 1]];
                 let ids = (object_index as u32, primitive);
-                if let Some(t) = screen_triangle(view, ids, verts, flat_color) {
+                if let Some(mut t) = screen_triangle(view, ids, verts, flat_color) {
+                    t.coloured = !mesh.colors.is_empty();
                     triangles.push(t);
                 }
             }
@@ -240,6 +254,7 @@ fn screen_triangle(
         inv_w: vertices.map(|v| 1.0 / v.clip.w),
         vertices,
         flat_color,
+        coloured: false,
         min: (first(lo.x), first(lo.y)),
         max: (x1 as u32, y1 as u32),
     })
@@ -313,10 +328,17 @@ fn shade_sample(
             let interpolated = mix(|v| v.normal);
             let normal = interpolated.normalize_or_zero();
             let material = &scene.materials[scene.objects[t.object as usize].material];
+            // Not interpolated where there are none: weights that sum to 1
+            // only up to rounding would move an uncoloured surface's colour.
+            let tint = if t.coloured {
+                mix(|v| v.color)
+            } else {
+                DVec3::ONE
+            };
             let color = shade(
                 &scene.lighting,
                 &scene.lights,
-                material,
+                Surface { material, tint },
                 position,
                 normal,
                 view.eye,
@@ -434,6 +456,7 @@ mod tests {
             position: DVec3::ZERO,
             normal: DVec3::Z,
             intensity: DVec3::ZERO,
+            color: DVec3::ONE,
             weight: 1.0,
         };
         Triangle {
@@ -445,6 +468,7 @@ mod tests {
             inv_w: [1.0; 3],
             vertices: [v; 3],
             flat_color: DVec3::ZERO,
+            coloured: false,
             min: (0, 0),
             max: (0, 0),
         }

@@ -11,7 +11,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::intersect::{Accel, Hit, Primitive, Ray};
-use super::lighting::shade_visible;
+use super::lighting::{shade_visible, Surface};
 use crate::camera::View;
 use crate::linear_image::LinearImage;
 use crate::rt_scene::{sample_grid, RayStats, RtScene};
@@ -226,10 +226,14 @@ impl<'a> Tracer<'a> {
             let p = origin + hit.t * d;
             let (n, ng) = (hit.normal, hit.geometric_normal);
             let material = &scene.materials[hit.material as usize];
+            let surface = Surface {
+                material,
+                tint: hit.tint,
+            };
             let local = shade_visible(
                 &scene.lighting,
                 &scene.lights,
-                material,
+                surface,
                 p,
                 n,
                 -d,

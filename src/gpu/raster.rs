@@ -83,16 +83,36 @@ pub struct RasterOutput {
 fn shader_pair(
     mode: RasterMode,
     interpolation: Interpolation,
+    vertex_colors: bool,
 ) -> (&'static ShaderBlob, &'static ShaderBlob) {
     use Interpolation::{Perspective, Screen};
-    match (mode, interpolation) {
-        (RasterMode::Flat, _) => (&shaders::FLAT_VERT, &shaders::FLAT_FRAG),
-        (RasterMode::Gouraud, Perspective) => (&shaders::GOURAUD_VERT, &shaders::GOURAUD_FRAG),
-        (RasterMode::Gouraud, Screen) => {
+    match (mode, interpolation, vertex_colors) {
+        (RasterMode::Flat, _, false) => (&shaders::FLAT_VERT, &shaders::FLAT_FRAG),
+        (RasterMode::Flat, _, true) => (&shaders::FLAT_VERT_COLOR, &shaders::FLAT_FRAG),
+        (RasterMode::Gouraud, Perspective, false) => {
+            (&shaders::GOURAUD_VERT, &shaders::GOURAUD_FRAG)
+        }
+        (RasterMode::Gouraud, Perspective, true) => {
+            (&shaders::GOURAUD_VERT_COLOR, &shaders::GOURAUD_FRAG)
+        }
+        (RasterMode::Gouraud, Screen, false) => {
             (&shaders::GOURAUD_VERT_SCREEN, &shaders::GOURAUD_FRAG_SCREEN)
         }
-        (RasterMode::Phong, Perspective) => (&shaders::PHONG_VERT, &shaders::PHONG_FRAG),
-        (RasterMode::Phong, Screen) => (&shaders::PHONG_VERT_SCREEN, &shaders::PHONG_FRAG_SCREEN),
+        (RasterMode::Gouraud, Screen, true) => (
+            &shaders::GOURAUD_VERT_SCREEN_COLOR,
+            &shaders::GOURAUD_FRAG_SCREEN,
+        ),
+        (RasterMode::Phong, Perspective, false) => (&shaders::PHONG_VERT, &shaders::PHONG_FRAG),
+        (RasterMode::Phong, Perspective, true) => {
+            (&shaders::PHONG_VERT_COLOR, &shaders::PHONG_FRAG_COLOR)
+        }
+        (RasterMode::Phong, Screen, false) => {
+            (&shaders::PHONG_VERT_SCREEN, &shaders::PHONG_FRAG_SCREEN)
+        }
+        (RasterMode::Phong, Screen, true) => (
+            &shaders::PHONG_VERT_SCREEN_COLOR,
+            &shaders::PHONG_FRAG_SCREEN_COLOR,
+        ),
     }
 }
 
@@ -112,6 +132,7 @@ fn create_pipeline(
     spec: &Specialization,
     target: ColorTarget,
     lighting_hook: Option<&LightingHook>,
+    vertex_colors: bool,
 ) -> Result<PipelineObjects, GpuError> {
     let device = &context.device;
     let mut p = PipelineObjects::new(context);
@@ -128,7 +149,7 @@ fn create_pipeline(
     p.layout = unsafe { device.create_pipeline_layout(&layout_info, None) }
         .during("vkCreatePipelineLayout")?;
 
-    let (vert, frag) = shader_pair(mode, interpolation);
+    let (vert, frag) = shader_pair(mode, interpolation, vertex_colors);
     for blob in [vert, frag] {
         let words = hook::module_words(blob, lighting_hook, &context.info)?;
         let info = vk::ShaderModuleCreateInfo::default().code(&words);
@@ -161,29 +182,36 @@ fn create_pipeline(
     } else {
         std::mem::size_of::<Vertex>()
     };
-    let vertex_bindings = [vk::VertexInputBindingDescription::default()
-        .binding(0)
-        .stride(stride as u32)
-        .input_rate(vk::VertexInputRate::VERTEX)];
-    let all_attributes = [
-        vk::VertexInputAttributeDescription::default()
-            .location(0)
-            .format(vk::Format::R32G32B32_SFLOAT)
-            .offset(0),
-        vk::VertexInputAttributeDescription::default()
-            .location(1)
-            .format(vk::Format::R32G32B32_SFLOAT)
-            .offset(12),
+    let all_bindings = [
+        vk::VertexInputBindingDescription::default()
+            .binding(0)
+            .stride(stride as u32)
+            .input_rate(vk::VertexInputRate::VERTEX),
+        // The vertex colours, a stream of their own (`raster_frame`).
+        vk::VertexInputBindingDescription::default()
+            .binding(1)
+            .stride(std::mem::size_of::<[f32; 3]>() as u32)
+            .input_rate(vk::VertexInputRate::VERTEX),
     ];
-    // The flat vertex stage reads positions only.
-    let attributes = if mode == RasterMode::Flat {
-        &all_attributes[..1]
-    } else {
-        &all_attributes[..]
+    let vec3_at = |location: u32, binding: u32, offset: u32| {
+        vk::VertexInputAttributeDescription::default()
+            .location(location)
+            .binding(binding)
+            .format(vk::Format::R32G32B32_SFLOAT)
+            .offset(offset)
     };
+    // The flat vertex stage reads positions only (and its face's colour).
+    let mut attributes = vec![vec3_at(0, 0, 0)];
+    if mode != RasterMode::Flat {
+        attributes.push(vec3_at(1, 0, 12));
+    }
+    if vertex_colors {
+        attributes.push(vec3_at(attributes.len() as u32, 1, 0));
+    }
+    let bindings = &all_bindings[..if vertex_colors { 2 } else { 1 }];
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
-        .vertex_binding_descriptions(&vertex_bindings)
-        .vertex_attribute_descriptions(attributes);
+        .vertex_binding_descriptions(bindings)
+        .vertex_attribute_descriptions(&attributes);
     let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
         .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
     let viewport = vk::PipelineViewportStateCreateInfo::default()
@@ -310,13 +338,22 @@ pub fn render_to(
     let pipeline_started = Instant::now();
     let hook = scene.lighting_hook.as_deref();
     let interpolation = scene.lighting.interpolation;
+    let vertex_colors = !geometry.vertex_colors.is_empty();
     let key = format!(
-        "raster {mode:?} {interpolation:?} {target:?} spec {:?} hook {:016x}",
+        "raster {mode:?} {interpolation:?} {target:?} spec {:?} hook {:016x} colours {vertex_colors}",
         bytemuck::bytes_of(&spec),
         crate::cache::digest(&hook.map(|h| &h.source)),
     );
     let pipeline = context.pipelines.get_or_create(key, || {
-        create_pipeline(context, mode, interpolation, &spec, target, hook)
+        create_pipeline(
+            context,
+            mode,
+            interpolation,
+            &spec,
+            target,
+            hook,
+            vertex_colors,
+        )
     })?;
     let pipeline_ms = ms_since(pipeline_started);
 

@@ -27,6 +27,9 @@ pub struct FlatMesh {
     /// One record per vertex: the faces' records, then copies for the
     /// appended vertices.
     pub faces: Vec<GpuFace>,
+    /// Like `faces`, the faces' colours (`RasterGeometry::face_colors`),
+    /// a second vertex stream; empty when the scene has no vertex colours.
+    pub colors: Vec<[f32; 3]>,
 }
 
 const UNCOVERED: u32 = u32::MAX;
@@ -36,6 +39,7 @@ impl FlatMesh {
         let face_count = geometry.faces.len();
         let mut positions = Vec::with_capacity(face_count + face_count / 8);
         let mut faces = geometry.faces.clone();
+        let mut colors = geometry.face_colors.clone();
         // For each shared vertex, the flat vertex at its position (the one
         // of the face it provokes), or UNCOVERED.
         let mut flat_vertex = vec![UNCOVERED; geometry.vertices.len()];
@@ -65,6 +69,9 @@ impl FlatMesh {
                     flat_vertex[corner] = positions.len() as u32;
                     positions.push(geometry.vertices[corner].position);
                     faces.push(faces[face]);
+                    if !colors.is_empty() {
+                        colors.push(colors[face]);
+                    }
                 }
                 indices.push(flat_vertex[corner]);
             }
@@ -73,6 +80,7 @@ impl FlatMesh {
             positions,
             indices,
             faces,
+            colors,
         }
     }
 }

@@ -28,6 +28,9 @@ use crate::shading::RasterMode;
 /// What one frame draws from and into, alive until its submission ends.
 pub(crate) struct Frame {
     vertex_buffer: Buffer,
+    /// The second vertex stream, the vertex colours, where the scene has
+    /// them (per flat vertex: its face's).
+    color_buffer: Option<Buffer>,
     index_buffer: Buffer,
     descriptors: Descriptors,
     color: Image,
@@ -65,6 +68,20 @@ impl Frame {
             vertex_bytes,
             vk::BufferUsageFlags::VERTEX_BUFFER,
         )?;
+        let colors = match &flat_mesh {
+            Some(m) => &m.colors,
+            None => &geometry.vertex_colors,
+        };
+        let color_buffer = if colors.is_empty() {
+            None
+        } else {
+            Some(Buffer::with_data(
+                context,
+                "vertex colours",
+                bytemuck::cast_slice(colors),
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+            )?)
+        };
         let index_buffer = Buffer::with_data(
             context,
             "indices",
@@ -128,6 +145,7 @@ impl Frame {
         )?;
         Ok(Self {
             vertex_buffer,
+            color_buffer,
             index_buffer,
             descriptors,
             color,
@@ -277,6 +295,9 @@ impl Frame {
             &[],
         );
         device.cmd_bind_vertex_buffers(cmd, 0, &[vertex_buffer.raw], &[0]);
+        if let Some(colors) = &self.color_buffer {
+            device.cmd_bind_vertex_buffers(cmd, 1, &[colors.raw], &[0]);
+        }
         device.cmd_bind_index_buffer(cmd, index_buffer.raw, 0, vk::IndexType::UINT32);
         let clip = view.clip_from_relative().as_mat4().to_cols_array_2d();
         for draw in &geometry.draws {

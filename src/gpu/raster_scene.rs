@@ -15,7 +15,7 @@ use glam::DVec3;
 use super::raster_cull::back_faces_hidden;
 use super::raster_layout::{GpuFace, GpuLight, Specialization, Vertex};
 use crate::camera::View;
-use crate::scene::{tessellate, Scene};
+use crate::scene::{tessellate, Scene, Shape};
 
 pub struct Draw {
     pub first_index: u32,
@@ -27,10 +27,26 @@ pub struct Draw {
 
 pub struct RasterGeometry {
     pub vertices: Vec<Vertex>,
+    /// One per vertex, a second vertex stream, only when a mesh of the
+    /// scene has vertex colours (ones for the others' vertices); empty
+    /// otherwise, and the pipeline reads none (`has_vertex_colors`).
+    pub vertex_colors: Vec<[f32; 3]>,
     /// Into `vertices` (global, not per draw: merged draws span objects).
     pub indices: Vec<u32>,
     pub faces: Vec<GpuFace>,
+    /// With `faces` and `vertex_colors`: each face's colour, the mean of its
+    /// corners' (flat shading runs the formula at the centroid).
+    pub face_colors: Vec<[f32; 3]>,
     pub draws: Vec<Draw>,
+}
+
+/// Whether some mesh of the scene has vertex colours: the raster
+/// pipelines then read a colour per vertex, and only then.
+pub fn has_vertex_colors(scene: &Scene) -> bool {
+    scene
+        .objects
+        .iter()
+        .any(|o| matches!(&o.shape, Shape::Mesh(m) if !m.colors.is_empty()))
 }
 
 fn f32x3(v: DVec3) -> [f32; 3] {
@@ -46,10 +62,13 @@ fn f32x4(v: DVec3) -> [f32; 4] {
 /// reads (`faces` stays empty otherwise).
 pub fn build_geometry(scene: &Scene, view: &View, with_faces: bool) -> RasterGeometry {
     let eye = view.eye;
+    let coloured = has_vertex_colors(scene);
     let mut geometry = RasterGeometry {
         vertices: Vec::new(),
+        vertex_colors: Vec::new(),
         indices: Vec::new(),
         faces: Vec::new(),
+        face_colors: Vec::new(),
         draws: Vec::new(),
     };
     // Reserved exactly: growth by doubling left up to half of each list
@@ -63,6 +82,12 @@ pub fn build_geometry(scene: &Scene, view: &View, with_faces: bool) -> RasterGeo
     geometry.indices.reserve_exact(3 * triangle_count as usize);
     if with_faces {
         geometry.faces.reserve_exact(triangle_count as usize);
+    }
+    if coloured {
+        geometry.vertex_colors.reserve_exact(vertex_count as usize);
+        if with_faces {
+            geometry.face_colors.reserve_exact(triangle_count as usize);
+        }
     }
     for object in &scene.objects {
         let mesh = tessellate(&object.shape);
@@ -82,10 +107,21 @@ pub fn build_geometry(scene: &Scene, view: &View, with_faces: bool) -> RasterGeo
                     normal: f32x3(*n),
                 }),
         );
+        // The vertex colour, one where the mesh has none.
+        let tint_at = |i: u32| mesh.colors.get(i as usize).copied().unwrap_or(DVec3::ONE);
+        if coloured {
+            geometry
+                .vertex_colors
+                .extend((0..mesh.positions.len() as u32).map(|i| f32x3(tint_at(i))));
+        }
         for tri in &mesh.triangles {
             geometry.indices.extend(tri.map(|i| base + i));
             if !with_faces {
                 continue;
+            }
+            if coloured {
+                let [ta, tb, tc] = tri.map(tint_at);
+                geometry.face_colors.push(f32x3((ta + tb + tc) / 3.0));
             }
             let [a, b, c] = tri.map(|i| mesh.positions[i as usize]);
             let normal = (b - a).cross(c - a).normalize_or_zero();

@@ -181,6 +181,7 @@ fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSp
         } else {
             0
         },
+        vertex_colors: u32::from(!rt.triangle_colors.is_empty()),
     }
 }
 
@@ -284,6 +285,9 @@ pub fn render_with(
         "triangle shading",
         bytemuck::cast_slice(&r.triangle_shading),
     )?;
+    // Bound whether or not the scene has vertex colours: the binding is in
+    // the module either way, read only where VERTEX_COLORS is on.
+    let triangle_colors = upload("triangle colours", bytemuck::cast_slice(&r.triangle_colors))?;
     // Zeroed on the device before the dispatch (below), whatever memory
     // the allocator hands out.
     let work_queue = Buffer::new(
@@ -327,6 +331,7 @@ pub fn render_with(
             &output,
             &stats,
             &work_queue,
+            &triangle_colors,
         ],
     )?;
 

@@ -43,6 +43,9 @@ pub fn group_by_mesh(r: &mut SceneRecords) -> Vec<(u32, u32)> {
     order.sort_by_key(|&i| r.triangles[i].object);
     r.triangles = order.iter().map(|&i| r.triangles[i]).collect();
     r.triangle_shading = order.iter().map(|&i| r.triangle_shading[i]).collect();
+    if !r.triangle_colors.is_empty() {
+        r.triangle_colors = order.iter().map(|&i| r.triangle_colors[i]).collect();
+    }
     let mut runs: Vec<(u32, u32)> = Vec::new();
     for (i, t) in r.triangles.iter().enumerate() {
         match runs.last_mut() {
@@ -476,6 +479,7 @@ mod tests {
                     ..GpuTriangleShading::zeroed()
                 })
                 .collect(),
+            triangle_colors: Vec::new(),
             bvh: GpuBvh::default(),
             materials: Vec::new(),
         };

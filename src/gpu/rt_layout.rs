@@ -20,6 +20,7 @@ pub const MATERIALS: u32 = 8;
 pub const OUTPUT: u32 = 9;
 pub const STATS: u32 = 10;
 pub const WORK_QUEUE: u32 = 11;
+pub const TRIANGLE_COLORS: u32 = 12;
 
 const STORAGE: vk::DescriptorType = vk::DescriptorType::STORAGE_BUFFER;
 
@@ -37,6 +38,7 @@ pub const BINDINGS: &[(u32, vk::DescriptorType)] = &[
     (OUTPUT, STORAGE),
     (STATS, STORAGE),
     (WORK_QUEUE, STORAGE),
+    (TRIANGLE_COLORS, STORAGE),
 ];
 
 /// The ray-query engine's second set (`--traversal query`): the top-level
@@ -126,6 +128,7 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (13, "BVH_BOXES"),
     (14, "MATERIALS_LISTED"),
     (15, "MATERIAL_COUNT"),
+    (16, "VERTEX_COLORS"),
 ];
 
 #[repr(C)]
@@ -295,6 +298,16 @@ pub struct GpuMaterial {
     pub kt_ior: [f32; 4],
 }
 
+/// A triangle's vertex colours (rgb, w unused), in the order of its
+/// shading record; only for scenes with vertex colours.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuTriangleColors {
+    pub c0: [f32; 4],
+    pub c1: [f32; 4],
+    pub c2: [f32; 4],
+}
+
 /// Values for `SPEC_CONSTANTS`, in order, 4 bytes each (bools as VkBool32).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
@@ -315,6 +328,7 @@ pub struct TraceSpecialization {
     pub bvh_boxes: u32,
     pub materials_listed: u32,
     pub material_count: i32,
+    pub vertex_colors: u32,
 }
 
 impl TraceSpecialization {
@@ -342,6 +356,7 @@ pub fn record_size(binding: u32) -> usize {
         // tests/shader_interface.rs.
         SPHERES | PLANES | BOXES | TRIANGLES | BVH_NODES => 16,
         TRIANGLE_SHADING => std::mem::size_of::<GpuTriangleShading>(),
+        TRIANGLE_COLORS => std::mem::size_of::<GpuTriangleColors>(),
         MATERIALS => std::mem::size_of::<GpuMaterial>(),
         OUTPUT => 16,
         // A fixed array of 8 counters and one counter, not runtime arrays:

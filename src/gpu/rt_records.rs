@@ -20,6 +20,9 @@ pub struct SceneRecords {
     pub boxes: Vec<GpuBox>,
     pub triangles: Vec<GpuTriangleGeometry>,
     pub triangle_shading: Vec<GpuTriangleShading>,
+    /// In the order of `triangle_shading`; empty when the scene has no
+    /// vertex colours (`RtScene::triangle_colors`).
+    pub triangle_colors: Vec<GpuTriangleColors>,
     pub bvh: GpuBvh,
     pub materials: Vec<GpuMaterial>,
 }
@@ -126,6 +129,17 @@ pub fn records(rt: &RtScene) -> Result<SceneRecords, GpuError> {
                 }
             })
             .collect(),
+        triangle_colors: if rt.triangle_colors.is_empty() {
+            Vec::new()
+        } else {
+            order
+                .iter()
+                .map(|&i| {
+                    let [c0, c1, c2] = rt.triangle_colors[i as usize].map(|c| v4(c, 1.0));
+                    GpuTriangleColors { c0, c1, c2 }
+                })
+                .collect()
+        },
         bvh,
         materials: rt
             .materials

@@ -416,11 +416,6 @@ fn check_accessor(
             format!("{what} (accessor {}) {msg}", acc.index()),
         )
     };
-    if acc.sparse().is_some() {
-        return Err(err(
-            "is a sparse accessor, which is not supported; export without sparse accessors".into(),
-        ));
-    }
     if acc.dimensions() != dims || !types.contains(&acc.data_type()) || acc.normalized() {
         return Err(err(format!(
             "has type {:?} {:?}{}; expected {:?} of {:?}",
@@ -434,6 +429,27 @@ fn check_accessor(
             dims,
             types
         )));
+    }
+    check_accessor_storage(file, what, acc)
+}
+
+/// The part of `check_accessor` that holds for every type: not sparse, not
+/// empty, and inside its buffer view and buffer.
+fn check_accessor_storage(
+    file: &GltfFile,
+    what: &str,
+    acc: &gltf::Accessor,
+) -> Result<(), SceneError> {
+    let err = |msg: String| {
+        SceneError::mesh(
+            &file.label,
+            format!("{what} (accessor {}) {msg}", acc.index()),
+        )
+    };
+    if acc.sparse().is_some() {
+        return Err(err(
+            "is a sparse accessor, which is not supported; export without sparse accessors".into(),
+        ));
     }
     if acc.count() == 0 {
         return Err(err("is empty".into()));
@@ -501,12 +517,6 @@ fn primitive_mesh(
     let normal_matrix = m3.inverse().transpose();
     let flip = det < 0.0;
 
-    if prim.get(&gltf::Semantic::Colors(0)).is_some() {
-        warnings.push(format!(
-            "{}: {what} has vertex colours (COLOR_0), which shadelab does not model; it renders in its material's colour",
-            file.label
-        ));
-    }
     let pos_acc = prim.get(&gltf::Semantic::Positions).ok_or_else(|| {
         SceneError::mesh(&file.label, format!("{what} has no POSITION attribute"))
     })?;
@@ -592,6 +602,11 @@ fn primitive_mesh(
         _ => None,
     };
 
+    let colors = match prim.get(&gltf::Semantic::Colors(0)) {
+        Some(acc) => vertex_colors(file, &what, &acc, &reader, n, warnings)?,
+        None => Vec::new(),
+    };
+
     let indices: Vec<u32> = match reader.read_indices() {
         Some(it) => it.into_u32().collect(),
         None => (0..n as u32).collect(),
@@ -638,7 +653,88 @@ fn primitive_mesh(
             format!("{what} has no non-degenerate triangle; expected at least one triangle with non-zero area"),
         ));
     }
-    Ok(Some(build_mesh(positions, stored_normals, triangles)))
+    Ok(Some(build_mesh(
+        positions,
+        stored_normals,
+        colors,
+        triangles,
+    )))
+}
+
+/// A primitive's `COLOR_0`, one linear RGB per vertex. glTF allows RGB or
+/// RGBA, as floats or as normalised unsigned bytes or shorts (divided by
+/// their maximum here, in f64, so that 255 is exactly 1). Alpha is not a
+/// colour in the lighting model: where it is not all 1 a warning says it
+/// was ignored.
+fn vertex_colors<'a, 's, F>(
+    file: &GltfFile,
+    what: &str,
+    acc: &gltf::Accessor,
+    reader: &gltf::mesh::Reader<'a, 's, F>,
+    vertex_count: usize,
+    warnings: &mut Vec<String>,
+) -> Result<Vec<DVec3>, SceneError>
+where
+    F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
+{
+    let col_what = format!("{what} COLOR_0");
+    let err = |msg: String| {
+        SceneError::mesh(
+            &file.label,
+            format!("{col_what} (accessor {}) {msg}", acc.index()),
+        )
+    };
+    let normalized_int = matches!(acc.data_type(), DataType::U8 | DataType::U16);
+    let known = matches!(acc.dimensions(), Dimensions::Vec3 | Dimensions::Vec4)
+        && (normalized_int == acc.normalized())
+        && (normalized_int || acc.data_type() == DataType::F32);
+    if !known {
+        return Err(err(format!(
+            "has type {:?} {:?}{}; expected VEC3 or VEC4 of floats, or of normalized unsigned bytes or shorts",
+            acc.dimensions(),
+            acc.data_type(),
+            if acc.normalized() { " (normalized)" } else { "" },
+        )));
+    }
+    check_accessor_storage(file, &col_what, acc)?;
+    use gltf::mesh::util::ReadColors;
+    let unorm8 = |c: u8| f64::from(c) / 255.0;
+    let unorm16 = |c: u16| f64::from(c) / 65535.0;
+    let rgba: Vec<[f64; 4]> = match reader.read_colors(0) {
+        Some(ReadColors::RgbU8(it)) => it.map(|c| [c[0], c[1], c[2], 255].map(unorm8)).collect(),
+        Some(ReadColors::RgbaU8(it)) => it.map(|c| c.map(unorm8)).collect(),
+        Some(ReadColors::RgbU16(it)) => {
+            it.map(|c| [c[0], c[1], c[2], 65535].map(unorm16)).collect()
+        }
+        Some(ReadColors::RgbaU16(it)) => it.map(|c| c.map(unorm16)).collect(),
+        Some(ReadColors::RgbF32(it)) => {
+            it.map(|c| [c[0], c[1], c[2], 1.0].map(f64::from)).collect()
+        }
+        Some(ReadColors::RgbaF32(it)) => it.map(|c| c.map(f64::from)).collect(),
+        None => return Err(err("cannot be read".into())),
+    };
+    if rgba.len() != vertex_count {
+        return Err(err(format!(
+            "has {} colours for {vertex_count} positions; expected one per vertex",
+            rgba.len()
+        )));
+    }
+    if let Some(i) = rgba
+        .iter()
+        .position(|c| c[..3].iter().any(|v| !v.is_finite() || *v < 0.0))
+    {
+        return Err(err(format!(
+            "vertex {i} has colour {:?}; expected finite values of at least 0",
+            &rgba[i][..3]
+        )));
+    }
+    if rgba.iter().any(|c| c[3] != 1.0) {
+        warnings.push(format!(
+            "{}: {what} has vertex colours with alpha below 1; shadelab uses their RGB and ignores the alpha",
+            file.label
+        ));
+    }
+    Ok(rgba.iter().map(|c| DVec3::new(c[0], c[1], c[2])).collect())
 }
 
 /// The degenerate-triangle rule documented at the top of this module.
@@ -668,6 +764,7 @@ pub(crate) fn is_degenerate(positions: &[DVec3], t: [u32; 3]) -> bool {
 fn build_mesh(
     positions: Vec<DVec3>,
     stored: Option<Vec<DVec3>>,
+    colors: Vec<DVec3>,
     triangles: Vec<[u32; 3]>,
 ) -> TriangleMesh {
     // Keep the used vertices in their original order.
@@ -680,11 +777,15 @@ fn build_mesh(
     let mut remap = vec![0u32; positions.len()];
     let mut out_pos = Vec::new();
     let mut out_stored = Vec::new();
+    let mut out_colors = Vec::new();
     for (i, p) in positions.iter().enumerate() {
         if used[i] {
             remap[i] = out_pos.len() as u32;
             out_pos.push(*p);
             out_stored.push(stored.as_ref().map_or(DVec3::ZERO, |s| s[i]));
+            if let Some(c) = colors.get(i) {
+                out_colors.push(*c);
+            }
         }
     }
     let tris: Vec<[u32; 3]> = triangles
@@ -723,6 +824,7 @@ fn build_mesh(
         positions: out_pos,
         normals,
         triangles: tris,
+        colors: out_colors,
     }
 }
 
@@ -1304,10 +1406,10 @@ mod tests {
     }
 
     /// What the model does not take is announced, one line per material
-    /// naming each feature, and vertex colours per primitive (issue 31: the
-    /// Duck rendered white-grey without a word).
+    /// naming each feature (issue 31: the Duck rendered white-grey without
+    /// a word). Vertex colours are modelled now and say nothing.
     #[test]
-    fn unmodelled_material_features_and_vertex_colours_are_announced() {
+    fn unmodelled_material_features_are_announced() {
         let dir = tempfile::tempdir().unwrap();
         let tri = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
         let p = write_gltf(dir.path(), "painted", &tri, None, None, |d| {
@@ -1344,19 +1446,159 @@ mod tests {
             "{}",
             material[0]
         );
-        assert!(
-            l.warnings
-                .iter()
-                .any(|w| w.contains("vertex colours (COLOR_0)")),
-            "{:?}",
-            l.warnings
-        );
+        assert_eq!(l.warnings.len(), 1, "{:?}", l.warnings);
+        let m = only_mesh(&l);
+        assert_eq!(m.colors, m.positions, "COLOR_0 read as the floats it is");
         // A plain material says nothing.
         let plain = write_gltf(dir.path(), "plain", &tri, None, None, |d| {
             d["materials"] = serde_json::json!([{"name": "grey"}]);
             d["meshes"][0]["primitives"][0]["material"] = 0.into();
         });
         assert!(meshes(&plain, DMat4::IDENTITY).unwrap().warnings.is_empty());
+    }
+
+    fn vertex_colors_model() -> PathBuf {
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/models/vertex-colors.gltf")
+    }
+
+    fn mesh_named(l: &Loaded, vertices: usize) -> &TriangleMesh {
+        l.objects
+            .iter()
+            .find_map(|o| match &o.shape {
+                Shape::Mesh(m) if m.positions.len() == vertices => Some(m),
+                _ => None,
+            })
+            .unwrap_or_else(|| panic!("no mesh of {vertices} vertices"))
+    }
+
+    /// COLOR_0 in the three encodings glTF allows, against the values the
+    /// fixture script wrote (tests/data/make_fixtures.py): bytes and shorts
+    /// divided by their maximum, floats as they are.
+    #[test]
+    fn vertex_colours_are_read_in_every_encoding() {
+        let l = meshes(&vertex_colors_model(), DMat4::IDENTITY).unwrap();
+        assert!(l.warnings.is_empty(), "{:?}", l.warnings);
+        // The cube: each corner's colour is its position in the model's own
+        // frame plus 0.5 (so 0 or 1 per channel). Its node turns it 30
+        // degrees about +Y and lifts it by 0.5: undone here by hand.
+        let cube = mesh_named(&l, 24);
+        let (s, c) = (30f64.to_radians().sin(), 30f64.to_radians().cos());
+        for (p, color) in cube.positions.iter().zip(&cube.colors) {
+            let q = *p - DVec3::new(0.0, 0.5, 0.0);
+            // The inverse of the rotation about +Y by 30 degrees.
+            let local = DVec3::new(c * q.x - s * q.z, q.y, s * q.x + c * q.z);
+            let want = local + DVec3::splat(0.5);
+            // The node's rotation is read as f32: 1e-6 covers its rounding.
+            assert!((*color - want).abs().max_element() < 1e-6, "{color} at {p}");
+            assert!(color.to_array().iter().all(|v| *v == 0.0 || *v == 1.0));
+        }
+        let floor = mesh_named(&l, 4);
+        let shorts = [
+            [65535.0, 52428.0, 39321.0],
+            [13107.0, 26214.0, 65535.0],
+            [65535.0, 65535.0, 65535.0],
+            [32768.0, 65535.0, 13107.0],
+        ];
+        for (got, want) in floor.colors.iter().zip(shorts) {
+            assert_eq!(*got, DVec3::from_array(want) / 65535.0);
+        }
+        let sail = mesh_named(&l, 3);
+        let floats = [[1.0, 0.2, 0.2], [0.2, 1.0, 0.2], [0.2, 0.2, 1.0]];
+        for (got, want) in sail.colors.iter().zip(floats) {
+            let want = DVec3::from_array(want.map(|v: f32| f64::from(v)));
+            assert_eq!(*got, want);
+        }
+    }
+
+    /// The model's JSON with `patch` applied, written beside nothing (its
+    /// buffer is a data URI), and what loading it says.
+    fn load_patched_model(patch: impl FnOnce(&mut serde_json::Value)) -> Result<Loaded, String> {
+        let text = std::fs::read_to_string(vertex_colors_model()).unwrap();
+        let mut doc: serde_json::Value = serde_json::from_str(&text).unwrap();
+        patch(&mut doc);
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("patched.gltf");
+        std::fs::write(&path, doc.to_string()).unwrap();
+        meshes(&path, DMat4::IDENTITY).map_err(|e| e.to_string())
+    }
+
+    /// Accessor indices in the fixture: the cube's COLOR_0 (bytes, VEC4),
+    /// the floor's (shorts, VEC3), the sail's positions and COLOR_0.
+    const CUBE_COLORS: usize = 2;
+    const FLOOR_COLORS: usize = 6;
+    const SAIL_POSITIONS: usize = 8;
+    const SAIL_INDICES: usize = 10;
+
+    type Patch = Box<dyn FnOnce(&mut serde_json::Value)>;
+
+    #[test]
+    fn bad_vertex_colours_are_refused_naming_the_primitive() {
+        fn sail_color(d: &mut serde_json::Value, accessor: usize) {
+            d["meshes"][2]["primitives"][0]["attributes"]["COLOR_0"] = accessor.into();
+        }
+        let cases: Vec<(&str, Patch)> = vec![
+            (
+                "expected VEC3 or VEC4 of floats, or of normalized unsigned bytes or shorts",
+                Box::new(|d| sail_color(d, SAIL_INDICES)),
+            ),
+            (
+                "has type Vec4 U8; expected VEC3 or VEC4",
+                Box::new(|d| d["accessors"][CUBE_COLORS]["normalized"] = false.into()),
+            ),
+            (
+                "has 4 colours for 3 positions; expected one per vertex",
+                Box::new(|d| sail_color(d, FLOOR_COLORS)),
+            ),
+            (
+                "vertex 0 has colour [-2.5, 0.0, -1.0]; expected finite values of at least 0",
+                Box::new(|d| sail_color(d, SAIL_POSITIONS)),
+            ),
+        ];
+        for (want, patch) in cases {
+            let err = match load_patched_model(patch) {
+                Ok(_) => panic!("loaded; expected {want}"),
+                Err(e) => e,
+            };
+            assert!(err.contains(want), "{err}\nshould say: {want}");
+            assert!(err.contains("COLOR_0"), "{err}");
+            assert!(err.contains("patched.gltf"), "{err}");
+        }
+    }
+
+    #[test]
+    fn a_nan_vertex_colour_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let tri = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let colours = [[0.5, 0.5, 0.5], [0.5, f32::NAN, 0.5], [0.5, 0.5, 0.5]];
+        // The colours go in as the normals' accessor, then become COLOR_0.
+        let p = write_gltf(dir.path(), "nan", &tri, Some(&colours), None, |d| {
+            let attributes = &mut d["meshes"][0]["primitives"][0]["attributes"];
+            attributes["COLOR_0"] = attributes["NORMAL"].take();
+            attributes.as_object_mut().unwrap().remove("NORMAL");
+        });
+        let err = err_of(&p);
+        assert!(err.contains("COLOR_0"), "{err}");
+        assert!(err.contains("vertex 1 has colour [0.5, NaN, 0.5]"), "{err}");
+    }
+
+    /// A colour's alpha is no colour: read as RGBA with alpha 0 (the
+    /// shorts' padding), it loads with a warning saying it was ignored.
+    #[test]
+    fn vertex_colour_alpha_is_ignored_with_a_warning() {
+        let l =
+            load_patched_model(|d| d["accessors"][FLOOR_COLORS]["type"] = "VEC4".into()).unwrap();
+        assert_eq!(l.warnings.len(), 1, "{:?}", l.warnings);
+        assert!(
+            l.warnings[0]
+                .contains("`floor` (index 1), primitive 0 has vertex colours with alpha below 1"),
+            "{:?}",
+            l.warnings
+        );
+        let floor = mesh_named(&l, 4);
+        assert_eq!(
+            floor.colors[0],
+            DVec3::new(1.0, 52428.0 / 65535.0, 39321.0 / 65535.0)
+        );
     }
 
     #[test]

@@ -157,6 +157,10 @@ pub enum Shape {
 pub struct TriangleMesh {
     pub positions: Vec<DVec3>,
     pub normals: Vec<DVec3>,
+    /// Linear RGB per vertex (glTF `COLOR_0`), each channel finite and at
+    /// least 0; empty when the mesh has none. Multiplies the material's
+    /// colour (docs/lighting-model.md, "Surface colour").
+    pub colors: Vec<DVec3>,
     /// Counter-clockwise seen from the side the geometric normal points to.
     pub triangles: Vec<[u32; 3]>,
 }

@@ -105,6 +105,7 @@ fn sphere(center: DVec3, radius: f64, segments: u32) -> TriangleMesh {
         positions,
         normals,
         triangles,
+        colors: Vec::new(),
     }
 }
 
@@ -133,6 +134,7 @@ fn plane(center: DVec3, normal: DVec3, size: f64, segments: u32) -> TriangleMesh
         positions,
         normals,
         triangles,
+        colors: Vec::new(),
     }
 }
 
@@ -165,6 +167,7 @@ fn cuboid(center: DVec3, half: DVec3, rotation: &glam::DMat3) -> TriangleMesh {
         positions,
         normals,
         triangles,
+        colors: Vec::new(),
     }
 }
 
@@ -311,6 +314,7 @@ mod tests {
             positions: vec![DVec3::ZERO, DVec3::X, DVec3::Y],
             normals: vec![DVec3::Z; 3],
             triangles: vec![[0, 1, 2]],
+            colors: Vec::new(),
         };
         assert_eq!(tessellate(&Shape::Mesh(m.clone())), m);
     }

@@ -39,6 +39,14 @@ and, for the hard-case suite, into ../../assets/hard/models/:
                         non-unit normals (lengths 1e-3 to 100), and normals
                         +Y on one side and -Y on the other, so that the
                         interpolated normal passes through zero mid-square
+
+and, for assets/vertex-colors.toml, into ../../assets/models/:
+
+- vertex-colors.gltf    COLOR_0 in the three encodings glTF allows: a cube
+                        whose corners are coloured by position (normalised
+                        unsigned bytes, RGBA, alpha 255), a floor square
+                        (normalised unsigned shorts, RGB) and an upright
+                        triangle (floats, RGB)
 """
 
 import base64
@@ -82,6 +90,28 @@ class Builder:
             acc["min"] = [min(v[i] for v in finite) for i in range(3)]
             acc["max"] = [max(v[i] for v in finite) for i in range(3)]
         self.accessors.append(acc)
+        return len(self.accessors) - 1
+
+    def colors(self, values, component_type, kind):
+        """Adds a normalised integer colour accessor (UNSIGNED_BYTE 5121 or
+        UNSIGNED_SHORT 5123, VEC3 or VEC4); returns its index."""
+        self._align()
+        offset = len(self.data)
+        code = {5121: "B", 5123: "H"}[component_type]
+        width = {"VEC3": 3, "VEC4": 4}[kind]
+        for v in values:
+            self.data += struct.pack("<%d%s" % (width, code), *v)
+            self._align()
+        stride = len(self.data) - offset
+        stride //= max(1, len(values))
+        self.views.append({"buffer": 0, "byteOffset": offset,
+                           "byteLength": len(self.data) - offset,
+                           "byteStride": stride,
+                           "target": ARRAY_BUFFER})
+        self.accessors.append({"bufferView": len(self.views) - 1,
+                               "componentType": component_type,
+                               "normalized": True,
+                               "count": len(values), "type": kind})
         return len(self.accessors) - 1
 
     def indices(self, idx):
@@ -287,7 +317,8 @@ def scene_with_camera_light():
     doc = {
         "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_ior"],
         "extensions": {"KHR_lights_punctual": {"lights": [
-            {"type": "point", "color": [1.0, 0.5, 0.25], "intensity": 4.0},
+            {"type": "point", "color": [1.0, 0.5, 0.25], "intensity": 4.0,
+             "range": 10.0},
             {"type": "spot", "intensity": 10.0,
              "spot": {"innerConeAngle": 0.1, "outerConeAngle": 0.5}},
         ]}},
@@ -449,6 +480,71 @@ def bad_normals():
     write_hard("bad-normals.gltf", b.finish(doc))
 
 
+MODELS = os.path.join(HERE, "..", "..", "assets", "models")
+
+
+def vertex_colors():
+    b = Builder()
+    positions, normals, colors, idx = [], [], [], []
+    faces = [((1, 0, 0), (0, 1, 0), (0, 0, 1)),
+             ((-1, 0, 0), (0, 0, 1), (0, 1, 0)),
+             ((0, 1, 0), (0, 0, 1), (1, 0, 0)),
+             ((0, -1, 0), (1, 0, 0), (0, 0, 1)),
+             ((0, 0, 1), (1, 0, 0), (0, 1, 0)),
+             ((0, 0, -1), (0, 1, 0), (1, 0, 0))]
+    for n, u, v in faces:
+        base = len(positions)
+        for su, sv in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+            p = tuple(0.5 * n[i] + 0.5 * su * u[i] + 0.5 * sv * v[i]
+                      for i in range(3))
+            positions.append(p)
+            normals.append(n)
+            # The corner (x, y, z) in [-0.5, 0.5]^3 has colour (x, y, z) +
+            # 0.5, each 0 or 255.
+            colors.append(tuple(round(255 * (c + 0.5)) for c in p) + (255,))
+        idx += [base, base + 1, base + 2, base, base + 2, base + 3]
+    cube = {"name": "rgb-cube", "primitives": [{
+        "attributes": {"POSITION": b.vec3(positions),
+                       "NORMAL": b.vec3(normals),
+                       "COLOR_0": b.colors(colors, 5121, "VEC4")},
+        "indices": b.indices(idx), "material": 0}]}
+    floor_pos = [(-3, 0, 3), (3, 0, 3), (3, 0, -3), (-3, 0, -3)]
+    floor = {"name": "floor", "primitives": [{
+        "attributes": {
+            "POSITION": b.vec3(floor_pos),
+            "NORMAL": b.vec3([(0, 1, 0)] * 4),
+            "COLOR_0": b.colors([(65535, 52428, 39321), (13107, 26214, 65535),
+                                 (65535, 65535, 65535), (32768, 65535, 13107)],
+                                5123, "VEC3")},
+        "indices": b.indices(up_facing(floor_pos, (0, 1, 2))
+                             + up_facing(floor_pos, (0, 2, 3))),
+        "material": 0}]}
+    sail = {"name": "sail", "primitives": [{
+        "attributes": {
+            "POSITION": b.vec3([(-2.5, 0, -1), (-1, 0, -1.5), (-1.8, 2, -1.2)]),
+            "COLOR_0": b.vec3([(1.0, 0.2, 0.2), (0.2, 1.0, 0.2),
+                               (0.2, 0.2, 1.0)], with_bounds=False)},
+        "indices": b.indices([0, 1, 2]), "material": 0}]}
+    doc = {
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1, 2]}],
+        "nodes": [{"name": "rgb-cube", "mesh": 0, "translation": [0, 0.5, 0],
+                   "rotation": quat((0, 1, 0), 30)},
+                  {"name": "floor", "mesh": 1},
+                  {"name": "sail", "mesh": 2}],
+        "meshes": [cube, floor, sail],
+        "materials": [{
+            "name": "white",
+            "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1],
+                                     "metallicFactor": 0.0,
+                                     "roughnessFactor": 0.6}}],
+    }
+    with open(os.path.join(MODELS, "vertex-colors.gltf"), "w",
+              encoding="utf-8") as f:
+        json.dump(b.finish(doc), f, indent=1)
+        f.write("\n")
+
+
 def main():
     tri_indexed()
     tri_unindexed()
@@ -463,6 +559,7 @@ def main():
     skewed()
     slivers()
     bad_normals()
+    vertex_colors()
 
 
 if __name__ == "__main__":
