@@ -12,144 +12,119 @@ use std::path::{Path, PathBuf};
 /// One compiled module: a source file, its stage, and preprocessor defines.
 struct Variant {
     /// Rust constant name of the variant, e.g. `PHONG_FRAG_SCREEN`.
-    name: &'static str,
+    name: String,
     source: &'static str,
     stage: glslang::ShaderStage,
     defines: &'static [(&'static str, Option<&'static str>)],
 }
 
-const SMOOTH: &[(&str, Option<&str>)] = &[];
-const SCREEN_LINEAR: &[(&str, Option<&str>)] = &[("SCREEN_LINEAR", None)];
-const VERTEX_COLOR: &[(&str, Option<&str>)] = &[("VERTEX_COLOR", None)];
-const SCREEN_LINEAR_VERTEX_COLOR: &[(&str, Option<&str>)] =
-    &[("SCREEN_LINEAR", None), ("VERTEX_COLOR", None)];
-const RAY_QUERY: &[(&str, Option<&str>)] = &[("RAY_QUERY", None)];
-const WIDE_BVH: &[(&str, Option<&str>)] = &[("WIDE_BVH", None)];
+/// The raster stages' features, each a define and a suffix of the
+/// variant's name: `interpolation = "screen"`, vertex colours (for flat
+/// shading, a colour per face), a pattern. Every subset a stage takes is
+/// compiled, so that a scene gets the module for exactly what it has.
+const SCREEN_LINEAR: u8 = 1;
+const VERTEX_COLOR: u8 = 2;
+const PATTERN: u8 = 4;
 
-const VARIANTS: &[Variant] = &[
-    Variant {
-        name: "FLAT_VERT",
-        source: "flat.vert.glsl",
-        stage: glslang::ShaderStage::Vertex,
-        defines: &[],
-    },
-    Variant {
-        name: "FLAT_FRAG",
-        source: "flat.frag.glsl",
-        stage: glslang::ShaderStage::Fragment,
-        defines: &[],
-    },
-    Variant {
-        name: "GOURAUD_VERT",
-        source: "gouraud.vert.glsl",
-        stage: glslang::ShaderStage::Vertex,
-        defines: SMOOTH,
-    },
-    Variant {
-        name: "GOURAUD_FRAG",
-        source: "gouraud.frag.glsl",
-        stage: glslang::ShaderStage::Fragment,
-        defines: SMOOTH,
-    },
-    Variant {
-        name: "GOURAUD_VERT_SCREEN",
-        source: "gouraud.vert.glsl",
-        stage: glslang::ShaderStage::Vertex,
-        defines: SCREEN_LINEAR,
-    },
-    Variant {
-        name: "GOURAUD_FRAG_SCREEN",
-        source: "gouraud.frag.glsl",
-        stage: glslang::ShaderStage::Fragment,
-        defines: SCREEN_LINEAR,
-    },
-    Variant {
-        name: "PHONG_VERT",
-        source: "phong.vert.glsl",
-        stage: glslang::ShaderStage::Vertex,
-        defines: SMOOTH,
-    },
-    Variant {
-        name: "PHONG_FRAG",
-        source: "phong.frag.glsl",
-        stage: glslang::ShaderStage::Fragment,
-        defines: SMOOTH,
-    },
-    Variant {
-        name: "PHONG_VERT_SCREEN",
-        source: "phong.vert.glsl",
-        stage: glslang::ShaderStage::Vertex,
-        defines: SCREEN_LINEAR,
-    },
-    Variant {
-        name: "PHONG_FRAG_SCREEN",
-        source: "phong.frag.glsl",
-        stage: glslang::ShaderStage::Fragment,
-        defines: SCREEN_LINEAR,
-    },
-    // With vertex colours: a second vertex stream, only for scenes that
-    // have them (the fragment stages of flat and Gouraud do not change).
-    Variant {
-        name: "FLAT_VERT_COLOR",
-        source: "flat.vert.glsl",
-        stage: glslang::ShaderStage::Vertex,
-        defines: VERTEX_COLOR,
-    },
-    Variant {
-        name: "GOURAUD_VERT_COLOR",
-        source: "gouraud.vert.glsl",
-        stage: glslang::ShaderStage::Vertex,
-        defines: VERTEX_COLOR,
-    },
-    Variant {
-        name: "GOURAUD_VERT_SCREEN_COLOR",
-        source: "gouraud.vert.glsl",
-        stage: glslang::ShaderStage::Vertex,
-        defines: SCREEN_LINEAR_VERTEX_COLOR,
-    },
-    Variant {
-        name: "PHONG_VERT_COLOR",
-        source: "phong.vert.glsl",
-        stage: glslang::ShaderStage::Vertex,
-        defines: VERTEX_COLOR,
-    },
-    Variant {
-        name: "PHONG_FRAG_COLOR",
-        source: "phong.frag.glsl",
-        stage: glslang::ShaderStage::Fragment,
-        defines: VERTEX_COLOR,
-    },
-    Variant {
-        name: "PHONG_VERT_SCREEN_COLOR",
-        source: "phong.vert.glsl",
-        stage: glslang::ShaderStage::Vertex,
-        defines: SCREEN_LINEAR_VERTEX_COLOR,
-    },
-    Variant {
-        name: "PHONG_FRAG_SCREEN_COLOR",
-        source: "phong.frag.glsl",
-        stage: glslang::ShaderStage::Fragment,
-        defines: SCREEN_LINEAR_VERTEX_COLOR,
-    },
-    Variant {
-        name: "RAYTRACE_COMP",
-        source: "raytrace.comp.glsl",
-        stage: glslang::ShaderStage::Compute,
-        defines: &[],
-    },
-    Variant {
-        name: "RAYTRACE_WIDE_COMP",
-        source: "raytrace.comp.glsl",
-        stage: glslang::ShaderStage::Compute,
-        defines: WIDE_BVH,
-    },
-    Variant {
-        name: "RAYTRACE_QUERY_COMP",
-        source: "raytrace.comp.glsl",
-        stage: glslang::ShaderStage::Compute,
-        defines: RAY_QUERY,
-    },
+/// The defines of each subset of the features, indexed by its bits.
+const FEATURE_DEFINES: [&[(&str, Option<&str>)]; 8] = [
+    &[],
+    &[("SCREEN_LINEAR", None)],
+    &[("VERTEX_COLOR", None)],
+    &[("SCREEN_LINEAR", None), ("VERTEX_COLOR", None)],
+    &[("PATTERN", None)],
+    &[("SCREEN_LINEAR", None), ("PATTERN", None)],
+    &[("VERTEX_COLOR", None), ("PATTERN", None)],
+    &[
+        ("SCREEN_LINEAR", None),
+        ("VERTEX_COLOR", None),
+        ("PATTERN", None),
+    ],
 ];
+
+/// Each raster stage: its name, source, stage, and the features it takes
+/// (the others do not change its code).
+const RASTER_STAGES: &[(&str, &str, glslang::ShaderStage, u8)] = &[
+    (
+        "FLAT_VERT",
+        "flat.vert.glsl",
+        glslang::ShaderStage::Vertex,
+        VERTEX_COLOR,
+    ),
+    (
+        "FLAT_FRAG",
+        "flat.frag.glsl",
+        glslang::ShaderStage::Fragment,
+        0,
+    ),
+    (
+        "GOURAUD_VERT",
+        "gouraud.vert.glsl",
+        glslang::ShaderStage::Vertex,
+        SCREEN_LINEAR | VERTEX_COLOR | PATTERN,
+    ),
+    (
+        "GOURAUD_FRAG",
+        "gouraud.frag.glsl",
+        glslang::ShaderStage::Fragment,
+        SCREEN_LINEAR | PATTERN,
+    ),
+    (
+        "PHONG_VERT",
+        "phong.vert.glsl",
+        glslang::ShaderStage::Vertex,
+        SCREEN_LINEAR | VERTEX_COLOR | PATTERN,
+    ),
+    (
+        "PHONG_FRAG",
+        "phong.frag.glsl",
+        glslang::ShaderStage::Fragment,
+        SCREEN_LINEAR | VERTEX_COLOR | PATTERN,
+    ),
+];
+
+/// The suffix the features add to a variant's name (`gpu::raster` looks
+/// variants up by it): `_SCREEN`, `_COLOR`, `_PATTERN`, in that order.
+fn feature_suffix(features: u8) -> String {
+    let mut suffix = String::new();
+    for (bit, name) in [
+        (SCREEN_LINEAR, "_SCREEN"),
+        (VERTEX_COLOR, "_COLOR"),
+        (PATTERN, "_PATTERN"),
+    ] {
+        if features & bit != 0 {
+            suffix.push_str(name);
+        }
+    }
+    suffix
+}
+
+fn variants() -> Vec<Variant> {
+    let mut out = Vec::new();
+    for &(name, source, stage, takes) in RASTER_STAGES {
+        for features in 0..8u8 {
+            if features & !takes != 0 {
+                continue;
+            }
+            out.push(Variant {
+                name: format!("{name}{}", feature_suffix(features)),
+                source,
+                stage,
+                defines: FEATURE_DEFINES[features as usize],
+            });
+        }
+    }
+    let compute = |name: &str, defines| Variant {
+        name: name.to_string(),
+        source: "raytrace.comp.glsl",
+        stage: glslang::ShaderStage::Compute,
+        defines,
+    };
+    out.push(compute("RAYTRACE_COMP", &[]));
+    out.push(compute("RAYTRACE_WIDE_COMP", &[("WIDE_BVH", None)]));
+    out.push(compute("RAYTRACE_QUERY_COMP", &[("RAY_QUERY", None)]));
+    out
+}
 
 #[path = "src/shader_compile.rs"]
 mod shader_compile;
@@ -164,8 +139,9 @@ fn main() {
     let compiler = glslang::Compiler::acquire().expect("glslang could not be initialised");
     let mut catalog =
         String::from("// Generated by build.rs: SPIR-V and naga reflection of every shader.\n\n");
-    let mut reflections: Vec<(&str, shader_compile::Reflection)> = Vec::new();
-    for variant in VARIANTS {
+    let mut reflections: Vec<(String, shader_compile::Reflection)> = Vec::new();
+    let variants = variants();
+    for variant in &variants {
         let spirv = compile(compiler, &shader_dir, variant);
         let bytes: Vec<u8> = spirv.iter().flat_map(|w| w.to_le_bytes()).collect();
         let spv_path = out_dir.join(format!("{}.spv", variant.name.to_lowercase()));
@@ -178,7 +154,7 @@ fn main() {
             spirv_val(variant, &spv_path);
             let (_, base) = reflections
                 .iter()
-                .find(|(name, _)| *name == "RAYTRACE_COMP")
+                .find(|(name, _)| name == "RAYTRACE_COMP")
                 .expect("RAYTRACE_COMP is compiled before its ray-query variant");
             shader_compile::extend_by_decorations(base, &spirv)
                 .unwrap_or_else(|e| fail(variant, "its interface does not extend the base's", &e))
@@ -187,10 +163,19 @@ fn main() {
                 .unwrap_or_else(|e| fail(variant, "naga rejected the SPIR-V", &e))
         };
         write_entry(&mut catalog, variant, &shader_dir, &spv_path, &reflection);
-        reflections.push((variant.name, reflection));
+        reflections.push((variant.name.clone(), reflection));
     }
-    let all: String = VARIANTS.iter().map(|v| format!("&{}, ", v.name)).collect();
+    let all: String = variants.iter().map(|v| format!("&{}, ", v.name)).collect();
     writeln!(catalog, "pub const ALL_SHADERS: &[&ShaderBlob] = &[{all}];").unwrap();
+    let by_name: String = variants
+        .iter()
+        .map(|v| format!("({:?}, &{}), ", v.name, v.name))
+        .collect();
+    writeln!(
+        catalog,
+        "/// Every variant by its constant's name.\npub const BY_NAME: &[(&str, &ShaderBlob)] = &[{by_name}];"
+    )
+    .unwrap();
     write_includes(&mut catalog, &shader_dir.join("include"));
     std::fs::write(out_dir.join("shaders.rs"), catalog).unwrap();
 }

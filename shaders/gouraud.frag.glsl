@@ -1,18 +1,37 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Gouraud shading: writes the interpolated per-vertex intensity.
+// Gouraud shading: writes the interpolated per-vertex intensity. With
+// PATTERN, the pattern at the pixel's interpolated texture coordinates
+// times the intensity without its specular part, plus that part.
 #include "screen_linear.glsl"
+#ifdef PATTERN
+#include "raster_interface.glsl"
+#include "pattern.glsl"
+#endif
 
 layout(location = 0) in vec3 in_intensity;
 #ifdef SCREEN_LINEAR
 layout(location = 1) in float in_w;
 #endif
+#ifdef PATTERN
+layout(location = 2) in vec3 in_specular;
+layout(location = 3) in vec2 in_uv;
+#endif
 layout(location = 0) out vec4 out_color;
 
 void main() {
+#ifdef PATTERN
+#ifdef SCREEN_LINEAR
+    vec3 color = pattern_color(in_uv / in_w) * (in_intensity / in_w) + in_specular / in_w;
+#else
+    vec3 color = pattern_color(in_uv) * in_intensity + in_specular;
+#endif
+    out_color = vec4(color, 1.0);
+#else
 #ifdef SCREEN_LINEAR
     out_color = vec4(in_intensity / in_w, 1.0);
 #else
     out_color = vec4(in_intensity, 1.0);
+#endif
 #endif
 }

@@ -17,6 +17,11 @@ layout(location = 2) out float out_w;
 layout(location = 2) in vec3 in_tint;
 layout(location = 3) out vec3 out_tint;
 #endif
+#ifdef PATTERN
+// The texture coordinates, likewise (the third vertex stream).
+layout(location = 3) in vec2 in_uv;
+layout(location = 4) out vec2 out_uv;
+#endif
 
 void main() {
     gl_Position = draw.clip_from_relative * vec4(in_position, 1.0);
@@ -27,11 +32,17 @@ void main() {
 #ifdef VERTEX_COLOR
     out_tint = in_tint * gl_Position.w;
 #endif
+#ifdef PATTERN
+    out_uv = in_uv * gl_Position.w;
+#endif
 #else
     out_position = in_position;
     out_normal = in_normal;
 #ifdef VERTEX_COLOR
     out_tint = in_tint;
+#endif
+#ifdef PATTERN
+    out_uv = in_uv;
 #endif
 #endif
 }

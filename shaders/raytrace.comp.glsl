@@ -856,6 +856,53 @@ Surfel resolve(vec3 o, vec3 d, Hit hit) {
     return Surfel(p, hit.normal, hit.normal, hit.material);
 }
 
+// Texture coordinates at a hit: the f32 twin of src/scene/texcoords.rs,
+// barycentric for a triangle.
+vec2 hit_uv(Hit hit, Surfel s) {
+    uint index = hit.shape & ~KIND_MASK;
+    uint kind = hit.shape & KIND_MASK;
+    if (HAS_BVH && kind == KIND_TRIANGLE) {
+        vec2 b = hit.uv;
+        return (1.0 - b.x - b.y) * triangle_uvs[index].uv01.xy + b.x * triangle_uvs[index].uv01.zw
+               + b.y * triangle_uvs[index].uv2.xy;
+    }
+    if (kind == KIND_SPHERE) {
+        // Longitude from +Z toward +X, colatitude from the top.
+        const float TWO_PI = 6.28318530717958647692;
+        vec3 n = s.normal;
+        return vec2(0.5 + atan(n.x, n.z) / TWO_PI, acos(clamp(n.y, -1.0, 1.0)) / (0.5 * TWO_PI));
+    }
+    if (kind == KIND_PLANE) {
+        PlaneGeometry g = plane_geometry(int(index));
+        vec3 offset = s.p - g.center;
+        return vec2(dot(offset, g.u), dot(offset, g.v)) / (2.0 * g.half_size) + 0.5;
+    }
+    // A box face: its axis is the normal's in the box's frame; its texture
+    // axes are the two others, in the order that makes u x v the normal.
+    BoxGeometry g = box_geometry(int(index));
+    vec3 local = transpose(g.rotation) * s.normal;
+    vec3 a = abs(local);
+    int k = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+    int b = (k + 1) % 3;
+    int c = (k + 2) % 3;
+    int ku = local[k] > 0.0 ? b : c;
+    int kv = local[k] > 0.0 ? c : b;
+    vec3 offset = s.p - g.center;
+    return vec2(dot(offset, g.rotation[ku]) / (2.0 * g.half_extents[ku]),
+                dot(offset, g.rotation[kv]) / (2.0 * g.half_extents[kv])) + 0.5;
+}
+
+// The hit's material's pattern at the hit (1 without one): the twin of
+// `Pattern::at` (src/scene/model.rs). Called only with PATTERNS.
+vec3 hit_pattern(Hit hit, Surfel s) {
+    vec4 a = patterns[s.material].checker_a;
+    if (a.w == 0.0) {
+        return vec3(1.0);
+    }
+    vec2 cell = floor(a.w * hit_uv(hit, s));
+    return mod(cell.x + cell.y, 2.0) == 0.0 ? a.rgb : patterns[s.material].checker_b.rgb;
+}
+
 // The vertex colour at a hit, interpolated like the normal: it multiplies
 // the material's colour (docs/lighting-model.md, "Surface colour"). One
 // off the meshes. Called only with VERTEX_COLORS.
@@ -1008,6 +1055,11 @@ vec3 trace_sample(vec3 dir, bool live) {
             if (VERTEX_COLORS) {
                 if (hits) {
                     surface.color *= hit_tint(hit);
+                }
+            }
+            if (PATTERNS) {
+                if (hits) {
+                    surface.color *= hit_pattern(hit, s);
                 }
             }
             local = local_shading(s, surface, ray.dir, hits);

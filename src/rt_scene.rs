@@ -8,7 +8,7 @@
 //! two hits are at exactly the same distance the lower index wins, the
 //! same rule as the raster modes' "first drawn wins".
 
-use glam::{DMat3, DVec3, Vec3A};
+use glam::{DMat3, DVec2, DVec3, Vec3A};
 use obvhs::bvh2::Bvh2;
 
 use crate::scene::{plane_axes, Lighting, Material, PointLight, RenderSettings, Scene, Shape};
@@ -99,6 +99,10 @@ pub struct RtScene {
     /// a mesh without them in a scene where another has them). Apart from
     /// `triangles` so that a scene without colours pays nothing for them.
     pub triangle_colors: Vec<[DVec3; 3]>,
+    /// The texture coordinates of each of `triangles`, like
+    /// `triangle_colors`: empty unless some mesh's material has a pattern
+    /// (zeros for the corners of the other meshes).
+    pub triangle_uvs: Vec<[DVec2; 3]>,
     /// Over `triangles`, built from their f32-rounded positions. Its boxes
     /// bound the f32 triangles; both tracers widen them (`widened_box`).
     pub bvh: Bvh2,
@@ -119,6 +123,7 @@ impl RtScene {
             boxes: Vec::new(),
             triangles: Vec::new(),
             triangle_colors: Vec::new(),
+            triangle_uvs: Vec::new(),
             bvh: Bvh2::default(),
             materials: scene.materials.clone(),
             lights: scene
@@ -150,6 +155,13 @@ impl RtScene {
             .any(|o| matches!(&o.shape, Shape::Mesh(m) if !m.colors.is_empty()));
         if coloured {
             rt.triangle_colors.reserve_exact(triangle_count);
+        }
+        let textured = scene.objects.iter().any(|o| {
+            matches!(&o.shape, Shape::Mesh(m) if !m.uvs.is_empty())
+                && scene.materials[o.material].pattern.is_some()
+        });
+        if textured {
+            rt.triangle_uvs.reserve_exact(triangle_count);
         }
         for (index, object) in scene.objects.iter().enumerate() {
             let (material, object_index) = (object.material as u32, index as u32);
@@ -201,6 +213,11 @@ impl RtScene {
                             rt.triangle_colors.push(
                                 [a, b, c]
                                     .map(|i| mesh.colors.get(i).copied().unwrap_or(DVec3::ONE)),
+                            );
+                        }
+                        if textured {
+                            rt.triangle_uvs.push(
+                                [a, b, c].map(|i| mesh.uvs.get(i).copied().unwrap_or_default()),
                             );
                         }
                     }

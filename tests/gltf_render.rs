@@ -78,6 +78,7 @@ fn triangles(positions: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> TriangleMesh {
         positions,
         triangles,
         colors: Vec::new(),
+        uvs: Vec::new(),
     }
 }
 

@@ -143,6 +143,7 @@ fn total_internal_reflection_refracts_nothing_beyond_the_critical_angle() {
         kr: 0.1,
         kt: 0.9,
         ior: 1.5,
+        pattern: None,
     }];
     s.objects.push(Object {
         shape: Shape::Box {

@@ -370,6 +370,7 @@ fn slivers_render_as_the_plain_square() {
         normals: vec![up; 4],
         triangles: vec![[0, 3, 2], [0, 2, 1]],
         colors: Vec::new(),
+        uvs: Vec::new(),
     });
     let context = gpu();
     for mode in [Shading::Phong, Shading::Raytrace] {
@@ -573,6 +574,7 @@ fn grid_on_pixel_centres() -> (
             normals,
             triangles,
             colors: Vec::new(),
+            uvs: Vec::new(),
         }),
         material: 0,
     });

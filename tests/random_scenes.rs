@@ -55,6 +55,7 @@ fn material() -> impl Strategy<Value = Material> {
             kr,
             kt,
             ior,
+            pattern: None,
         })
 }
 

@@ -20,13 +20,20 @@ struct HostInterface {
 }
 
 /// Flat shading's stages bind all of the raster set; Gouraud's and
-/// Phong's the part without the faces.
+/// Phong's the part without the faces. The variants with a pattern push
+/// its constants after the draw's.
 fn host_for(shader: &ShaderBlob) -> HostInterface {
+    let patterned = shader.defines.iter().any(|(d, _)| *d == "PATTERN");
+    let push_constant_size = if patterned {
+        std::mem::size_of::<raster_layout::PatternDrawConstants>()
+    } else {
+        std::mem::size_of::<raster_layout::DrawConstants>()
+    } as u32;
     let raster = |bindings| HostInterface {
         bindings,
         record_size: raster_layout::record_size,
         spec_constants: raster_layout::SPEC_CONSTANTS,
-        push_constant_size: std::mem::size_of::<raster_layout::DrawConstants>() as u32,
+        push_constant_size,
     };
     match shader.stage {
         ShaderStage::Compute => HostInterface {
@@ -190,6 +197,7 @@ fn specialization_constants_match_by_id_and_name() {
             "VERTEX_COLORS",
             offset_of!(TraceSpecialization, vertex_colors),
         ),
+        ("PATTERNS", offset_of!(TraceSpecialization, patterns)),
     ];
     assert_eq!(fields.len(), rt_layout::SPEC_CONSTANTS.len());
     for (name, offset) in fields {
@@ -215,10 +223,12 @@ fn every_stage_is_present() {
             count(ShaderStage::Fragment),
             count(ShaderStage::Compute)
         ),
-        // Flat, Gouraud and Phong (the last two also screen-linear), each
-        // with and without vertex colours; flat's and Gouraud's fragment
-        // stages serve both.
-        (10, 7, 3)
+        // Every subset of the features each stage takes (build.rs): flat's
+        // vertex stage with and without face colours, Gouraud's and Phong's
+        // with each of screen-linear, vertex colours and a pattern; flat's
+        // fragment stage alone, Gouraud's with screen-linear and a pattern,
+        // Phong's with all three.
+        (2 + 8 + 8, 1 + 4 + 8, 3)
     );
     // The second ray tracer is the ray-query engine, and it has its set.
     assert!(ALL_SHADERS.iter().any(|s| {

@@ -19,4 +19,9 @@ layout(push_constant) uniform DrawConstants {
     mat4 clip_from_relative;  // projection * view rotation
     vec4 color_ka;            // rgb: material colour C, a: ka
     vec4 kd_ks_p;             // x: kd, y: ks, z: p
+#ifdef PATTERN
+    // The draw's pattern (raster_layout::PatternConstants).
+    vec4 checker_a;           // rgb: first colour, w: scale (0: no pattern)
+    vec4 checker_b;           // rgb: second colour
+#endif
 } draw;

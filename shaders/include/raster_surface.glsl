@@ -3,10 +3,11 @@ Surface draw_surface() {
     return Surface(draw.color_ka.rgb, draw.color_ka.a, draw.kd_ks_p.x, draw.kd_ks_p.y, draw.kd_ks_p.z);
 }
 
-// With vertex colours (VERTEX_COLOR, a variant of its own: a scene without
-// them compiles none of this), the point's colour C is the material's
-// times the vertex colour (docs/lighting-model.md, "Surface colour").
-#ifdef VERTEX_COLOR
+// With vertex colours or a pattern (VERTEX_COLOR, PATTERN: variants of
+// their own, so a scene without them compiles none of this), the point's
+// colour C is the material's times them (docs/lighting-model.md, "Surface
+// colour").
+#if defined(VERTEX_COLOR) || defined(PATTERN)
 Surface tinted(Surface s, vec3 tint) {
     s.color *= tint;
     return s;

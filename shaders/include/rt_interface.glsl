@@ -45,6 +45,8 @@ layout(constant_id = 14) const bool MATERIALS_LISTED = false;
 layout(constant_id = 15) const int MATERIAL_COUNT = 0;
 // Whether some mesh has vertex colours (`triangle_colors` below).
 layout(constant_id = 16) const bool VERTEX_COLORS = false;
+// Whether some material has a pattern (`patterns`, `triangle_uvs` below).
+layout(constant_id = 17) const bool PATTERNS = false;
 
 layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     vec4 ambient_k;       // rgb: Ia, w: k
@@ -157,6 +159,19 @@ struct TriangleColors {
     vec4 c2;
 };
 layout(std430, set = 0, binding = 12) readonly buffer TriangleColorBuffer { TriangleColors triangle_colors[]; };
+// Each triangle's texture coordinates, likewise (rt_layout::GpuTriangleUvs),
+// and each material's pattern (rt_layout::GpuPattern), read only with
+// PATTERNS.
+struct TriangleUvs {
+    vec4 uv01;  // xy: corner 0, zw: corner 1
+    vec4 uv2;   // xy: corner 2
+};
+struct MaterialPattern {
+    vec4 checker_a;  // rgb: first colour, w: scale (0: no pattern)
+    vec4 checker_b;  // rgb: second colour
+};
+layout(std430, set = 0, binding = 13) readonly buffer TriangleUvBuffer { TriangleUvs triangle_uvs[]; };
+layout(std430, set = 0, binding = 14) readonly buffer PatternBuffer { MaterialPattern patterns[]; };
 // The work queue: the next work item to take (zeroed before each dispatch;
 // see main).
 layout(std430, set = 0, binding = 11) buffer WorkQueueBuffer { uint next_item; };

@@ -7,7 +7,7 @@
 //! rasterization is bounded by the image (Vulkan implementations use a guard
 //! band for the same reason); there is no far plane.
 
-use glam::{DVec3, DVec4};
+use glam::{DVec2, DVec3, DVec4};
 
 /// A vertex with everything the rasterizer interpolates.
 #[derive(Debug, Clone, Copy)]
@@ -21,6 +21,11 @@ pub struct ClipVertex {
     /// The vertex colour (`DVec3::ONE` where the mesh has none): Phong
     /// interpolates it.
     pub color: DVec3,
+    /// Gouraud under a pattern: the specular part of the intensity, apart
+    /// from the rest (`intensity`), which the pattern multiplies per pixel.
+    pub specular: DVec3,
+    /// Texture coordinates (zero without a pattern).
+    pub uv: DVec2,
     /// What the attributes above are multiplied by: the clip-space `w` for
     /// screen-linear interpolation, 1 otherwise (see `cpu::raster`).
     pub weight: f64,
@@ -34,6 +39,8 @@ impl ClipVertex {
             normal: self.normal.lerp(other.normal, t),
             intensity: self.intensity.lerp(other.intensity, t),
             color: self.color.lerp(other.color, t),
+            specular: self.specular.lerp(other.specular, t),
+            uv: self.uv.lerp(other.uv, t),
             weight: self.weight + (other.weight - self.weight) * t,
         }
     }
@@ -75,6 +82,8 @@ mod tests {
             normal: DVec3::Z,
             intensity: DVec3::splat(tag),
             color: DVec3::ONE,
+            specular: DVec3::ZERO,
+            uv: DVec2::ZERO,
             weight: 1.0,
         }
     }

@@ -7,7 +7,7 @@
 
 use std::ops::ControlFlow;
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use crate::rt_scene::{widened_box, RtBox, RtPlane, RtScene, RtSphere, RtTriangle};
 
@@ -45,8 +45,10 @@ pub struct Hit {
     /// The geometric normal, used only to offset secondary rays (the shading
     /// normal for spheres, planes and boxes).
     pub geometric_normal: DVec3,
-    /// The vertex colour at the hit (`DVec3::ONE` where there is none).
-    pub tint: DVec3,
+    /// The hit's barycentrics `(u, v)` on a triangle (weights of its second
+    /// and third corners), zero elsewhere: what its vertex colours and
+    /// texture coordinates are interpolated with.
+    pub barycentrics: DVec2,
 }
 
 /// `sign(x)` with `sign(0) = 1`, as the spec writes it.
@@ -357,7 +359,7 @@ impl<'a> Accel<'a> {
                         primitive: Primitive::Sphere(i as u32),
                         normal: n,
                         geometric_normal: n,
-                        tint: DVec3::ONE,
+                        barycentrics: DVec2::ZERO,
                     });
                 }
             }
@@ -372,7 +374,7 @@ impl<'a> Accel<'a> {
                         primitive: Primitive::Plane(i as u32),
                         normal: pl.normal,
                         geometric_normal: pl.normal,
-                        tint: DVec3::ONE,
+                        barycentrics: DVec2::ZERO,
                     });
                 }
             }
@@ -390,7 +392,7 @@ impl<'a> Accel<'a> {
                         },
                         normal: n,
                         geometric_normal: n,
-                        tint: DVec3::ONE,
+                        barycentrics: DVec2::ZERO,
                     });
                 }
             }
@@ -411,10 +413,7 @@ impl<'a> Accel<'a> {
                         primitive: Primitive::Triangle(k),
                         normal: triangle_normal(tri, u, v),
                         geometric_normal: tri.geometric_normal(),
-                        tint: s
-                            .triangle_colors
-                            .get(k as usize)
-                            .map_or(DVec3::ONE, |c| (1.0 - u - v) * c[0] + u * c[1] + v * c[2]),
+                        barycentrics: DVec2::new(u, v),
                     });
                     *t_max = t;
                 }

@@ -135,6 +135,7 @@ mod tests {
             kr: 0.0,
             kt: 0.0,
             ior: 1.0,
+            pattern: None,
         }
     }
 

@@ -10,3 +10,4 @@ pub mod intersect;
 pub mod lighting;
 pub mod raster;
 pub mod raytrace;
+pub mod surface;

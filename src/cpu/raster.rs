@@ -17,7 +17,7 @@ use super::clip::{clip_near, ClipVertex};
 use super::lighting::{shade, Surface};
 use crate::camera::View;
 use crate::linear_image::LinearImage;
-use crate::scene::{tessellate, Interpolation, Scene};
+use crate::scene::{tessellate, tessellate_textured, Interpolation, Material, Pattern, Scene};
 use crate::shading::RasterMode;
 
 /// Sub-pixel grid of the coverage test: 1/256 pixel.
@@ -107,6 +107,8 @@ struct Triangle {
     flat_color: DVec3,
     /// Whether its mesh has vertex colours (Phong interpolates them).
     coloured: bool,
+    /// Its material's pattern, which Gouraud and Phong apply per sample.
+    pattern: Option<Pattern>,
     /// Pixel bounds (inclusive), clamped to the image.
     min: (u32, u32),
     max: (u32, u32),
@@ -143,7 +145,20 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
     let mut next_primitive = 0u32;
     for (object_index, object) in scene.objects.iter().enumerate() {
         let material = &scene.materials[object.material];
-        let mesh = tessellate(&object.shape);
+        let pattern = material.pattern;
+        let mesh = if pattern.is_some() {
+            tessellate_textured(&object.shape)
+        } else {
+            tessellate(&object.shape)
+        };
+        // Gouraud under a pattern: the intensity without the specular term
+        // (`unlit_specular`, ks = 0) and the specular term alone (a black
+        // surface), which the pattern leaves untinted.
+        let unlit_specular = Material {
+            ks: 0.0,
+            ..material.clone()
+        };
+        let uv_at = |i: usize| mesh.uvs.get(i).copied().unwrap_or_default();
         // The vertex colour, one where the mesh has none.
         let tint_at = |i: usize| mesh.colors.get(i).copied().unwrap_or(DVec3::ONE);
         let vertices: Vec<ClipVertex> = mesh
@@ -154,19 +169,34 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
             .map(|(i, (p, n))| {
                 let rel = *p - view.eye;
                 let tint = tint_at(i);
-                let intensity = if mode == RasterMode::Gouraud {
-                    // Gouraud runs the formula at the vertex, with the
-                    // vertex's own colour.
+                let normal = n.normalize_or_zero();
+                let shade_with = |surface| {
                     shade(
                         &scene.lighting,
                         &scene.lights,
-                        Surface { material, tint },
+                        surface,
                         *p,
-                        n.normalize_or_zero(),
+                        normal,
                         view.eye,
                     )
-                } else {
-                    DVec3::ZERO
+                };
+                let (intensity, specular) = match (mode, pattern) {
+                    // Gouraud runs the formula at the vertex, with the
+                    // vertex's own colour.
+                    (RasterMode::Gouraud, None) => {
+                        (shade_with(Surface { material, tint }), DVec3::ZERO)
+                    }
+                    (RasterMode::Gouraud, Some(_)) => (
+                        shade_with(Surface {
+                            material: &unlit_specular,
+                            tint,
+                        }),
+                        shade_with(Surface {
+                            material,
+                            tint: DVec3::ZERO,
+                        }),
+                    ),
+                    _ => (DVec3::ZERO, DVec3::ZERO),
                 };
                 let clip = clip_from_rel * rel.extend(1.0);
                 // Screen-linear interpolation as the shaders make it
@@ -183,6 +213,8 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
                     normal: *n * weight,
                     intensity: intensity * weight,
                     color: tint * weight,
+                    specular: specular * weight,
+                    uv: uv_at(i) * weight,
                     weight,
                 }
             })
@@ -197,7 +229,12 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
                 // Flat runs the formula at the centroid, whose colour is
                 // the mean of the corners'.
                 let [ta, tb, tc] = tri.map(|i| tint_at(i as usize));
-                let tint = (ta + tb + tc) / 3.0;
+                let mut tint = (ta + tb + tc) / 3.0;
+                if let Some(pattern) = &pattern {
+                    let [ua, ub, uc] = tri.map(|i| uv_at(i as usize));
+                    let uv = (ua + ub + uc) / 3.0;
+                    tint *= pattern.at(uv.x, uv.y).0;
+                }
                 shade(
                     &scene.lighting,
                     &scene.lights,
@@ -215,6 +252,7 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
                 let ids = (object_index as u32, primitive);
                 if let Some(mut t) = screen_triangle(view, ids, verts, flat_color) {
                     t.coloured = !mesh.colors.is_empty();
+                    t.pattern = pattern;
                     triangles.push(t);
                 }
             }
@@ -255,6 +293,7 @@ fn screen_triangle(
         vertices,
         flat_color,
         coloured: false,
+        pattern: None,
         min: (first(lo.x), first(lo.y)),
         max: (x1 as u32, y1 as u32),
     })
@@ -300,7 +339,7 @@ fn shade_sample(
     mode: RasterMode,
     t: &Triangle,
     bary: [f64; 3],
-) -> (DVec3, bool) {
+) -> Sample {
     // Perspective-correct weights; with screen-linear interpolation the
     // attributes carry a factor w that `weight` divides back out.
     let w = [
@@ -320,9 +359,26 @@ fn shade_sample(
             + f(&t.vertices[2]) * weights[2])
             * scale
     };
+    // The pattern at the sample's interpolated texture coordinates.
+    let patterned = t.pattern.map(|pattern| {
+        let uv = mix(|v| v.uv.extend(0.0)).truncate();
+        pattern.at(uv.x, uv.y)
+    });
+    let cell = patterned.map(|(_, cell)| cell);
     match mode {
-        RasterMode::Flat => (t.flat_color, false),
-        RasterMode::Gouraud => (mix(|v| v.intensity), false),
+        RasterMode::Flat => Sample {
+            color: t.flat_color,
+            vanishing_normal: false,
+            cell: None,
+        },
+        RasterMode::Gouraud => Sample {
+            color: match patterned {
+                None => mix(|v| v.intensity),
+                Some((texel, _)) => texel * mix(|v| v.intensity) + mix(|v| v.specular),
+            },
+            vanishing_normal: false,
+            cell,
+        },
         RasterMode::Phong => {
             let position = mix(|v| v.position) + view.eye;
             let interpolated = mix(|v| v.normal);
@@ -330,11 +386,14 @@ fn shade_sample(
             let material = &scene.materials[scene.objects[t.object as usize].material];
             // Not interpolated where there are none: weights that sum to 1
             // only up to rounding would move an uncoloured surface's colour.
-            let tint = if t.coloured {
+            let mut tint = if t.coloured {
                 mix(|v| v.color)
             } else {
                 DVec3::ONE
             };
+            if let Some((texel, _)) = patterned {
+                tint *= texel;
+            }
             let color = shade(
                 &scene.lighting,
                 &scene.lights,
@@ -343,7 +402,40 @@ fn shade_sample(
                 normal,
                 view.eye,
             );
-            (color, interpolated.length() < VANISHING_NORMAL)
+            Sample {
+                color,
+                vanishing_normal: interpolated.length() < VANISHING_NORMAL,
+                cell,
+            }
+        }
+    }
+}
+
+/// What one sample shows.
+struct Sample {
+    color: DVec3,
+    /// Phong: the interpolated normal is shorter than `VANISHING_NORMAL`.
+    vanishing_normal: bool,
+    /// The pattern cell the sample lies in, if its surface has a pattern.
+    cell: Option<i64>,
+}
+
+/// Marks every pixel whose 3x3 neighbourhood holds another pattern cell
+/// than its own: the pattern's colour changes there, and a sample of the
+/// GPU's, whose texture coordinates are f32, may land on either side.
+fn mark_cell_edges(width: usize, height: usize, cells: &[Option<i64>], near_edge: &mut [bool]) {
+    for y in 0..height {
+        for x in 0..width {
+            let Some(own) = cells[y * width + x] else {
+                continue;
+            };
+            let differs = (y.saturating_sub(1)..(y + 2).min(height)).any(|ny| {
+                (x.saturating_sub(1)..(x + 2).min(width))
+                    .any(|nx| cells[ny * width + nx].is_some_and(|c| c != own))
+            });
+            if differs {
+                near_edge[y * width + x] = true;
+            }
         }
     }
 }
@@ -354,6 +446,7 @@ struct Band {
     object_ids: Vec<Option<u32>>,
     triangle_ids: Vec<Option<u32>>,
     near_edge: Vec<bool>,
+    cells: Vec<Option<i64>>,
 }
 
 /// Renders `scene` at its image size in `mode`.
@@ -372,6 +465,7 @@ pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
             let mut ids = vec![None; count];
             let mut tri_ids = vec![None; count];
             let mut vanishing = vec![false; count];
+            let mut cells = vec![None; count];
             // Reversed depth: cleared to 0, nearer is greater.
             let mut depth = vec![0.0f64; count];
             for t in &triangles {
@@ -388,7 +482,9 @@ pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
                             depth[i] = z;
                             ids[i] = Some(t.object);
                             tri_ids[i] = Some(t.primitive);
-                            (color[i], vanishing[i]) = shade_sample(scene, &view, mode, t, bary);
+                            let sample = shade_sample(scene, &view, mode, t, bary);
+                            (color[i], vanishing[i]) = (sample.color, sample.vanishing_normal);
+                            cells[i] = sample.cell;
                         }
                     }
                 }
@@ -421,6 +517,7 @@ pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
                 object_ids: ids,
                 triangle_ids: tri_ids,
                 near_edge,
+                cells,
             }
         })
         .collect();
@@ -432,12 +529,15 @@ pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
     let mut object_ids = Vec::with_capacity((width * height) as usize);
     let mut triangle_ids = Vec::with_capacity((width * height) as usize);
     let mut near_edge = Vec::with_capacity((width * height) as usize);
+    let mut cells = Vec::with_capacity((width * height) as usize);
     for band in bands {
         image.pixels.extend(band.pixels);
         object_ids.extend(band.object_ids);
         triangle_ids.extend(band.triangle_ids);
         near_edge.extend(band.near_edge);
+        cells.extend(band.cells);
     }
+    mark_cell_edges(width as usize, height as usize, &cells, &mut near_edge);
     CpuRender {
         image,
         object_ids,
@@ -457,6 +557,8 @@ mod tests {
             normal: DVec3::Z,
             intensity: DVec3::ZERO,
             color: DVec3::ONE,
+            specular: DVec3::ZERO,
+            uv: glam::DVec2::ZERO,
             weight: 1.0,
         };
         Triangle {
@@ -469,6 +571,7 @@ mod tests {
             vertices: [v; 3],
             flat_color: DVec3::ZERO,
             coloured: false,
+            pattern: None,
             min: (0, 0),
             max: (0, 0),
         }

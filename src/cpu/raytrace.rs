@@ -12,6 +12,7 @@ use rayon::prelude::*;
 
 use super::intersect::{Accel, Hit, Primitive, Ray};
 use super::lighting::{shade_visible, Surface};
+use super::surface::hit_tint;
 use crate::camera::View;
 use crate::linear_image::LinearImage;
 use crate::rt_scene::{sample_grid, RayStats, RtScene};
@@ -85,6 +86,13 @@ impl PathSignature {
         self.bytes(&depth.to_le_bytes());
         self.bytes(&object.to_le_bytes());
         self.bytes(&part.to_le_bytes());
+    }
+
+    /// The pattern cell a hit lies in: a pattern's colour changes between
+    /// cells as a surface's does at its edge.
+    fn cell(&mut self, cell: i64) {
+        self.bytes(&[4]);
+        self.bytes(&cell.to_le_bytes());
     }
 
     fn light(&mut self, index: usize, visible: bool) {
@@ -226,10 +234,11 @@ impl<'a> Tracer<'a> {
             let p = origin + hit.t * d;
             let (n, ng) = (hit.normal, hit.geometric_normal);
             let material = &scene.materials[hit.material as usize];
-            let surface = Surface {
-                material,
-                tint: hit.tint,
-            };
+            let (tint, cell) = hit_tint(scene, &hit, p);
+            if let Some(cell) = cell {
+                signature.cell(cell);
+            }
+            let surface = Surface { material, tint };
             let local = shade_visible(
                 &scene.lighting,
                 &scene.lights,

@@ -16,7 +16,9 @@ use super::hook;
 use super::image::subresource_range;
 use super::pipeline::{single_pipeline, PipelineObjects};
 use super::raster_frame::Frame;
-use super::raster_layout::{DrawConstants, Specialization, Vertex, BINDINGS, SMOOTH_BINDINGS};
+use super::raster_layout::{
+    DrawConstants, PatternDrawConstants, Specialization, Vertex, BINDINGS, SMOOTH_BINDINGS,
+};
 use super::raster_scene::{build_geometry, specialization};
 use super::shader_catalog::{self as shaders, ShaderBlob};
 use super::timestamps::{ms_since, GpuTimings, Timestamps};
@@ -80,38 +82,56 @@ pub struct RasterOutput {
     pub timings: GpuTimings,
 }
 
+/// What a raster pipeline's shaders take beyond the mode: each a variant
+/// of its own (build.rs), so a scene without them compiles none of it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub(crate) struct SurfaceFeatures {
+    /// A colour per vertex (flat shading: per face) in a second vertex
+    /// stream: vertex colours, and for flat shading the patterns too.
+    pub colors: bool,
+    /// Texture coordinates in a third vertex stream and a pattern per draw
+    /// (Gouraud and Phong; flat shading's is in its face colours).
+    pub pattern: bool,
+}
+
+/// The variant of `base` (`PHONG_FRAG`, ...) with the features it takes.
+fn variant(base: &str, screen: bool, colors: bool, pattern: bool) -> &'static ShaderBlob {
+    let mut name = base.to_string();
+    for (on, suffix) in [
+        (screen, "_SCREEN"),
+        (colors, "_COLOR"),
+        (pattern, "_PATTERN"),
+    ] {
+        if on {
+            name.push_str(suffix);
+        }
+    }
+    shaders::BY_NAME
+        .iter()
+        .find(|(n, _)| *n == name)
+        .unwrap_or_else(|| panic!("build.rs compiles every raster variant, {name} too"))
+        .1
+}
+
 fn shader_pair(
     mode: RasterMode,
     interpolation: Interpolation,
-    vertex_colors: bool,
+    features: SurfaceFeatures,
 ) -> (&'static ShaderBlob, &'static ShaderBlob) {
-    use Interpolation::{Perspective, Screen};
-    match (mode, interpolation, vertex_colors) {
-        (RasterMode::Flat, _, false) => (&shaders::FLAT_VERT, &shaders::FLAT_FRAG),
-        (RasterMode::Flat, _, true) => (&shaders::FLAT_VERT_COLOR, &shaders::FLAT_FRAG),
-        (RasterMode::Gouraud, Perspective, false) => {
-            (&shaders::GOURAUD_VERT, &shaders::GOURAUD_FRAG)
-        }
-        (RasterMode::Gouraud, Perspective, true) => {
-            (&shaders::GOURAUD_VERT_COLOR, &shaders::GOURAUD_FRAG)
-        }
-        (RasterMode::Gouraud, Screen, false) => {
-            (&shaders::GOURAUD_VERT_SCREEN, &shaders::GOURAUD_FRAG_SCREEN)
-        }
-        (RasterMode::Gouraud, Screen, true) => (
-            &shaders::GOURAUD_VERT_SCREEN_COLOR,
-            &shaders::GOURAUD_FRAG_SCREEN,
+    let screen = interpolation == Interpolation::Screen;
+    let SurfaceFeatures { colors, pattern } = features;
+    match mode {
+        RasterMode::Flat => (
+            variant("FLAT_VERT", false, colors, false),
+            variant("FLAT_FRAG", false, false, false),
         ),
-        (RasterMode::Phong, Perspective, false) => (&shaders::PHONG_VERT, &shaders::PHONG_FRAG),
-        (RasterMode::Phong, Perspective, true) => {
-            (&shaders::PHONG_VERT_COLOR, &shaders::PHONG_FRAG_COLOR)
-        }
-        (RasterMode::Phong, Screen, false) => {
-            (&shaders::PHONG_VERT_SCREEN, &shaders::PHONG_FRAG_SCREEN)
-        }
-        (RasterMode::Phong, Screen, true) => (
-            &shaders::PHONG_VERT_SCREEN_COLOR,
-            &shaders::PHONG_FRAG_SCREEN_COLOR,
+        RasterMode::Gouraud => (
+            variant("GOURAUD_VERT", screen, colors, pattern),
+            variant("GOURAUD_FRAG", screen, false, pattern),
+        ),
+        RasterMode::Phong => (
+            variant("PHONG_VERT", screen, colors, pattern),
+            variant("PHONG_FRAG", screen, colors, pattern),
         ),
     }
 }
@@ -132,15 +152,20 @@ fn create_pipeline(
     spec: &Specialization,
     target: ColorTarget,
     lighting_hook: Option<&LightingHook>,
-    vertex_colors: bool,
+    features: SurfaceFeatures,
 ) -> Result<PipelineObjects, GpuError> {
     let device = &context.device;
     let mut p = PipelineObjects::new(context);
     let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
     p.set_layout = create_set_layout(context, bindings_of(mode), stages)?;
+    let push_size = if features.pattern {
+        std::mem::size_of::<PatternDrawConstants>()
+    } else {
+        std::mem::size_of::<DrawConstants>()
+    };
     let ranges = [vk::PushConstantRange::default()
         .stage_flags(stages)
-        .size(std::mem::size_of::<DrawConstants>() as u32)];
+        .size(push_size as u32)];
     let set_layouts = [p.set_layout];
     let layout_info = vk::PipelineLayoutCreateInfo::default()
         .set_layouts(&set_layouts)
@@ -149,7 +174,7 @@ fn create_pipeline(
     p.layout = unsafe { device.create_pipeline_layout(&layout_info, None) }
         .during("vkCreatePipelineLayout")?;
 
-    let (vert, frag) = shader_pair(mode, interpolation, vertex_colors);
+    let (vert, frag) = shader_pair(mode, interpolation, features);
     for blob in [vert, frag] {
         let words = hook::module_words(blob, lighting_hook, &context.info)?;
         let info = vk::ShaderModuleCreateInfo::default().code(&words);
@@ -182,35 +207,40 @@ fn create_pipeline(
     } else {
         std::mem::size_of::<Vertex>()
     };
-    let all_bindings = [
+    // Positions (and normals) in stream 0; the colours in stream 1 and the
+    // texture coordinates in stream 2 where the variant reads them
+    // (`raster_frame`), at the locations the shaders give them.
+    let stream = |binding: u32, stride: usize| {
         vk::VertexInputBindingDescription::default()
-            .binding(0)
+            .binding(binding)
             .stride(stride as u32)
-            .input_rate(vk::VertexInputRate::VERTEX),
-        // The vertex colours, a stream of their own (`raster_frame`).
-        vk::VertexInputBindingDescription::default()
-            .binding(1)
-            .stride(std::mem::size_of::<[f32; 3]>() as u32)
-            .input_rate(vk::VertexInputRate::VERTEX),
-    ];
-    let vec3_at = |location: u32, binding: u32, offset: u32| {
+            .input_rate(vk::VertexInputRate::VERTEX)
+    };
+    let attribute = |location: u32, binding: u32, format: vk::Format, offset: u32| {
         vk::VertexInputAttributeDescription::default()
             .location(location)
             .binding(binding)
-            .format(vk::Format::R32G32B32_SFLOAT)
+            .format(format)
             .offset(offset)
     };
+    let vec3 = vk::Format::R32G32B32_SFLOAT;
+    let mut bindings = vec![stream(0, stride)];
     // The flat vertex stage reads positions only (and its face's colour).
-    let mut attributes = vec![vec3_at(0, 0, 0)];
+    let mut attributes = vec![attribute(0, 0, vec3, 0)];
     if mode != RasterMode::Flat {
-        attributes.push(vec3_at(1, 0, 12));
+        attributes.push(attribute(1, 0, vec3, 12));
     }
-    if vertex_colors {
-        attributes.push(vec3_at(attributes.len() as u32, 1, 0));
+    if features.colors {
+        bindings.push(stream(1, std::mem::size_of::<[f32; 3]>()));
+        let location = if mode == RasterMode::Flat { 1 } else { 2 };
+        attributes.push(attribute(location, 1, vec3, 0));
     }
-    let bindings = &all_bindings[..if vertex_colors { 2 } else { 1 }];
+    if features.pattern {
+        bindings.push(stream(2, std::mem::size_of::<[f32; 2]>()));
+        attributes.push(attribute(3, 2, vk::Format::R32G32_SFLOAT, 0));
+    }
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
-        .vertex_binding_descriptions(bindings)
+        .vertex_binding_descriptions(&bindings)
         .vertex_attribute_descriptions(&attributes);
     let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
         .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
@@ -338,22 +368,17 @@ pub fn render_to(
     let pipeline_started = Instant::now();
     let hook = scene.lighting_hook.as_deref();
     let interpolation = scene.lighting.interpolation;
-    let vertex_colors = !geometry.vertex_colors.is_empty();
+    let features = SurfaceFeatures {
+        colors: !geometry.vertex_colors.is_empty() || !geometry.face_colors.is_empty(),
+        pattern: !geometry.vertex_uvs.is_empty(),
+    };
     let key = format!(
-        "raster {mode:?} {interpolation:?} {target:?} spec {:?} hook {:016x} colours {vertex_colors}",
+        "raster {mode:?} {interpolation:?} {target:?} spec {:?} hook {:016x} {features:?}",
         bytemuck::bytes_of(&spec),
         crate::cache::digest(&hook.map(|h| &h.source)),
     );
     let pipeline = context.pipelines.get_or_create(key, || {
-        create_pipeline(
-            context,
-            mode,
-            interpolation,
-            &spec,
-            target,
-            hook,
-            vertex_colors,
-        )
+        create_pipeline(context, mode, interpolation, &spec, target, hook, features)
     })?;
     let pipeline_ms = ms_since(pipeline_started);
 

@@ -17,7 +17,7 @@ use super::image::Image;
 use super::pipeline::PipelineObjects;
 use super::raster::{bindings_of, image_barrier, ColorTarget, DEPTH_FORMAT};
 use super::raster_flat::FlatMesh;
-use super::raster_layout::{DrawConstants, FrameUniforms};
+use super::raster_layout::{DrawConstants, FrameUniforms, PatternConstants, PatternDrawConstants};
 use super::raster_scene::{lights, RasterGeometry as Geometry};
 use super::timestamps::Timestamps;
 use crate::camera::View;
@@ -31,6 +31,9 @@ pub(crate) struct Frame {
     /// The second vertex stream, the vertex colours, where the scene has
     /// them (per flat vertex: its face's).
     color_buffer: Option<Buffer>,
+    /// The third, the texture coordinates, where a material has a pattern
+    /// (Gouraud and Phong).
+    uv_buffer: Option<Buffer>,
     index_buffer: Buffer,
     descriptors: Descriptors,
     color: Image,
@@ -79,6 +82,16 @@ impl Frame {
                 context,
                 "vertex colours",
                 bytemuck::cast_slice(colors),
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+            )?)
+        };
+        let uv_buffer = if geometry.vertex_uvs.is_empty() || flat {
+            None
+        } else {
+            Some(Buffer::with_data(
+                context,
+                "texture coordinates",
+                bytemuck::cast_slice(&geometry.vertex_uvs),
                 vk::BufferUsageFlags::VERTEX_BUFFER,
             )?)
         };
@@ -146,6 +159,7 @@ impl Frame {
         Ok(Self {
             vertex_buffer,
             color_buffer,
+            uv_buffer,
             index_buffer,
             descriptors,
             color,
@@ -298,6 +312,9 @@ impl Frame {
         if let Some(colors) = &self.color_buffer {
             device.cmd_bind_vertex_buffers(cmd, 1, &[colors.raw], &[0]);
         }
+        if let Some(uvs) = &self.uv_buffer {
+            device.cmd_bind_vertex_buffers(cmd, 2, &[uvs.raw], &[0]);
+        }
         device.cmd_bind_index_buffer(cmd, index_buffer.raw, 0, vk::IndexType::UINT32);
         let clip = view.clip_from_relative().as_mat4().to_cols_array_2d();
         for draw in &geometry.draws {
@@ -308,12 +325,21 @@ impl Frame {
                 color_ka: [color.x, color.y, color.z, m.ka as f32],
                 kd_ks_p: [m.kd as f32, m.ks as f32, m.p as f32, 0.0],
             };
+            let patterned = PatternDrawConstants {
+                draw: constants,
+                pattern: PatternConstants::of(m.pattern.as_ref()),
+            };
+            let bytes = if self.uv_buffer.is_some() {
+                bytemuck::bytes_of(&patterned)
+            } else {
+                bytemuck::bytes_of(&constants)
+            };
             device.cmd_push_constants(
                 cmd,
                 pipeline.layout,
                 vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
                 0,
-                bytemuck::bytes_of(&constants),
+                bytes,
             );
             let cull = if draw.cull_back {
                 vk::CullModeFlags::BACK

@@ -78,6 +78,45 @@ pub struct DrawConstants {
     pub kd_ks_p: [f32; 4],
 }
 
+/// A draw's pattern (`PATTERN` variants), pushed after `DrawConstants`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct PatternConstants {
+    /// rgb: the checker's first colour; w: its scale, 0 for a material
+    /// without a pattern (the pattern is then 1).
+    pub checker_a: [f32; 4],
+    /// rgb: the checker's second colour.
+    pub checker_b: [f32; 4],
+}
+
+/// The push constants of the `PATTERN` variants: 128 bytes, the least every
+/// Vulkan device holds.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct PatternDrawConstants {
+    pub draw: DrawConstants,
+    pub pattern: PatternConstants,
+}
+
+impl PatternConstants {
+    /// The values for a material's pattern, or for none.
+    pub fn of(pattern: Option<&crate::scene::Pattern>) -> Self {
+        match pattern {
+            None => PatternConstants::zeroed(),
+            Some(crate::scene::Pattern::Checker {
+                scale,
+                colors: [a, b],
+            }) => {
+                let (a, b) = (a.as_vec3(), b.as_vec3());
+                PatternConstants {
+                    checker_a: [a.x, a.y, a.z, *scale as f32],
+                    checker_b: [b.x, b.y, b.z, 0.0],
+                }
+            }
+        }
+    }
+}
+
 /// Values for `SPEC_CONSTANTS`, in order; each is 4 bytes (bools as VkBool32).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]

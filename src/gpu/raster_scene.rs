@@ -15,7 +15,7 @@ use glam::DVec3;
 use super::raster_cull::back_faces_hidden;
 use super::raster_layout::{GpuFace, GpuLight, Specialization, Vertex};
 use crate::camera::View;
-use crate::scene::{tessellate, Scene, Shape};
+use crate::scene::{tessellate, tessellate_textured, Scene, Shape};
 
 pub struct Draw {
     pub first_index: u32,
@@ -34,10 +34,24 @@ pub struct RasterGeometry {
     /// Into `vertices` (global, not per draw: merged draws span objects).
     pub indices: Vec<u32>,
     pub faces: Vec<GpuFace>,
-    /// With `faces` and `vertex_colors`: each face's colour, the mean of its
-    /// corners' (flat shading runs the formula at the centroid).
+    /// With `faces`, where the scene has vertex colours or a pattern: each
+    /// face's colour at its centroid, where flat shading runs the formula:
+    /// the mean of its corners' vertex colours times its pattern at the
+    /// mean of their texture coordinates.
     pub face_colors: Vec<[f32; 3]>,
+    /// Without `faces` (Gouraud and Phong), where some material has a
+    /// pattern: texture coordinates per vertex, a third vertex stream
+    /// (zeros for the objects without one).
+    pub vertex_uvs: Vec<[f32; 2]>,
     pub draws: Vec<Draw>,
+}
+
+/// Whether some object of the scene has a material with a pattern.
+pub fn has_patterns(scene: &Scene) -> bool {
+    scene
+        .objects
+        .iter()
+        .any(|o| scene.materials[o.material].pattern.is_some())
 }
 
 /// Whether some mesh of the scene has vertex colours: the raster
@@ -63,12 +77,15 @@ fn f32x4(v: DVec3) -> [f32; 4] {
 pub fn build_geometry(scene: &Scene, view: &View, with_faces: bool) -> RasterGeometry {
     let eye = view.eye;
     let coloured = has_vertex_colors(scene);
+    let patterned = has_patterns(scene);
+    let face_colors = with_faces && (coloured || patterned);
     let mut geometry = RasterGeometry {
         vertices: Vec::new(),
         vertex_colors: Vec::new(),
         indices: Vec::new(),
         faces: Vec::new(),
         face_colors: Vec::new(),
+        vertex_uvs: Vec::new(),
         draws: Vec::new(),
     };
     // Reserved exactly: growth by doubling left up to half of each list
@@ -85,12 +102,17 @@ pub fn build_geometry(scene: &Scene, view: &View, with_faces: bool) -> RasterGeo
     }
     if coloured {
         geometry.vertex_colors.reserve_exact(vertex_count as usize);
-        if with_faces {
-            geometry.face_colors.reserve_exact(triangle_count as usize);
-        }
+    }
+    if face_colors {
+        geometry.face_colors.reserve_exact(triangle_count as usize);
     }
     for object in &scene.objects {
-        let mesh = tessellate(&object.shape);
+        let pattern = scene.materials[object.material].pattern;
+        let mesh = if pattern.is_some() {
+            tessellate_textured(&object.shape)
+        } else {
+            tessellate(&object.shape)
+        };
         let draw = Draw {
             first_index: geometry.indices.len() as u32,
             index_count: (mesh.triangles.len() * 3) as u32,
@@ -114,14 +136,26 @@ pub fn build_geometry(scene: &Scene, view: &View, with_faces: bool) -> RasterGeo
                 .vertex_colors
                 .extend((0..mesh.positions.len() as u32).map(|i| f32x3(tint_at(i))));
         }
+        let uv_at = |i: u32| mesh.uvs.get(i as usize).copied().unwrap_or_default();
+        if patterned && !with_faces {
+            geometry
+                .vertex_uvs
+                .extend((0..mesh.positions.len() as u32).map(|i| uv_at(i).as_vec2().to_array()));
+        }
         for tri in &mesh.triangles {
             geometry.indices.extend(tri.map(|i| base + i));
             if !with_faces {
                 continue;
             }
-            if coloured {
+            if face_colors {
                 let [ta, tb, tc] = tri.map(tint_at);
-                geometry.face_colors.push(f32x3((ta + tb + tc) / 3.0));
+                let mut color = (ta + tb + tc) / 3.0;
+                if let Some(pattern) = &pattern {
+                    let [ua, ub, uc] = tri.map(uv_at);
+                    let uv = (ua + ub + uc) / 3.0;
+                    color *= pattern.at(uv.x, uv.y).0;
+                }
+                geometry.face_colors.push(f32x3(color));
             }
             let [a, b, c] = tri.map(|i| mesh.positions[i as usize]);
             let normal = (b - a).cross(c - a).normalize_or_zero();

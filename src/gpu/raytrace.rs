@@ -182,6 +182,7 @@ fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSp
             0
         },
         vertex_colors: u32::from(!rt.triangle_colors.is_empty()),
+        patterns: u32::from(rt.materials.iter().any(|m| m.pattern.is_some())),
     }
 }
 
@@ -285,9 +286,15 @@ pub fn render_with(
         "triangle shading",
         bytemuck::cast_slice(&r.triangle_shading),
     )?;
-    // Bound whether or not the scene has vertex colours: the binding is in
-    // the module either way, read only where VERTEX_COLORS is on.
+    // Bound whether or not the scene has vertex colours or patterns: the
+    // bindings are in the module either way, read only where VERTEX_COLORS
+    // or PATTERNS is on.
     let triangle_colors = upload("triangle colours", bytemuck::cast_slice(&r.triangle_colors))?;
+    let triangle_uvs = upload(
+        "triangle texture coordinates",
+        bytemuck::cast_slice(&r.triangle_uvs),
+    )?;
+    let patterns = upload("patterns", bytemuck::cast_slice(&r.patterns))?;
     // Zeroed on the device before the dispatch (below), whatever memory
     // the allocator hands out.
     let work_queue = Buffer::new(
@@ -332,6 +339,8 @@ pub fn render_with(
             &stats,
             &work_queue,
             &triangle_colors,
+            &triangle_uvs,
+            &patterns,
         ],
     )?;
 

@@ -46,6 +46,9 @@ pub fn group_by_mesh(r: &mut SceneRecords) -> Vec<(u32, u32)> {
     if !r.triangle_colors.is_empty() {
         r.triangle_colors = order.iter().map(|&i| r.triangle_colors[i]).collect();
     }
+    if !r.triangle_uvs.is_empty() {
+        r.triangle_uvs = order.iter().map(|&i| r.triangle_uvs[i]).collect();
+    }
     let mut runs: Vec<(u32, u32)> = Vec::new();
     for (i, t) in r.triangles.iter().enumerate() {
         match runs.last_mut() {
@@ -480,6 +483,8 @@ mod tests {
                 })
                 .collect(),
             triangle_colors: Vec::new(),
+            triangle_uvs: Vec::new(),
+            patterns: Vec::new(),
             bvh: GpuBvh::default(),
             materials: Vec::new(),
         };

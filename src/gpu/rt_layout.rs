@@ -21,6 +21,8 @@ pub const OUTPUT: u32 = 9;
 pub const STATS: u32 = 10;
 pub const WORK_QUEUE: u32 = 11;
 pub const TRIANGLE_COLORS: u32 = 12;
+pub const TRIANGLE_UVS: u32 = 13;
+pub const PATTERNS: u32 = 14;
 
 const STORAGE: vk::DescriptorType = vk::DescriptorType::STORAGE_BUFFER;
 
@@ -39,6 +41,8 @@ pub const BINDINGS: &[(u32, vk::DescriptorType)] = &[
     (STATS, STORAGE),
     (WORK_QUEUE, STORAGE),
     (TRIANGLE_COLORS, STORAGE),
+    (TRIANGLE_UVS, STORAGE),
+    (PATTERNS, STORAGE),
 ];
 
 /// The ray-query engine's second set (`--traversal query`): the top-level
@@ -129,6 +133,7 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (14, "MATERIALS_LISTED"),
     (15, "MATERIAL_COUNT"),
     (16, "VERTEX_COLORS"),
+    (17, "PATTERNS"),
 ];
 
 #[repr(C)]
@@ -308,6 +313,21 @@ pub struct GpuTriangleColors {
     pub c2: [f32; 4],
 }
 
+/// A triangle's texture coordinates, in the order of its shading record;
+/// only for scenes with a patterned mesh.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuTriangleUvs {
+    /// Corner 0's `(u, v)`, then corner 1's.
+    pub uv01: [f32; 4],
+    /// Corner 2's `(u, v)`, then two unused.
+    pub uv2: [f32; 4],
+}
+
+/// A material's pattern, one per material; only for scenes with one. The
+/// raster pipelines push the same values (`raster_layout::PatternConstants`).
+pub type GpuPattern = super::raster_layout::PatternConstants;
+
 /// Values for `SPEC_CONSTANTS`, in order, 4 bytes each (bools as VkBool32).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
@@ -329,6 +349,7 @@ pub struct TraceSpecialization {
     pub materials_listed: u32,
     pub material_count: i32,
     pub vertex_colors: u32,
+    pub patterns: u32,
 }
 
 impl TraceSpecialization {
@@ -357,6 +378,8 @@ pub fn record_size(binding: u32) -> usize {
         SPHERES | PLANES | BOXES | TRIANGLES | BVH_NODES => 16,
         TRIANGLE_SHADING => std::mem::size_of::<GpuTriangleShading>(),
         TRIANGLE_COLORS => std::mem::size_of::<GpuTriangleColors>(),
+        TRIANGLE_UVS => std::mem::size_of::<GpuTriangleUvs>(),
+        PATTERNS => std::mem::size_of::<GpuPattern>(),
         MATERIALS => std::mem::size_of::<GpuMaterial>(),
         OUTPUT => 16,
         // A fixed array of 8 counters and one counter, not runtime arrays:

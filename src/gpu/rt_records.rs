@@ -23,6 +23,10 @@ pub struct SceneRecords {
     /// In the order of `triangle_shading`; empty when the scene has no
     /// vertex colours (`RtScene::triangle_colors`).
     pub triangle_colors: Vec<GpuTriangleColors>,
+    /// Likewise, where some mesh's material has a pattern.
+    pub triangle_uvs: Vec<GpuTriangleUvs>,
+    /// One per material where some material has a pattern; else empty.
+    pub patterns: Vec<GpuPattern>,
     pub bvh: GpuBvh,
     pub materials: Vec<GpuMaterial>,
 }
@@ -139,6 +143,25 @@ pub fn records(rt: &RtScene) -> Result<SceneRecords, GpuError> {
                     GpuTriangleColors { c0, c1, c2 }
                 })
                 .collect()
+        },
+        triangle_uvs: order
+            .iter()
+            .filter_map(|&i| rt.triangle_uvs.get(i as usize))
+            .map(|[a, b, c]| {
+                let (a, b, c) = (a.as_vec2(), b.as_vec2(), c.as_vec2());
+                GpuTriangleUvs {
+                    uv01: [a.x, a.y, b.x, b.y],
+                    uv2: [c.x, c.y, 0.0, 0.0],
+                }
+            })
+            .collect(),
+        patterns: if rt.materials.iter().any(|m| m.pattern.is_some()) {
+            rt.materials
+                .iter()
+                .map(|m| GpuPattern::of(m.pattern.as_ref()))
+                .collect()
+        } else {
+            Vec::new()
         },
         bvh,
         materials: rt

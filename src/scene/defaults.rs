@@ -35,6 +35,7 @@ pub const DEFAULT_MATERIAL: Material = Material {
     kr: 0.0,
     kt: 0.0,
     ior: 1.0,
+    pattern: None,
 };
 
 impl Default for ImageSettings {
@@ -69,3 +70,11 @@ impl Default for RenderSettings {
         }
     }
 }
+
+/// A checker pattern's cells per unit of `u` and `v` when its `scale` is
+/// not given.
+pub const CHECKER_SCALE: f64 = 8.0;
+
+/// A checker pattern's two colours when its `colors` are not given: light
+/// and dark grey.
+pub const CHECKER_COLORS: [DVec3; 2] = [DVec3::splat(0.9), DVec3::splat(0.15)];

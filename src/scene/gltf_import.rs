@@ -44,7 +44,7 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use glam::{DMat3, DMat4, DQuat, DVec3};
+use glam::{DMat3, DMat4, DQuat, DVec2, DVec3};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 
@@ -494,6 +494,7 @@ fn primitive_mesh(
     mesh: &gltf::Mesh,
     prim: &gltf::Primitive,
     world: DMat4,
+    uv_user: Option<&str>,
     warnings: &mut Vec<String>,
 ) -> Result<Option<TriangleMesh>, SceneError> {
     let what = format!("{}, primitive {}", mesh_name(mesh), prim.index());
@@ -606,6 +607,10 @@ fn primitive_mesh(
         Some(acc) => vertex_colors(file, &what, &acc, &reader, n, warnings)?,
         None => Vec::new(),
     };
+    let uvs = match uv_user {
+        Some(user) => texture_coordinates(file, &what, prim, &reader, user, n)?,
+        None => Vec::new(),
+    };
 
     let indices: Vec<u32> = match reader.read_indices() {
         Some(it) => it.into_u32().collect(),
@@ -653,10 +658,11 @@ fn primitive_mesh(
             format!("{what} has no non-degenerate triangle; expected at least one triangle with non-zero area"),
         ));
     }
+    let attributes = VertexAttributes { colors, uvs };
     Ok(Some(build_mesh(
         positions,
         stored_normals,
-        colors,
+        attributes,
         triangles,
     )))
 }
@@ -737,6 +743,69 @@ where
     Ok(rgba.iter().map(|c| DVec3::new(c[0], c[1], c[2])).collect())
 }
 
+/// A primitive's `TEXCOORD_0`, one `(u, v)` per vertex, which the material
+/// named `user` needs: floats as they are, normalised unsigned bytes or
+/// shorts divided by their maximum. Missing, of another type or count, or
+/// not finite: an error naming the primitive.
+fn texture_coordinates<'a, 's, F>(
+    file: &GltfFile,
+    what: &str,
+    prim: &gltf::Primitive,
+    reader: &gltf::mesh::Reader<'a, 's, F>,
+    user: &str,
+    vertex_count: usize,
+) -> Result<Vec<DVec2>, SceneError>
+where
+    F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
+{
+    let Some(acc) = prim.get(&gltf::Semantic::TexCoords(0)) else {
+        return Err(SceneError::mesh(
+            &file.label,
+            format!("{what} has no texture coordinates (TEXCOORD_0), which the pattern of material `{user}` needs"),
+        ));
+    };
+    let uv_what = format!("{what} TEXCOORD_0");
+    let err = |msg: String| {
+        SceneError::mesh(
+            &file.label,
+            format!("{uv_what} (accessor {}) {msg}", acc.index()),
+        )
+    };
+    let normalized_int = matches!(acc.data_type(), DataType::U8 | DataType::U16);
+    let known = acc.dimensions() == Dimensions::Vec2
+        && normalized_int == acc.normalized()
+        && (normalized_int || acc.data_type() == DataType::F32);
+    if !known {
+        return Err(err(format!(
+            "has type {:?} {:?}{}; expected VEC2 of floats, or of normalized unsigned bytes or shorts",
+            acc.dimensions(),
+            acc.data_type(),
+            if acc.normalized() { " (normalized)" } else { "" },
+        )));
+    }
+    check_accessor_storage(file, &uv_what, &acc)?;
+    use gltf::mesh::util::ReadTexCoords;
+    let uvs: Vec<[f64; 2]> = match reader.read_tex_coords(0) {
+        Some(ReadTexCoords::U8(it)) => it.map(|c| c.map(|x| f64::from(x) / 255.0)).collect(),
+        Some(ReadTexCoords::U16(it)) => it.map(|c| c.map(|x| f64::from(x) / 65535.0)).collect(),
+        Some(ReadTexCoords::F32(it)) => it.map(|c| c.map(f64::from)).collect(),
+        None => return Err(err("cannot be read".into())),
+    };
+    if uvs.len() != vertex_count {
+        return Err(err(format!(
+            "has {} coordinates for {vertex_count} positions; expected one per vertex",
+            uvs.len()
+        )));
+    }
+    if let Some(i) = uvs.iter().position(|c| !c.iter().all(|x| x.is_finite())) {
+        return Err(err(format!(
+            "vertex {i} has coordinates {:?}; expected finite numbers",
+            uvs[i]
+        )));
+    }
+    Ok(uvs.iter().map(|&[u, v]| DVec2::new(u, v)).collect())
+}
+
 /// The degenerate-triangle rule documented at the top of this module.
 pub(crate) fn is_degenerate(positions: &[DVec3], t: [u32; 3]) -> bool {
     if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
@@ -761,10 +830,17 @@ pub(crate) fn is_degenerate(positions: &[DVec3], t: [u32; 3]) -> bool {
 
 /// Compacts the vertices to those the kept triangles use and fills in the
 /// normals (rule in the module docs). `triangles` must be in range.
+/// What a vertex may carry besides its position and normal, each list
+/// empty or one per vertex.
+struct VertexAttributes {
+    colors: Vec<DVec3>,
+    uvs: Vec<DVec2>,
+}
+
 fn build_mesh(
     positions: Vec<DVec3>,
     stored: Option<Vec<DVec3>>,
-    colors: Vec<DVec3>,
+    attributes: VertexAttributes,
     triangles: Vec<[u32; 3]>,
 ) -> TriangleMesh {
     // Keep the used vertices in their original order.
@@ -778,14 +854,14 @@ fn build_mesh(
     let mut out_pos = Vec::new();
     let mut out_stored = Vec::new();
     let mut out_colors = Vec::new();
+    let mut out_uvs = Vec::new();
     for (i, p) in positions.iter().enumerate() {
         if used[i] {
             remap[i] = out_pos.len() as u32;
             out_pos.push(*p);
             out_stored.push(stored.as_ref().map_or(DVec3::ZERO, |s| s[i]));
-            if let Some(c) = colors.get(i) {
-                out_colors.push(*c);
-            }
+            out_colors.extend(attributes.colors.get(i));
+            out_uvs.extend(attributes.uvs.get(i));
         }
     }
     let tris: Vec<[u32; 3]> = triangles
@@ -825,6 +901,7 @@ fn build_mesh(
         normals,
         triangles: tris,
         colors: out_colors,
+        uvs: out_uvs,
     }
 }
 
@@ -889,6 +966,7 @@ pub fn map_material(
         kr: m * (1.0 - r),
         kt,
         ior: ior_ext.unwrap_or(if kt > 0.0 { 1.5 } else { 1.0 }),
+        pattern: None,
     };
     if let Some(raw) = mat.extras() {
         let value: serde_json::Value = serde_json::from_str(raw.get()).unwrap_or_default();
@@ -1057,8 +1135,15 @@ fn contents<'a>(
         let Some(mesh) = node.mesh() else {
             return Ok(());
         };
+        // Texture coordinates are read only for a material that uses them:
+        // today, a TOML material with a pattern given to the whole file.
+        let uv_user = material_override
+            .filter(|&i| materials[i].pattern.is_some())
+            .map(|i| materials[i].name.clone());
         for prim in mesh.primitives() {
-            let Some(tri) = primitive_mesh(file, &mesh, &prim, post * *world, warnings)? else {
+            let at = post * *world;
+            let Some(tri) = primitive_mesh(file, &mesh, &prim, at, uv_user.as_deref(), warnings)?
+            else {
                 continue;
             };
             let material = match material_override {
@@ -1527,6 +1612,7 @@ mod tests {
     const CUBE_COLORS: usize = 2;
     const FLOOR_COLORS: usize = 6;
     const SAIL_POSITIONS: usize = 8;
+    const FLOOR_UVS: usize = 12;
     const SAIL_INDICES: usize = 10;
 
     type Patch = Box<dyn FnOnce(&mut serde_json::Value)>;
@@ -1562,6 +1648,97 @@ mod tests {
             assert!(err.contains(want), "{err}\nshould say: {want}");
             assert!(err.contains("COLOR_0"), "{err}");
             assert!(err.contains("patched.gltf"), "{err}");
+        }
+    }
+
+    /// Loads the model (patched) with a patterned material given to all of
+    /// it, as a TOML mesh object with `material` does: texture coordinates
+    /// are read then, and only then.
+    fn load_patterned(patch: impl FnOnce(&mut serde_json::Value)) -> Result<Vec<Object>, String> {
+        let text = std::fs::read_to_string(vertex_colors_model()).unwrap();
+        let mut doc: serde_json::Value = serde_json::from_str(&text).unwrap();
+        patch(&mut doc);
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("patched.gltf");
+        std::fs::write(&path, doc.to_string()).unwrap();
+        let mut materials = vec![Material {
+            pattern: Some(crate::scene::Pattern::Checker {
+                scale: 2.0,
+                colors: [DVec3::ONE, DVec3::ZERO],
+            }),
+            ..default_material("tiles".into())
+        }];
+        let mut warnings = Vec::new();
+        let limits = LoadLimits::default();
+        load_meshes(
+            &path,
+            DMat4::IDENTITY,
+            Some(0),
+            &mut materials,
+            &mut warnings,
+            &limits,
+        )
+        .map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn texture_coordinates_are_read_in_every_encoding_for_a_pattern() {
+        let objects = load_patterned(|_| {}).unwrap();
+        let uvs = |vertices: usize| {
+            objects
+                .iter()
+                .find_map(|o| match &o.shape {
+                    Shape::Mesh(m) if m.positions.len() == vertices => Some(m.uvs.clone()),
+                    _ => None,
+                })
+                .unwrap()
+        };
+        // The cube: floats, 0 to 1 across each face, corners in order.
+        let corners = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+        let want: Vec<DVec2> = (0..24)
+            .map(|i| DVec2::new(corners[i % 4].0, corners[i % 4].1))
+            .collect();
+        assert_eq!(uvs(24), want);
+        // The floor: shorts over 65535; the sail: bytes over 255.
+        assert_eq!(uvs(4)[0], DVec2::new(0.0, 1.0));
+        assert_eq!(uvs(4)[2], DVec2::new(1.0, 0.0));
+        assert_eq!(uvs(3)[2], DVec2::new(128.0 / 255.0, 1.0));
+        // Without a pattern, none are read.
+        let plain = meshes(&vertex_colors_model(), DMat4::IDENTITY).unwrap();
+        assert!(plain.objects.iter().all(|o| match &o.shape {
+            Shape::Mesh(m) => m.uvs.is_empty(),
+            _ => true,
+        }));
+    }
+
+    #[test]
+    fn bad_texture_coordinates_are_refused_naming_the_primitive() {
+        fn sail_uv(d: &mut serde_json::Value, accessor: usize) {
+            d["meshes"][2]["primitives"][0]["attributes"]["TEXCOORD_0"] = accessor.into();
+        }
+        let cases: Vec<(&str, Patch)> = vec![
+            (
+                "expected VEC2 of floats, or of normalized unsigned bytes or shorts",
+                Box::new(|d| sail_uv(d, SAIL_POSITIONS)),
+            ),
+            (
+                "has 4 coordinates for 3 positions",
+                Box::new(|d| sail_uv(d, FLOOR_UVS)),
+            ),
+            (
+                "has no texture coordinates (TEXCOORD_0), which the pattern of material `tiles` needs",
+                Box::new(|d| {
+                    let attributes = &mut d["meshes"][2]["primitives"][0]["attributes"];
+                    attributes.as_object_mut().unwrap().remove("TEXCOORD_0");
+                }),
+            ),
+        ];
+        for (want, patch) in cases {
+            let err = load_patterned(patch)
+                .err()
+                .unwrap_or_else(|| panic!("loaded: {want}"));
+            assert!(err.contains(want), "{err}\nshould say: {want}");
+            assert!(err.contains("`sail` (index 2), primitive 0"), "{err}");
         }
     }
 

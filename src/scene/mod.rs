@@ -40,12 +40,13 @@ pub mod gltf_import;
 mod lighting_hook;
 pub mod model;
 pub mod tessellate;
+pub mod texcoords;
 pub mod toml_format;
 
 pub use error::SceneError;
 pub use footprint::{GeometrySize, LoadLimits};
 pub use model::*;
-pub use tessellate::tessellate;
+pub use tessellate::{tessellate, tessellate_textured};
 
 /// The built-in default scene (TOML), shown when no scene is given.
 pub const DEFAULT_SCENE_TOML: &str = include_str!("default.toml");

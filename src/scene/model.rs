@@ -115,6 +115,33 @@ pub struct Material {
     pub kr: f64,
     pub kt: f64,
     pub ior: f64,
+    /// A procedural texture whose colour multiplies `color`, or none.
+    pub pattern: Option<Pattern>,
+}
+
+/// A procedural texture over a surface's texture coordinates `(u, v)`
+/// (docs/lighting-model.md, "Surface colour"), evaluated exactly at the
+/// point, with no filtering.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Pattern {
+    /// Two colours alternating on the `uv` grid scaled by `scale`:
+    /// `floor(scale u) + floor(scale v)` even gives `colors[0]`.
+    Checker { scale: f64, colors: [DVec3; 2] },
+}
+
+impl Pattern {
+    /// The pattern's colour at `(u, v)`, and the cell it lies in (what
+    /// `check` compares neighbours by: a colour edge lies between cells).
+    pub fn at(&self, u: f64, v: f64) -> (DVec3, i64) {
+        match *self {
+            Pattern::Checker { scale, colors } => {
+                let (i, j) = ((scale * u).floor(), (scale * v).floor());
+                let parity = (i + j).rem_euclid(2.0);
+                let cell = (i as i64).wrapping_mul(1 << 20).wrapping_add(j as i64);
+                (colors[usize::from(parity != 0.0)], cell)
+            }
+        }
+    }
 }
 
 #[derive(Debug, Clone)]
@@ -161,6 +188,10 @@ pub struct TriangleMesh {
     /// least 0; empty when the mesh has none. Multiplies the material's
     /// colour (docs/lighting-model.md, "Surface colour").
     pub colors: Vec<DVec3>,
+    /// Texture coordinates per vertex (glTF `TEXCOORD_0`, `v` down the
+    /// image); empty when the mesh has none or its material has no use for
+    /// them.
+    pub uvs: Vec<glam::DVec2>,
     /// Counter-clockwise seen from the side the geometric normal points to.
     pub triangles: Vec<[u32; 3]>,
 }

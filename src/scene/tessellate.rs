@@ -5,10 +5,11 @@
 //! normal per vertex. The ray tracer may intersect spheres, planes and boxes
 //! exactly; this is only what the rasterisers draw.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use std::f64::consts::PI;
 
 use super::model::{plane_axes, Shape, TriangleMesh};
+use super::texcoords::box_face_axes;
 
 /// Tessellates `shape`; a `Shape::Mesh` is returned as a clone.
 ///
@@ -39,6 +40,48 @@ pub fn tessellate(shape: &Shape) -> TriangleMesh {
             half_extents,
             rotation,
         } => cuboid(*center, *half_extents, rotation),
+        Shape::Mesh(mesh) => mesh.clone(),
+    }
+}
+
+/// As `tessellate`, with texture coordinates per vertex
+/// (`scene::texcoords`), for a surface with a pattern. A sphere then has
+/// its seam and poles cut open: the column of vertices on the seam (the
+/// -Z side, where `u` wraps from 1 to 0) twice, once with `u = 1` and once
+/// with `u = 0`, and each pole once per segment, at the middle of the
+/// segment's `u`, so that no triangle interpolates across the wrap. A
+/// plane's and a box's vertices are those of `tessellate`. A mesh keeps
+/// the coordinates it was loaded with.
+pub fn tessellate_textured(shape: &Shape) -> TriangleMesh {
+    match shape {
+        Shape::Sphere {
+            center,
+            radius,
+            segments,
+        } => textured_sphere(*center, *radius, *segments),
+        Shape::Plane { normal, .. } => {
+            let mut mesh = tessellate(shape);
+            let (u, v) = plane_axes(*normal);
+            let Shape::Plane { center, size, .. } = shape else {
+                unreachable!()
+            };
+            mesh.uvs = mesh
+                .positions
+                .iter()
+                .map(|p| super::texcoords::plane_uv(*p - *center, u, v, *size))
+                .collect();
+            mesh
+        }
+        Shape::Box { .. } => {
+            let mut mesh = tessellate(shape);
+            // Four corners per face, (-,-), (+,-), (+,+), (-,+) along the
+            // face's axes (`cuboid`).
+            let corners = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+            mesh.uvs = (0..6)
+                .flat_map(|_| corners.map(|(u, v)| DVec2::new(u, v)))
+                .collect();
+            mesh
+        }
         Shape::Mesh(mesh) => mesh.clone(),
     }
 }
@@ -106,6 +149,71 @@ fn sphere(center: DVec3, radius: f64, segments: u32) -> TriangleMesh {
         normals,
         triangles,
         colors: Vec::new(),
+        uvs: Vec::new(),
+    }
+}
+
+/// `sphere`'s rings, each with a vertex more (the seam twice) and starting
+/// on the seam, and a pole vertex per segment (see `tessellate_textured`).
+fn textured_sphere(center: DVec3, radius: f64, segments: u32) -> TriangleMesh {
+    let seg = segments.max(3);
+    let bands = (seg / 2).max(2);
+    // Longitude phi from the seam, where `sphere_uv`'s u is 0 (or 1): the
+    // normal (sin t cos phi, cos t, sin t sin phi) has u = 0.75 - phi / 2pi.
+    let seam = 1.5 * PI;
+    let dir = |theta: f64, phi: f64| {
+        DVec3::new(
+            theta.sin() * phi.cos(),
+            theta.cos(),
+            theta.sin() * phi.sin(),
+        )
+    };
+    let column_u = |j: f64| 1.0 - j / f64::from(seg);
+    let mut normals = Vec::new();
+    let mut uvs = Vec::new();
+    for j in 0..seg {
+        normals.push(DVec3::Y);
+        uvs.push(DVec2::new(column_u(f64::from(j) + 0.5), 0.0));
+    }
+    for i in 1..bands {
+        let theta = PI * f64::from(i) / f64::from(bands);
+        for j in 0..=seg {
+            let phi = seam + 2.0 * PI * f64::from(j) / f64::from(seg);
+            normals.push(dir(theta, phi));
+            uvs.push(DVec2::new(
+                column_u(f64::from(j)),
+                f64::from(i) / f64::from(bands),
+            ));
+        }
+    }
+    let south = normals.len() as u32;
+    for j in 0..seg {
+        normals.push(DVec3::NEG_Y);
+        uvs.push(DVec2::new(column_u(f64::from(j) + 0.5), 1.0));
+    }
+    let positions = normals.iter().map(|n| center + *n * radius).collect();
+    let at = |r: u32, j: u32| seg + r * (seg + 1) + j;
+    let mut triangles = Vec::with_capacity((2 * seg * (bands - 1)) as usize);
+    for j in 0..seg {
+        triangles.push([j, at(0, j + 1), at(0, j)]);
+    }
+    for r in 0..bands - 2 {
+        for j in 0..seg {
+            let (a, c) = (at(r, j), at(r, j + 1));
+            let (b, d) = (at(r + 1, j), at(r + 1, j + 1));
+            triangles.push([a, c, b]);
+            triangles.push([c, d, b]);
+        }
+    }
+    for j in 0..seg {
+        triangles.push([at(bands - 2, j), at(bands - 2, j + 1), south + j]);
+    }
+    TriangleMesh {
+        positions,
+        normals,
+        triangles,
+        colors: Vec::new(),
+        uvs,
     }
 }
 
@@ -135,6 +243,7 @@ fn plane(center: DVec3, normal: DVec3, size: f64, segments: u32) -> TriangleMesh
         normals,
         triangles,
         colors: Vec::new(),
+        uvs: Vec::new(),
     }
 }
 
@@ -145,15 +254,12 @@ fn cuboid(center: DVec3, half: DVec3, rotation: &glam::DMat3) -> TriangleMesh {
     let mut normals = Vec::with_capacity(24);
     let mut triangles = Vec::with_capacity(12);
     for a in 0..3 {
-        let (b, c) = ((a + 1) % 3, (a + 2) % 3);
         for sign in [1.0, -1.0] {
             let n = axes[a] * sign;
-            // (u, v) with u x v = n for a proper rotation.
-            let ((u, hu), (v, hv)) = if sign > 0.0 {
-                ((axes[b], h[b]), (axes[c], h[c]))
-            } else {
-                ((axes[c], h[c]), (axes[b], h[b]))
-            };
+            // (u, v) with u x v = n for a proper rotation: the face's
+            // texture axes too.
+            let face = 2 * a as u32 + u32::from(sign > 0.0);
+            let ((u, hu), (v, hv)) = box_face_axes(rotation, half, face);
             let base = positions.len() as u32;
             for (su, sv) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
                 positions.push(center + n * h[a] + u * (hu * su) + v * (hv * sv));
@@ -168,6 +274,7 @@ fn cuboid(center: DVec3, half: DVec3, rotation: &glam::DMat3) -> TriangleMesh {
         normals,
         triangles,
         colors: Vec::new(),
+        uvs: Vec::new(),
     }
 }
 
@@ -315,7 +422,75 @@ mod tests {
             normals: vec![DVec3::Z; 3],
             triangles: vec![[0, 1, 2]],
             colors: Vec::new(),
+            uvs: Vec::new(),
         };
         assert_eq!(tessellate(&Shape::Mesh(m.clone())), m);
+    }
+
+    #[test]
+    fn a_textured_sphere_carries_its_parameterisation_and_cuts_its_seam() {
+        use crate::scene::texcoords::sphere_uv;
+        let center = DVec3::new(1.0, 2.0, 3.0);
+        let seg = 12;
+        let m = tessellate_textured(&Shape::Sphere {
+            center,
+            radius: 2.0,
+            segments: seg,
+        });
+        assert_eq!(m.uvs.len(), m.positions.len());
+        for (n, uv) in m.normals.iter().zip(&m.uvs) {
+            let want = sphere_uv(*n);
+            assert!((uv.y - want.y).abs() < 1e-12, "{uv} at {n}");
+            if n.y.abs() == 1.0 {
+                continue; // a pole: u is the segment's
+            }
+            // On the seam either end of the range.
+            let du = (uv.x - want.x).abs();
+            assert!(du < 1e-12 || (du - 1.0).abs() < 1e-12, "{uv} at {n}");
+        }
+        for t in &m.triangles {
+            let us = t.map(|i| m.uvs[i as usize].x);
+            let span = us.iter().copied().fold(f64::MIN, f64::max)
+                - us.iter().copied().fold(f64::MAX, f64::min);
+            assert!(
+                span <= 1.0 / f64::from(seg) + 1e-12,
+                "{t:?} spans {span} in u"
+            );
+            let [a, b, c] = t.map(|i| m.positions[i as usize]);
+            let outward = (b - a).cross(c - a).dot((a + b + c) / 3.0 - center);
+            assert!(outward > 0.0, "{t:?} wound inward");
+        }
+    }
+
+    #[test]
+    fn textured_boxes_and_planes_take_the_same_coordinates_as_the_tracers() {
+        use crate::scene::texcoords::{box_uv, plane_uv};
+        let rotation = glam::DMat3::from_rotation_y(0.3) * glam::DMat3::from_rotation_x(0.2);
+        let (center, half) = (DVec3::new(1.0, 0.0, -2.0), DVec3::new(0.5, 1.0, 1.5));
+        let m = tessellate_textured(&Shape::Box {
+            center,
+            half_extents: half,
+            rotation,
+        });
+        // Faces in the order `cuboid` makes them: + then - along x, y, z.
+        let faces = [1, 0, 3, 2, 5, 4];
+        for (k, (p, uv)) in m.positions.iter().zip(&m.uvs).enumerate() {
+            let want = box_uv(*p - center, &rotation, half, faces[k / 4]);
+            assert!(
+                (*uv - want).length() < 1e-12,
+                "vertex {k}: {uv} against {want}"
+            );
+        }
+        let normal = DVec3::new(0.0, 1.0, 0.2).normalize();
+        let m = tessellate_textured(&Shape::Plane {
+            center,
+            normal,
+            size: 3.0,
+            segments: 4,
+        });
+        let (u, v) = plane_axes(normal);
+        assert_eq!(m.uvs[0], plane_uv(m.positions[0] - center, u, v, 3.0));
+        assert!((m.uvs[0] - DVec2::ZERO).length() < 1e-12);
+        assert!((m.uvs[24] - DVec2::ONE).length() < 1e-12);
     }
 }

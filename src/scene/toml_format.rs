@@ -21,6 +21,7 @@
 //! | `materials.NAME.color` | `[1, 1, 1]` | each >= 0 |
 //! | `ka`, `kd`, `ks`, `p`, `kr`, `kt` | 0.2, 0.8, 0, 32, 0, 0 | >= 0 |
 //! | `ior` | `1.0` | > 0 |
+//! | `pattern` | none | `{ kind = "checker", scale = 8, colors = [[0.9, 0.9, 0.9], [0.15, 0.15, 0.15]] }`: scale > 0, two colours each >= 0 |
 //! | `render.depth` | `5` | 0..=64 |
 //! | `render.cutoff` | `0.001` | >= 0 |
 //! | `render.shadows` | `true` | |
@@ -58,13 +59,13 @@ use serde::de::{self, Deserializer, IgnoredAny, SeqAccess, Visitor};
 use serde::Deserialize;
 use toml::Spanned;
 
-use super::defaults::{DEFAULT_FOV_Y_DEG, DEFAULT_MATERIAL};
+use super::defaults::{CHECKER_COLORS, CHECKER_SCALE, DEFAULT_FOV_Y_DEG, DEFAULT_MATERIAL};
 use super::error::SceneError;
 use super::footprint::LoadLimits;
 use super::gltf_import;
 use super::model::{
-    Camera, ImageSettings, Interpolation, Lighting, Material, Object, PointLight, RenderSettings,
-    Scene, Shape, Traversal, MAX_DEPTH, MAX_RESOLUTION,
+    Camera, ImageSettings, Interpolation, Lighting, Material, Object, Pattern, PointLight,
+    RenderSettings, Scene, Shape, Traversal, MAX_DEPTH, MAX_RESOLUTION,
 };
 
 // ---------------------------------------------------------------------------
@@ -226,6 +227,16 @@ struct MaterialRaw {
     kr: Option<Spanned<Finite>>,
     kt: Option<Spanned<Finite>>,
     ior: Option<Spanned<Finite>>,
+    pattern: Option<Spanned<PatternRaw>>,
+}
+
+/// `pattern = { kind = "checker", scale = 8, colors = [[...], [...]] }`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PatternRaw {
+    kind: Spanned<String>,
+    scale: Option<Spanned<Finite>>,
+    colors: Option<Spanned<Vec<V3>>>,
 }
 
 /// The union of every shape's keys; which ones are allowed is checked per
@@ -453,6 +464,45 @@ impl Ctx<'_> {
         }
     }
 
+    /// A material's `pattern`, its defaults filled in: a checkerboard of
+    /// `CHECKER_SCALE` cells per unit of `u` and `v`, in `CHECKER_COLORS`.
+    fn pattern(&self, s: &Spanned<PatternRaw>, what: &str) -> Result<Pattern, SceneError> {
+        let raw = s.get_ref();
+        if raw.kind.get_ref() != "checker" {
+            return Err(self.err(
+                &raw.kind,
+                format!(
+                    "`{what}.kind` is {:?}; expected \"checker\"",
+                    raw.kind.get_ref()
+                ),
+            ));
+        }
+        let scale = match &raw.scale {
+            Some(v) => self.positive(v, &format!("{what}.scale"))?,
+            None => CHECKER_SCALE,
+        };
+        let colors = match &raw.colors {
+            Some(list) => {
+                let [a, b] = list.get_ref()[..] else {
+                    return Err(self.err(
+                        list,
+                        format!(
+                            "`{what}.colors` has {} colours; expected two, [[r, g, b], [r, g, b]]",
+                            list.get_ref().len()
+                        ),
+                    ));
+                };
+                let key = format!("{what}.colors");
+                [
+                    self.non_negative3(&spanned_map(list, |_| v3(&a)), &key)?,
+                    self.non_negative3(&spanned_map(list, |_| v3(&b)), &key)?,
+                ]
+            }
+            None => CHECKER_COLORS,
+        };
+        Ok(Pattern::Checker { scale, colors })
+    }
+
     fn int_in(
         &self,
         s: &Spanned<i64>,
@@ -622,6 +672,10 @@ pub fn parse_within(
             Some(s) => cx.positive(s, &format!("materials.{name}.ior"))?,
             None => d.ior,
         };
+        let pattern = match &r.pattern {
+            Some(raw) => Some(cx.pattern(raw, &format!("materials.{name}.pattern"))?),
+            None => None,
+        };
         materials.push(Material {
             name: name.clone(),
             color,
@@ -632,6 +686,7 @@ pub fn parse_within(
             kr: get(&r.kr, "kr", d.kr)?,
             kt: get(&r.kt, "kt", d.kt)?,
             ior,
+            pattern,
         });
     }
     let names: Vec<String> = raw.materials.keys().cloned().collect();
@@ -1122,7 +1177,8 @@ samples = 1                       # ray tracing: samples per pixel
                 p: 32.0,
                 kr: 0.0,
                 kt: 0.0,
-                ior: 1.0
+                ior: 1.0,
+                pattern: None,
             }
         );
         assert!(matches!(
@@ -1306,6 +1362,53 @@ samples = 1                       # ray tracing: samples per pixel
     }
 
     #[test]
+    fn a_checker_pattern_takes_its_defaults_and_its_values() {
+        let s = parse(
+            &with_camera(
+                "[materials.plain]\npattern = { kind = \"checker\" }\n[materials.set]\npattern = { kind = \"checker\", scale = 3, colors = [[1, 0, 0], [0, 0, 1]] }\n",
+            ),
+            Path::new("."),
+            "t.toml",
+        )
+        .unwrap();
+        let [plain, set] = [&s.materials[0], &s.materials[1]];
+        assert_eq!(
+            plain.pattern,
+            Some(Pattern::Checker {
+                scale: CHECKER_SCALE,
+                colors: CHECKER_COLORS
+            })
+        );
+        assert_eq!(
+            set.pattern,
+            Some(Pattern::Checker {
+                scale: 3.0,
+                colors: [DVec3::X, DVec3::Z]
+            })
+        );
+    }
+
+    /// A mesh under a patterned material needs texture coordinates; the
+    /// test cube has none, and the message names the primitive and the
+    /// material.
+    #[test]
+    fn a_pattern_on_a_mesh_without_texture_coordinates_is_refused() {
+        let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+        let text = with_camera(
+            "[materials.m]\npattern = { kind = \"checker\" }\n[[objects]]\nshape = \"mesh\"\nfile = \"cube.glb\"\nmaterial = \"m\"\n",
+        );
+        let e = parse(&text, &dir, "t.toml").unwrap_err().to_string();
+        assert_has(
+            &e,
+            &[
+                "cube.glb",
+                "has no texture coordinates (TEXCOORD_0)",
+                "material `m`",
+            ],
+        );
+    }
+
+    #[test]
     fn absurd_and_invalid_values() {
         for (rest, parts) in [
             ("[image]\nwidth = 0\n", &["line 5", "image.width", "0", "absurd", "16384"][..]),
@@ -1340,6 +1443,26 @@ samples = 1                       # ray tracing: samples per pixel
                 &["line 8", "`size`", "> 0"],
             ),
             ("[[objects]]\nshape = \"mesh\"\nfile = \"x.glb\"\nscale = [1, 0, 1]\n", &["line 7", "`scale`", "non-zero"]),
+            (
+                "[materials.m]\npattern = { kind = \"stripes\" }\n",
+                &["line 5", "materials.m.pattern.kind", "\"stripes\"", "expected \"checker\""],
+            ),
+            (
+                "[materials.m]\npattern = { kind = \"checker\", scale = 0 }\n",
+                &["line 5", "materials.m.pattern.scale", "> 0"],
+            ),
+            (
+                "[materials.m]\npattern = { kind = \"checker\", colors = [[1, 1, 1]] }\n",
+                &["line 5", "materials.m.pattern.colors", "has 1 colours; expected two"],
+            ),
+            (
+                "[materials.m]\npattern = { kind = \"checker\", colors = [[1, 1, 1], [0, -1, 0]] }\n",
+                &["line 5", "materials.m.pattern.colors", ">= 0"],
+            ),
+            (
+                "[materials.m]\npattern = { kind = \"checker\", size = 2 }\n",
+                &["line 5", "unknown key `size`", "kind, scale, colors"],
+            ),
         ] {
             let e = parse_err(&with_camera(rest));
             assert_has(&e, parts);

@@ -81,6 +81,7 @@ pub fn material(color: DVec3, ka: f64, kd: f64, ks: f64, p: f64) -> Material {
         kr: 0.0,
         kt: 0.0,
         ior: 1.0,
+        pattern: None,
     }
 }
 

@@ -46,7 +46,9 @@ and, for assets/vertex-colors.toml, into ../../assets/models/:
                         whose corners are coloured by position (normalised
                         unsigned bytes, RGBA, alpha 255), a floor square
                         (normalised unsigned shorts, RGB) and an upright
-                        triangle (floats, RGB)
+                        triangle (floats, RGB); TEXCOORD_0 likewise after
+                        them (floats for the cube, 0 to 1 across each face;
+                        shorts for the floor; bytes for the triangle)
 """
 
 import base64
@@ -93,12 +95,13 @@ class Builder:
         return len(self.accessors) - 1
 
     def colors(self, values, component_type, kind):
-        """Adds a normalised integer colour accessor (UNSIGNED_BYTE 5121 or
-        UNSIGNED_SHORT 5123, VEC3 or VEC4); returns its index."""
+        """Adds a normalised integer accessor (UNSIGNED_BYTE 5121 or
+        UNSIGNED_SHORT 5123; VEC2, VEC3 or VEC4): colours, or texture
+        coordinates; returns its index."""
         self._align()
         offset = len(self.data)
         code = {5121: "B", 5123: "H"}[component_type]
-        width = {"VEC3": 3, "VEC4": 4}[kind]
+        width = {"VEC2": 2, "VEC3": 3, "VEC4": 4}[kind]
         for v in values:
             self.data += struct.pack("<%d%s" % (width, code), *v)
             self._align()
@@ -112,6 +115,20 @@ class Builder:
                                "componentType": component_type,
                                "normalized": True,
                                "count": len(values), "type": kind})
+        return len(self.accessors) - 1
+
+    def vec2(self, values):
+        """Adds a VEC2 float accessor; returns its index."""
+        self._align()
+        offset = len(self.data)
+        for v in values:
+            self.data += struct.pack("<2f", *v)
+        self.views.append({"buffer": 0, "byteOffset": offset,
+                           "byteLength": len(values) * 8,
+                           "target": ARRAY_BUFFER})
+        self.accessors.append({"bufferView": len(self.views) - 1,
+                               "componentType": FLOAT,
+                               "count": len(values), "type": "VEC2"})
         return len(self.accessors) - 1
 
     def indices(self, idx):
@@ -525,6 +542,14 @@ def vertex_colors():
             "COLOR_0": b.vec3([(1.0, 0.2, 0.2), (0.2, 1.0, 0.2),
                                (0.2, 0.2, 1.0)], with_bounds=False)},
         "indices": b.indices([0, 1, 2]), "material": 0}]}
+    # Texture coordinates, added after everything above so that the
+    # accessors' numbers the loader's tests use stay as they are.
+    corners = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+    cube["primitives"][0]["attributes"]["TEXCOORD_0"] = b.vec2(corners * 6)
+    floor["primitives"][0]["attributes"]["TEXCOORD_0"] = b.colors(
+        [(0, 65535), (65535, 65535), (65535, 0), (0, 0)], 5123, "VEC2")
+    sail["primitives"][0]["attributes"]["TEXCOORD_0"] = b.colors(
+        [(0, 0), (255, 0), (128, 255)], 5121, "VEC2")
     doc = {
         "scene": 0,
         "scenes": [{"nodes": [0, 1, 2]}],
