@@ -666,4 +666,32 @@ mod tests {
         assert!((back - p).length() < 1e-12);
         assert!((b[0] + b[1] + b[2] - 1.0).abs() < 1e-12);
     }
+
+    /// A pattern's cell boundary is an edge for `check`, like a
+    /// silhouette: the pixels on both sides of it, and only those.
+    #[test]
+    fn pixels_beside_a_pattern_cell_change_are_edges() {
+        // 4 x 3 pixels: cells 1 | 2 between columns 1 and 2, background
+        // (no cell) in the last row.
+        let cells = [
+            Some(1),
+            Some(1),
+            Some(2),
+            Some(2),
+            Some(1),
+            Some(1),
+            Some(2),
+            Some(2),
+            None,
+            None,
+            None,
+            None,
+        ];
+        let mut near_edge = [false; 12];
+        mark_cell_edges(4, 3, &cells, &mut near_edge);
+        let want = [
+            false, true, true, false, false, true, true, false, false, false, false, false,
+        ];
+        assert_eq!(near_edge, want);
+    }
 }

@@ -137,7 +137,7 @@ impl Pattern {
             Pattern::Checker { scale, colors } => {
                 let (i, j) = ((scale * u).floor(), (scale * v).floor());
                 let parity = (i + j).rem_euclid(2.0);
-                let cell = (i as i64).wrapping_mul(1 << 20).wrapping_add(j as i64);
+                let cell = ((i as i64) << 32) ^ ((j as i64) & 0xffff_ffff);
                 (colors[usize::from(parity != 0.0)], cell)
             }
         }
@@ -271,4 +271,28 @@ pub fn plane_axes(n: DVec3) -> (DVec3, DVec3) {
     let u = n.cross(axis).normalize();
     let v = n.cross(u);
     (u, v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_checker_alternates_by_cell_also_below_zero() {
+        let a = DVec3::X;
+        let b = DVec3::Y;
+        let checker = Pattern::Checker {
+            scale: 2.0,
+            colors: [a, b],
+        };
+        // Cells half a unit wide: (0, 0) even, (1, 0) odd, (-1, 0) odd,
+        // (-1, -1) even.
+        assert_eq!(checker.at(0.1, 0.2).0, a);
+        assert_eq!(checker.at(0.6, 0.2).0, b);
+        assert_eq!(checker.at(-0.1, 0.2).0, b);
+        assert_eq!(checker.at(-0.1, -0.2).0, a);
+        assert_ne!(checker.at(0.1, 0.2).1, checker.at(0.6, 0.2).1);
+        assert_ne!(checker.at(0.1, 0.6).1, checker.at(0.6, 0.1).1);
+        assert_eq!(checker.at(0.1, 0.2).1, checker.at(0.4, 0.4).1);
+    }
 }
