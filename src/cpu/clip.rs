@@ -10,7 +10,7 @@
 use glam::{DVec2, DVec3, DVec4};
 
 /// A vertex with everything the rasterizer interpolates.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct ClipVertex {
     pub clip: DVec4,
     /// Camera-relative position.
@@ -18,17 +18,26 @@ pub struct ClipVertex {
     pub normal: DVec3,
     /// Gouraud intensity (unused in the other modes).
     pub intensity: DVec3,
-    /// The vertex colour (`DVec3::ONE` where the mesh has none): Phong
-    /// interpolates it.
+    /// What only a surface with vertex colours or a pattern carries, boxed
+    /// so that the others' vertices stay small: the reference holds three
+    /// per triangle.
+    pub extra: Option<Box<Extras>>,
+    /// What the attributes above are multiplied by: the clip-space `w` for
+    /// screen-linear interpolation, 1 otherwise (see `cpu::raster`).
+    pub weight: f64,
+}
+
+/// A vertex's colour attributes, multiplied by its `weight` like the others.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Extras {
+    /// The vertex colour (one where the mesh has none): Phong interpolates
+    /// it.
     pub color: DVec3,
     /// Gouraud under a pattern: the specular part of the intensity, apart
     /// from the rest (`intensity`), which the pattern multiplies per pixel.
     pub specular: DVec3,
     /// Texture coordinates (zero without a pattern).
     pub uv: DVec2,
-    /// What the attributes above are multiplied by: the clip-space `w` for
-    /// screen-linear interpolation, 1 otherwise (see `cpu::raster`).
-    pub weight: f64,
 }
 
 impl ClipVertex {
@@ -38,9 +47,14 @@ impl ClipVertex {
             position: self.position.lerp(other.position, t),
             normal: self.normal.lerp(other.normal, t),
             intensity: self.intensity.lerp(other.intensity, t),
-            color: self.color.lerp(other.color, t),
-            specular: self.specular.lerp(other.specular, t),
-            uv: self.uv.lerp(other.uv, t),
+            extra: match (&self.extra, &other.extra) {
+                (Some(a), Some(b)) => Some(Box::new(Extras {
+                    color: a.color.lerp(b.color, t),
+                    specular: a.specular.lerp(b.specular, t),
+                    uv: a.uv.lerp(b.uv, t),
+                })),
+                _ => None,
+            },
             weight: self.weight + (other.weight - self.weight) * t,
         }
     }
@@ -59,7 +73,7 @@ pub fn clip_near(tri: [ClipVertex; 3], near: f64) -> Vec<ClipVertex> {
     for i in 0..3 {
         let (a, b) = (&tri[i], &tri[(i + 1) % 3]);
         if inside(a) {
-            out.push(*a);
+            out.push(a.clone());
         }
         if inside(a) != inside(b) {
             let t = (near - a.clip.w) / (b.clip.w - a.clip.w);
@@ -81,9 +95,7 @@ mod tests {
             position: DVec3::splat(tag),
             normal: DVec3::Z,
             intensity: DVec3::splat(tag),
-            color: DVec3::ONE,
-            specular: DVec3::ZERO,
-            uv: DVec2::ZERO,
+            extra: None,
             weight: 1.0,
         }
     }

@@ -13,11 +13,11 @@
 use glam::{DVec2, DVec3, DVec4};
 use rayon::prelude::*;
 
-use super::clip::{clip_near, ClipVertex};
+use super::clip::{clip_near, ClipVertex, Extras};
 use super::lighting::{shade, Surface};
 use crate::camera::View;
 use crate::linear_image::LinearImage;
-use crate::scene::{tessellate, tessellate_textured, Interpolation, Material, Pattern, Scene};
+use crate::scene::{tessellate, tessellate_textured, Interpolation, Material, Scene};
 use crate::shading::RasterMode;
 
 /// Sub-pixel grid of the coverage test: 1/256 pixel.
@@ -107,8 +107,6 @@ struct Triangle {
     flat_color: DVec3,
     /// Whether its mesh has vertex colours (Phong interpolates them).
     coloured: bool,
-    /// Its material's pattern, which Gouraud and Phong apply per sample.
-    pattern: Option<Pattern>,
     /// Pixel bounds (inclusive), clamped to the image.
     min: (u32, u32),
     max: (u32, u32),
@@ -212,9 +210,13 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
                     position: rel * weight,
                     normal: *n * weight,
                     intensity: intensity * weight,
-                    color: tint * weight,
-                    specular: specular * weight,
-                    uv: uv_at(i) * weight,
+                    extra: (!mesh.colors.is_empty() || pattern.is_some()).then(|| {
+                        Box::new(Extras {
+                            color: tint * weight,
+                            specular: specular * weight,
+                            uv: uv_at(i) * weight,
+                        })
+                    }),
                     weight,
                 }
             })
@@ -222,7 +224,7 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
         for tri in &mesh.triangles {
             let primitive = next_primitive;
             next_primitive += 1;
-            let [a, b, c] = tri.map(|i| vertices[i as usize]);
+            let [a, b, c] = tri.map(|i| vertices[i as usize].clone());
             let flat_color = if mode == RasterMode::Flat {
                 let [pa, pb, pc] = tri.map(|i| mesh.positions[i as usize]);
                 let normal = (pb - pa).cross(pc - pa).normalize_or_zero();
@@ -248,11 +250,14 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
             };
             let polygon = clip_near([a, b, c], view.near);
             for k in 1..polygon.len().saturating_sub(1) {
-                let verts = [polygon[0], polygon[k], polygon[k + 1]];
+                let verts = [
+                    polygon[0].clone(),
+                    polygon[k].clone(),
+                    polygon[k + 1].clone(),
+                ];
                 let ids = (object_index as u32, primitive);
                 if let Some(mut t) = screen_triangle(view, ids, verts, flat_color) {
                     t.coloured = !mesh.colors.is_empty();
-                    t.pattern = pattern;
                     triangles.push(t);
                 }
             }
@@ -267,7 +272,7 @@ fn screen_triangle(
     vertices: [ClipVertex; 3],
     flat_color: DVec3,
 ) -> Option<Triangle> {
-    let window = vertices.map(|v| window_of(view, v.clip));
+    let window = [0, 1, 2].map(|k| window_of(view, vertices[k].clip));
     let edges = Edges::new(window)?;
     let snapped = edges.snapped;
     let lo = snapped[0].min(snapped[1]).min(snapped[2]);
@@ -288,12 +293,11 @@ fn screen_triangle(
         primitive,
         window,
         edges,
-        depth: vertices.map(|v| v.clip.z / v.clip.w),
-        inv_w: vertices.map(|v| 1.0 / v.clip.w),
+        depth: [0, 1, 2].map(|k| vertices[k].clip.z / vertices[k].clip.w),
+        inv_w: [0, 1, 2].map(|k| 1.0 / vertices[k].clip.w),
         vertices,
         flat_color,
         coloured: false,
-        pattern: None,
         min: (first(lo.x), first(lo.y)),
         max: (x1 as u32, y1 as u32),
     })
@@ -359,9 +363,15 @@ fn shade_sample(
             + f(&t.vertices[2]) * weights[2])
             * scale
     };
+    // The colour attributes, where the vertices carry them.
+    let mix_extra = |f: fn(&Extras) -> DVec3| {
+        let at = |k: usize| t.vertices[k].extra.as_deref().map_or(DVec3::ZERO, f);
+        (at(0) * weights[0] + at(1) * weights[1] + at(2) * weights[2]) * scale
+    };
+    let material = &scene.materials[scene.objects[t.object as usize].material];
     // The pattern at the sample's interpolated texture coordinates.
-    let patterned = t.pattern.map(|pattern| {
-        let uv = mix(|v| v.uv.extend(0.0)).truncate();
+    let patterned = material.pattern.map(|pattern| {
+        let uv = mix_extra(|e| e.uv.extend(0.0)).truncate();
         pattern.at(uv.x, uv.y)
     });
     let cell = patterned.map(|(_, cell)| cell);
@@ -374,7 +384,7 @@ fn shade_sample(
         RasterMode::Gouraud => Sample {
             color: match patterned {
                 None => mix(|v| v.intensity),
-                Some((texel, _)) => texel * mix(|v| v.intensity) + mix(|v| v.specular),
+                Some((texel, _)) => texel * mix(|v| v.intensity) + mix_extra(|e| e.specular),
             },
             vanishing_normal: false,
             cell,
@@ -383,11 +393,10 @@ fn shade_sample(
             let position = mix(|v| v.position) + view.eye;
             let interpolated = mix(|v| v.normal);
             let normal = interpolated.normalize_or_zero();
-            let material = &scene.materials[scene.objects[t.object as usize].material];
             // Not interpolated where there are none: weights that sum to 1
             // only up to rounding would move an uncoloured surface's colour.
             let mut tint = if t.coloured {
-                mix(|v| v.color)
+                mix_extra(|e| e.color)
             } else {
                 DVec3::ONE
             };
@@ -556,9 +565,7 @@ mod tests {
             position: DVec3::ZERO,
             normal: DVec3::Z,
             intensity: DVec3::ZERO,
-            color: DVec3::ONE,
-            specular: DVec3::ZERO,
-            uv: glam::DVec2::ZERO,
+            extra: None,
             weight: 1.0,
         };
         Triangle {
@@ -568,10 +575,9 @@ mod tests {
             edges: Edges::new(points).expect("a triangle with area"),
             depth: [1.0; 3],
             inv_w: [1.0; 3],
-            vertices: [v; 3],
+            vertices: [v.clone(), v.clone(), v],
             flat_color: DVec3::ZERO,
             coloured: false,
-            pattern: None,
             min: (0, 0),
             max: (0, 0),
         }
