@@ -21,7 +21,7 @@ fuzz_target!(|data: &[u8]| {
         &limits,
     ) {
         // What a loaded scene promises (`scene::model`): finite numbers,
-        // valid material indices, unit normals.
+        // valid material indices, unit normals, vertex colours per vertex.
         assert!(scene.camera.position.is_finite());
         for object in &scene.objects {
             assert!(object.material < scene.materials.len());
@@ -34,6 +34,12 @@ fuzz_target!(|data: &[u8]| {
                     .iter()
                     .flatten()
                     .all(|&i| (i as usize) < m.positions.len()));
+                // Vertex colours: none, or one per vertex, finite and >= 0.
+                assert!(m.colors.is_empty() || m.colors.len() == m.positions.len());
+                assert!(m.colors.iter().all(|c| c.is_finite() && c.min_element() >= 0.0));
+                // Texture coordinates are read only for a pattern, which a
+                // glTF scene's own materials never have.
+                assert!(m.uvs.is_empty());
             }
         }
     }

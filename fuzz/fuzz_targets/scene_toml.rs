@@ -3,7 +3,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use shadelab::scene::{from_toml_str, tessellate, GeometrySize};
+use shadelab::scene::{from_toml_str, tessellate, tessellate_textured, GeometrySize};
 use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
@@ -17,6 +17,12 @@ fuzz_target!(|data: &[u8]| {
             for object in &scene.objects {
                 let mesh = tessellate(&object.shape);
                 assert!(mesh.positions.iter().all(|p| p.is_finite()));
+                // A patterned surface: texture coordinates per vertex, finite.
+                if scene.materials[object.material].pattern.is_some() {
+                    let mesh = tessellate_textured(&object.shape);
+                    assert_eq!(mesh.uvs.len(), mesh.positions.len());
+                    assert!(mesh.uvs.iter().all(|uv| uv.is_finite()));
+                }
             }
         }
     }
