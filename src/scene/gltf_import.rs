@@ -1617,6 +1617,24 @@ mod tests {
 
     type Patch = Box<dyn FnOnce(&mut serde_json::Value)>;
 
+    /// Each patch makes `load` fail with a message that says its text and
+    /// every one of `also`.
+    fn assert_each_refused(
+        cases: Vec<(&str, Patch)>,
+        load: impl Fn(Patch) -> Result<(), String>,
+        also: &[&str],
+    ) {
+        for (want, patch) in cases {
+            let err = load(patch)
+                .err()
+                .unwrap_or_else(|| panic!("loaded; expected {want}"));
+            assert!(err.contains(want), "{err}\nshould say: {want}");
+            for part in also {
+                assert!(err.contains(part), "{err}\nshould say: {part}");
+            }
+        }
+    }
+
     #[test]
     fn bad_vertex_colours_are_refused_naming_the_primitive() {
         fn sail_color(d: &mut serde_json::Value, accessor: usize) {
@@ -1640,15 +1658,8 @@ mod tests {
                 Box::new(|d| sail_color(d, SAIL_POSITIONS)),
             ),
         ];
-        for (want, patch) in cases {
-            let err = match load_patched_model(patch) {
-                Ok(_) => panic!("loaded; expected {want}"),
-                Err(e) => e,
-            };
-            assert!(err.contains(want), "{err}\nshould say: {want}");
-            assert!(err.contains("COLOR_0"), "{err}");
-            assert!(err.contains("patched.gltf"), "{err}");
-        }
+        let load = |p| load_patched_model(p).map(|_| ());
+        assert_each_refused(cases, load, &["COLOR_0", "patched.gltf"]);
     }
 
     /// Loads the model (patched) with a patterned material given to all of
@@ -1733,13 +1744,8 @@ mod tests {
                 }),
             ),
         ];
-        for (want, patch) in cases {
-            let err = load_patterned(patch)
-                .err()
-                .unwrap_or_else(|| panic!("loaded: {want}"));
-            assert!(err.contains(want), "{err}\nshould say: {want}");
-            assert!(err.contains("`sail` (index 2), primitive 0"), "{err}");
-        }
+        let load = |p| load_patterned(p).map(|_| ());
+        assert_each_refused(cases, load, &["`sail` (index 2), primitive 0"]);
     }
 
     #[test]

@@ -129,9 +129,29 @@ fn sphere(center: DVec3, radius: f64, segments: u32) -> TriangleMesh {
     let south = seg * (bands - 1) + 1;
     // ring r (0-based, r < bands - 1), segment j (wrapping)
     let at = |r: u32, j: u32| 1 + r * seg + j % seg;
+    let triangles = sphere_triangles(seg, bands, |_| 0, at, |_| south);
+    TriangleMesh {
+        positions,
+        normals,
+        triangles,
+        colors: Vec::new(),
+        uvs: Vec::new(),
+    }
+}
+
+/// A UV sphere's triangles, wound outward: a fan from the north pole's
+/// vertex for segment `j` (`north(j)`), two per segment between rings `r`
+/// and `r + 1` (`at(r, j)`), a fan to the south pole's (`south(j)`).
+fn sphere_triangles(
+    seg: u32,
+    bands: u32,
+    north: impl Fn(u32) -> u32,
+    at: impl Fn(u32, u32) -> u32,
+    south: impl Fn(u32) -> u32,
+) -> Vec<[u32; 3]> {
     let mut triangles = Vec::with_capacity((2 * seg * (bands - 1)) as usize);
     for j in 0..seg {
-        triangles.push([0, at(0, j + 1), at(0, j)]);
+        triangles.push([north(j), at(0, j + 1), at(0, j)]);
     }
     for r in 0..bands - 2 {
         for j in 0..seg {
@@ -142,15 +162,9 @@ fn sphere(center: DVec3, radius: f64, segments: u32) -> TriangleMesh {
         }
     }
     for j in 0..seg {
-        triangles.push([at(bands - 2, j), at(bands - 2, j + 1), south]);
+        triangles.push([at(bands - 2, j), at(bands - 2, j + 1), south(j)]);
     }
-    TriangleMesh {
-        positions,
-        normals,
-        triangles,
-        colors: Vec::new(),
-        uvs: Vec::new(),
-    }
+    triangles
 }
 
 /// `sphere`'s rings, each with a vertex more (the seam twice) and starting
@@ -193,21 +207,7 @@ fn textured_sphere(center: DVec3, radius: f64, segments: u32) -> TriangleMesh {
     }
     let positions = normals.iter().map(|n| center + *n * radius).collect();
     let at = |r: u32, j: u32| seg + r * (seg + 1) + j;
-    let mut triangles = Vec::with_capacity((2 * seg * (bands - 1)) as usize);
-    for j in 0..seg {
-        triangles.push([j, at(0, j + 1), at(0, j)]);
-    }
-    for r in 0..bands - 2 {
-        for j in 0..seg {
-            let (a, c) = (at(r, j), at(r, j + 1));
-            let (b, d) = (at(r + 1, j), at(r + 1, j + 1));
-            triangles.push([a, c, b]);
-            triangles.push([c, d, b]);
-        }
-    }
-    for j in 0..seg {
-        triangles.push([at(bands - 2, j), at(bands - 2, j + 1), south + j]);
-    }
+    let triangles = sphere_triangles(seg, bands, |j| j, at, |j| south + j);
     TriangleMesh {
         positions,
         normals,

@@ -269,8 +269,9 @@ def degenerate():
     write_gltf("degenerate.gltf", b.finish(doc))
 
 
-def cube():
-    b = Builder()
+def unit_cube():
+    """The unit cube centred on the origin, four corners per face with the
+    face's normal: (positions, normals, indices)."""
     positions, normals, idx = [], [], []
     # (normal, u, v) with u x v = normal, so (-,-),(+,-),(+,+),(-,+) is CCW
     faces = [((1, 0, 0), (0, 1, 0), (0, 0, 1)),
@@ -286,6 +287,12 @@ def cube():
                                    for i in range(3)))
             normals.append(n)
         idx += [base, base + 1, base + 2, base, base + 2, base + 3]
+    return positions, normals, idx
+
+
+def cube():
+    b = Builder()
+    positions, normals, idx = unit_cube()
     pos = b.vec3(positions)
     nrm = b.vec3(normals)
     ind = b.indices(idx)
@@ -502,24 +509,10 @@ MODELS = os.path.join(HERE, "..", "..", "assets", "models")
 
 def vertex_colors():
     b = Builder()
-    positions, normals, colors, idx = [], [], [], []
-    faces = [((1, 0, 0), (0, 1, 0), (0, 0, 1)),
-             ((-1, 0, 0), (0, 0, 1), (0, 1, 0)),
-             ((0, 1, 0), (0, 0, 1), (1, 0, 0)),
-             ((0, -1, 0), (1, 0, 0), (0, 0, 1)),
-             ((0, 0, 1), (1, 0, 0), (0, 1, 0)),
-             ((0, 0, -1), (0, 1, 0), (1, 0, 0))]
-    for n, u, v in faces:
-        base = len(positions)
-        for su, sv in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
-            p = tuple(0.5 * n[i] + 0.5 * su * u[i] + 0.5 * sv * v[i]
-                      for i in range(3))
-            positions.append(p)
-            normals.append(n)
-            # The corner (x, y, z) in [-0.5, 0.5]^3 has colour (x, y, z) +
-            # 0.5, each 0 or 255.
-            colors.append(tuple(round(255 * (c + 0.5)) for c in p) + (255,))
-        idx += [base, base + 1, base + 2, base, base + 2, base + 3]
+    positions, normals, idx = unit_cube()
+    # The corner (x, y, z) in [-0.5, 0.5]^3 has colour (x, y, z) + 0.5, each
+    # 0 or 255.
+    colors = [tuple(round(255 * (c + 0.5)) for c in p) + (255,) for p in positions]
     cube = {"name": "rgb-cube", "primitives": [{
         "attributes": {"POSITION": b.vec3(positions),
                        "NORMAL": b.vec3(normals),
