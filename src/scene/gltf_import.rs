@@ -1617,6 +1617,11 @@ mod tests {
 
     type Patch = Box<dyn FnOnce(&mut serde_json::Value)>;
 
+    /// Points the sail's (mesh 2's) `attribute` at `accessor`.
+    fn sail_attribute(d: &mut serde_json::Value, attribute: &str, accessor: usize) {
+        d["meshes"][2]["primitives"][0]["attributes"][attribute] = accessor.into();
+    }
+
     /// Each patch makes `load` fail with a message that says its text and
     /// every one of `also`.
     fn assert_each_refused(
@@ -1637,13 +1642,10 @@ mod tests {
 
     #[test]
     fn bad_vertex_colours_are_refused_naming_the_primitive() {
-        fn sail_color(d: &mut serde_json::Value, accessor: usize) {
-            d["meshes"][2]["primitives"][0]["attributes"]["COLOR_0"] = accessor.into();
-        }
         let cases: Vec<(&str, Patch)> = vec![
             (
                 "expected VEC3 or VEC4 of floats, or of normalized unsigned bytes or shorts",
-                Box::new(|d| sail_color(d, SAIL_INDICES)),
+                Box::new(|d| sail_attribute(d, "COLOR_0", SAIL_INDICES)),
             ),
             (
                 "has type Vec4 U8; expected VEC3 or VEC4",
@@ -1651,11 +1653,11 @@ mod tests {
             ),
             (
                 "has 4 colours for 3 positions; expected one per vertex",
-                Box::new(|d| sail_color(d, FLOOR_COLORS)),
+                Box::new(|d| sail_attribute(d, "COLOR_0", FLOOR_COLORS)),
             ),
             (
                 "vertex 0 has colour [-2.5, 0.0, -1.0]; expected finite values of at least 0",
-                Box::new(|d| sail_color(d, SAIL_POSITIONS)),
+                Box::new(|d| sail_attribute(d, "COLOR_0", SAIL_POSITIONS)),
             ),
         ];
         let load = |p| load_patched_model(p).map(|_| ());
@@ -1724,17 +1726,14 @@ mod tests {
 
     #[test]
     fn bad_texture_coordinates_are_refused_naming_the_primitive() {
-        fn sail_uv(d: &mut serde_json::Value, accessor: usize) {
-            d["meshes"][2]["primitives"][0]["attributes"]["TEXCOORD_0"] = accessor.into();
-        }
         let cases: Vec<(&str, Patch)> = vec![
             (
                 "expected VEC2 of floats, or of normalized unsigned bytes or shorts",
-                Box::new(|d| sail_uv(d, SAIL_POSITIONS)),
+                Box::new(|d| sail_attribute(d, "TEXCOORD_0", SAIL_POSITIONS)),
             ),
             (
                 "has 4 coordinates for 3 positions",
-                Box::new(|d| sail_uv(d, FLOOR_UVS)),
+                Box::new(|d| sail_attribute(d, "TEXCOORD_0", FLOOR_UVS)),
             ),
             (
                 "has no texture coordinates (TEXCOORD_0), which the pattern of material `tiles` needs",
