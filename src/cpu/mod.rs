@@ -10,4 +10,5 @@ pub mod intersect;
 pub mod lighting;
 pub mod raster;
 pub mod raytrace;
+pub mod sample;
 pub mod surface;

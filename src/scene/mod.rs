@@ -41,6 +41,7 @@ mod lighting_hook;
 pub mod model;
 pub mod tessellate;
 pub mod texcoords;
+pub mod texture;
 pub mod toml_format;
 
 pub use error::SceneError;
