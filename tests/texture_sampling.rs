@@ -37,7 +37,10 @@ fn at(s: &Sampler, u: f64, vv: f64, lambda: f64) -> DVec3 {
 }
 
 fn close(got: DVec3, want: DVec3) {
-    assert!((got - want).abs().max_element() < 1e-12, "{got} against {want}");
+    assert!(
+        (got - want).abs().max_element() < 1e-12,
+        "{got} against {want}"
+    );
 }
 
 #[test]
@@ -83,7 +86,10 @@ fn each_wrap_mode_reads_outside_zero_to_one_its_own_way() {
     let nearest = |wrap| sampler(wrap, Filter::Nearest, None);
     // u = 0 on the top row lies midway between A's centre and the texel
     // left of it: B when repeating, A itself when clamped or mirrored.
-    close(at(&linear(Wrap::Repeat), 0.0, 0.25, 0.0), (v(A) + v(B)) / 2.0);
+    close(
+        at(&linear(Wrap::Repeat), 0.0, 0.25, 0.0),
+        (v(A) + v(B)) / 2.0,
+    );
     close(at(&linear(Wrap::ClampToEdge), 0.0, 0.25, 0.0), v(A));
     close(at(&linear(Wrap::MirroredRepeat), 0.0, 0.25, 0.0), v(A));
     // u = 1.25 falls in texel column 2: column 0 repeated, column 1
