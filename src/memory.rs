@@ -33,37 +33,54 @@ struct Cost {
     vertex: u64,
     triangle: u64,
     pixel: u64,
+    /// On top of `vertex` and `triangle`, for those that carry vertex
+    /// colours or texture coordinates (`GeometrySize::attributed_*`).
+    attributed_vertex: u64,
+    attributed_triangle: u64,
 }
 
 const MIB: u64 = 1 << 20;
 
 fn cost(shading: Shading, backend: Backend) -> Cost {
+    // Vertex colours and texture coordinates: 40 bytes a vertex in the
+    // model (f64) everywhere, and in each renderer what it keeps of them.
     match (backend, shading) {
-        // Flat adds a vertex of its own per face and a face record.
+        // Flat adds a vertex of its own per face and a face record; the
+        // colours travel as a colour per face (host and device).
         (Backend::Gpu, Shading::Flat) => Cost {
             base: 128 * MIB,
             object: 280,
             vertex: 240,
             triangle: 260,
             pixel: 52,
+            attributed_vertex: 70,
+            attributed_triangle: 30,
         },
+        // A colour and coordinate stream, 20 bytes a vertex, host and
+        // device.
         (Backend::Gpu, Shading::Gouraud | Shading::Phong) => Cost {
             base: 128 * MIB,
             object: 280,
             vertex: 150,
             triangle: 180,
             pixel: 52,
+            attributed_vertex: 80,
+            attributed_triangle: 0,
         },
         // Triangles copied into f64 records with their normals, a BVH over
         // them (binary, and for a big tree its 4-wide form beside it, about
         // 30 bytes a triangle on the host and as many on the device);
-        // vertices matter only as the scene holds them.
+        // vertices matter only as the scene holds them. Per triangle the
+        // corners' colours and coordinates in f64 (120 bytes) and as f32
+        // records on the host and the device (80 each).
         (Backend::Gpu, Shading::Raytrace) => Cost {
             base: 164 * MIB,
             object: 280,
             vertex: 60,
             triangle: 660,
             pixel: 40,
+            attributed_vertex: 40,
+            attributed_triangle: 280,
         },
         (Backend::Cpu, Shading::Raytrace) => Cost {
             base: 16 * MIB,
@@ -71,13 +88,19 @@ fn cost(shading: Shading, backend: Backend) -> Cost {
             vertex: 60,
             triangle: 560,
             pixel: 80,
+            attributed_vertex: 40,
+            attributed_triangle: 120,
         },
+        // A boxed record of the colour attributes per clipped vertex:
+        // one per vertex, three per triangle (about 90 bytes each).
         (Backend::Cpu, _) => Cost {
             base: 16 * MIB,
             object: 280,
             vertex: 260,
             triangle: 720,
             pixel: 64,
+            attributed_vertex: 130,
+            attributed_triangle: 270,
         },
     }
 }
@@ -89,6 +112,8 @@ pub fn estimate(size: &GeometrySize, pixels: u64, shading: Shading, backend: Bac
         (size.objects, c.object),
         (size.vertices, c.vertex),
         (size.triangles, c.triangle),
+        (size.attributed_vertices, c.attributed_vertex),
+        (size.attributed_triangles, c.attributed_triangle),
         (pixels, c.pixel),
     ]
     .iter()
@@ -365,6 +390,8 @@ mod tests {
             objects: 10,
             vertices: 1000,
             triangles: 2000,
+            attributed_vertices: 0,
+            attributed_triangles: 0,
         };
         for shading in Shading::ALL {
             for backend in [Backend::Gpu, Backend::Cpu] {
@@ -376,6 +403,13 @@ mod tests {
                     more.add(bump.0, bump.1, bump.2);
                     assert!(e(&more, 100) > base, "{shading} {backend:?} {bump:?}");
                 }
+                // Vertex colours or texture coordinates cost more.
+                let mut attributed = size;
+                attributed.add_attributed(1000, 2000);
+                assert!(
+                    e(&attributed, 100) > base,
+                    "{shading} {backend:?} attributes"
+                );
             }
         }
     }

@@ -17,6 +17,10 @@ pub struct GeometrySize {
     pub objects: u64,
     pub vertices: u64,
     pub triangles: u64,
+    /// Of `vertices` and `triangles`, those of meshes that carry vertex
+    /// colours or texture coordinates, which every renderer holds apart.
+    pub attributed_vertices: u64,
+    pub attributed_triangles: u64,
 }
 
 /// A mesh object's bytes beyond its vertices and triangles: the `Object`
@@ -27,12 +31,21 @@ const OBJECT_BYTES: u64 = std::mem::size_of::<Object>() as u64 + 3 * 16;
 const VERTEX_BYTES: u64 = 48;
 /// Three `u32` indices.
 const TRIANGLE_BYTES: u64 = 12;
+/// A vertex colour and texture coordinates in `f64`.
+const ATTRIBUTE_BYTES: u64 = 40;
 
 impl GeometrySize {
     pub fn add(&mut self, objects: u64, vertices: u64, triangles: u64) {
         self.objects += objects;
         self.vertices += vertices;
         self.triangles += triangles;
+    }
+
+    /// Counts `vertices` and `triangles` (already added) as carrying vertex
+    /// colours or texture coordinates.
+    pub fn add_attributed(&mut self, vertices: u64, triangles: u64) {
+        self.attributed_vertices += vertices;
+        self.attributed_triangles += triangles;
     }
 
     /// Every object of `scene`, shapes counted as tessellated when
@@ -47,6 +60,14 @@ impl GeometrySize {
                 _ => (0, 0),
             };
             size.add(1, vertices, triangles);
+            let attributed = match &object.shape {
+                Shape::Mesh(m) => !m.colors.is_empty() || !m.uvs.is_empty(),
+                // A patterned shape's tessellation carries coordinates.
+                _ => tessellated && scene.materials[object.material].pattern.is_some(),
+            };
+            if attributed {
+                size.add_attributed(vertices, triangles);
+            }
         }
         size
     }
@@ -57,6 +78,7 @@ impl GeometrySize {
             .saturating_mul(OBJECT_BYTES)
             .saturating_add(self.vertices.saturating_mul(VERTEX_BYTES))
             .saturating_add(self.triangles.saturating_mul(TRIANGLE_BYTES))
+            .saturating_add(self.attributed_vertices.saturating_mul(ATTRIBUTE_BYTES))
     }
 }
 

@@ -1109,6 +1109,14 @@ fn instanced_size(file: &GltfFile) -> Result<GeometrySize, SceneError> {
             let vertices = positions.count() as u64;
             let corners = prim.indices().map_or(vertices, |i| i.count() as u64);
             size.add(1, vertices, corners / 3);
+            // Counted whenever the file has them: coordinates are read only
+            // for a pattern, which is not known here, so this may count more.
+            let attributed = [gltf::Semantic::Colors(0), gltf::Semantic::TexCoords(0)]
+                .iter()
+                .any(|s| prim.get(s).is_some());
+            if attributed {
+                size.add_attributed(vertices, corners / 3);
+            }
         }
         Ok(())
     })?;
