@@ -293,6 +293,19 @@ fn header_of(line: &str) -> Option<&str> {
 }
 
 /// The table a 0-based line belongs to, as `[name]` or `[[objects]] #N`.
+/// The key of the inline table that column `column` (1-based) of `line`
+/// lies in, for a line `key = { ... }`.
+fn inline_table_key(line: &str, column: usize) -> Option<&str> {
+    let (key, rest) = line.split_once('=')?;
+    let key = key.trim();
+    let brace = line.len() - rest.len() + rest.find('{')?;
+    let bare = !key.is_empty()
+        && key
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    (bare && rest.trim_start().starts_with('{') && column > brace + 1).then_some(key)
+}
+
 fn table_context(text: &str, line0: usize) -> Option<String> {
     let lines: Vec<&str> = text.lines().collect();
     let upto = lines.get(..=line0.min(lines.len().saturating_sub(1)))?;
@@ -356,6 +369,12 @@ fn toml_error(label: &str, text: &str, err: &toml::de::Error) -> SceneError {
     let on_header = header_of(line_text).is_some();
     let own_context = table_context(text, line - 1);
     let context = if on_header { None } else { own_context.clone() };
+    // A key inside an inline table (`pattern = { ... }`) belongs to it.
+    let context = match (inline_table_key(line_text, column), context) {
+        (Some(key), Some(table)) => Some(format!("the `{key}` table of {table}")),
+        (Some(key), None) => Some(format!("the `{key}` table")),
+        (None, context) => context,
+    };
     let in_ctx = |c: &Option<String>| c.as_ref().map(|c| format!(" in {c}")).unwrap_or_default();
     let message = if let Some(rest) = raw.strip_prefix("unknown field `") {
         let (key, tail) = rest.split_once('`').unwrap_or((rest, ""));
@@ -1461,7 +1480,11 @@ samples = 1                       # ray tracing: samples per pixel
             ),
             (
                 "[materials.m]\npattern = { kind = \"checker\", size = 2 }\n",
-                &["line 5", "unknown key `size`", "kind, scale, colors"],
+                &[
+                    "line 5",
+                    "unknown key `size` in the `pattern` table of [materials.m]",
+                    "kind, scale, colors",
+                ],
             ),
         ] {
             let e = parse_err(&with_camera(rest));
