@@ -369,8 +369,10 @@ fn shade_sample(
         (at(0) * weights[0] + at(1) * weights[1] + at(2) * weights[2]) * scale
     };
     let material = &scene.materials[scene.objects[t.object as usize].material];
-    // The pattern at the sample's interpolated texture coordinates.
-    let patterned = material.pattern.map(|pattern| {
+    // The pattern at the sample's interpolated texture coordinates (flat
+    // shading's is in its triangle's colour).
+    let per_sample = mode != RasterMode::Flat;
+    let patterned = material.pattern.filter(|_| per_sample).map(|pattern| {
         let uv = mix_extra(|e| e.uv.extend(0.0)).truncate();
         pattern.at(uv.x, uv.y)
     });
