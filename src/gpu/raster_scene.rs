@@ -243,4 +243,29 @@ mod tests {
         assert!(first.iter().zip(second).all(|(a, b)| a + shift == *b));
         assert!(g.indices.iter().all(|&i| (i as usize) < g.vertices.len()));
     }
+
+    /// Features a scene does not use cost nothing: no colour or coordinate
+    /// stream unless some surface has vertex colours or a pattern, and then
+    /// only what its mode reads (flat: a colour per face; Gouraud and
+    /// Phong: coordinates per vertex).
+    #[test]
+    fn colour_streams_only_for_the_scenes_that_have_them() {
+        let mut scene = default_scene();
+        let view = View::new(&scene, 64, 64);
+        for with_faces in [true, false] {
+            let g = build_geometry(&scene, &view, with_faces);
+            assert!(g.vertex_colors.is_empty() && g.face_colors.is_empty());
+            assert!(g.vertex_uvs.is_empty());
+        }
+        scene.materials[0].pattern = Some(crate::scene::Pattern::Checker {
+            scale: 2.0,
+            colors: [DVec3::ONE, DVec3::ZERO],
+        });
+        let flat = build_geometry(&scene, &view, true);
+        assert_eq!(flat.face_colors.len(), flat.faces.len());
+        assert!(flat.vertex_uvs.is_empty() && flat.vertex_colors.is_empty());
+        let smooth = build_geometry(&scene, &view, false);
+        assert_eq!(smooth.vertex_uvs.len(), smooth.vertices.len());
+        assert!(smooth.face_colors.is_empty() && smooth.vertex_colors.is_empty());
+    }
 }

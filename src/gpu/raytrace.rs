@@ -621,4 +621,27 @@ mod tests {
         assert_eq!(every.use_attenuation, 0);
         assert_eq!(every.sphere_count, plain.sphere_count);
     }
+
+    /// The ray tracer compiles vertex colours and patterns in only for a
+    /// scene that has them.
+    #[test]
+    fn colour_features_are_specialised_on_only_where_used() {
+        let mut scene = default_scene();
+        let spec = |scene: &Scene| {
+            let rt = RtScene::new(scene);
+            specialization(scene, &rt, TraceOptions::default())
+        };
+        let plain = spec(&scene);
+        assert_eq!((plain.vertex_colors, plain.patterns), (0, 0));
+        scene.materials[0].pattern = Some(crate::scene::Pattern::Checker {
+            scale: 2.0,
+            colors: [glam::DVec3::ONE, glam::DVec3::ZERO],
+        });
+        assert_eq!(spec(&scene).patterns, 1);
+        assert_eq!(spec(&scene).vertex_colors, 0);
+        let mut mesh = crate::scene::tessellate(&scene.objects[0].shape);
+        mesh.colors = vec![glam::DVec3::ONE; mesh.positions.len()];
+        scene.objects[0].shape = Shape::Mesh(mesh);
+        assert_eq!(spec(&scene).vertex_colors, 1);
+    }
 }
