@@ -73,13 +73,8 @@ material = "white"
 }
 
 fn triangles(positions: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> TriangleMesh {
-    TriangleMesh {
-        normals: vec![DVec3::Z; positions.len()],
-        positions,
-        triangles,
-        colors: Vec::new(),
-        uvs: Vec::new(),
-    }
+    let normals = vec![DVec3::Z; positions.len()];
+    TriangleMesh::new(positions, normals, triangles)
 }
 
 /// Renders flat and compares coverage with the expected triangles at every

@@ -365,13 +365,11 @@ fn slivers_render_as_the_plain_square() {
         mesh.normals
     );
     let mut plain = slivers.clone();
-    plain.objects[0].shape = Shape::Mesh(TriangleMesh {
-        positions: corners,
-        normals: vec![up; 4],
-        triangles: vec![[0, 3, 2], [0, 2, 1]],
-        colors: Vec::new(),
-        uvs: Vec::new(),
-    });
+    plain.objects[0].shape = Shape::Mesh(TriangleMesh::new(
+        corners,
+        vec![up; 4],
+        vec![[0, 3, 2], [0, 2, 1]],
+    ));
     let context = gpu();
     for mode in [Shading::Phong, Shading::Raytrace] {
         let gpu_worst = worst_difference(
@@ -569,13 +567,7 @@ fn grid_on_pixel_centres() -> (
     }
     let normals = vec![normal; positions.len()];
     s.objects.push(Object {
-        shape: Shape::Mesh(TriangleMesh {
-            positions,
-            normals,
-            triangles,
-            colors: Vec::new(),
-            uvs: Vec::new(),
-        }),
+        shape: Shape::Mesh(TriangleMesh::new(positions, normals, triangles)),
         material: 0,
     });
     (s, 15..=(13 + 2 * nx), 13..=(11 + 2 * ny))

@@ -8,10 +8,19 @@ use std::path::Path;
 
 use common::cli::{shadelab, Run};
 
+/// A glTF buffer holding `bytes` as a data URI.
+fn embedded_buffer(bytes: &[u8]) -> serde_json::Value {
+    use base64::Engine;
+    serde_json::json!({
+        "byteLength": bytes.len(),
+        "uri": format!("data:application/octet-stream;base64,{}",
+            base64::engine::general_purpose::STANDARD.encode(bytes)),
+    })
+}
+
 /// A glTF whose one triangle is instanced by `count` nodes on a grid: the
 /// shape of the file that took 3.2 GB at two million instances.
 fn write_instanced(dir: &Path, count: usize) -> String {
-    use base64::Engine;
     let corners: [f32; 9] = [0.0, 0.0, 0.0, 0.8, 0.0, 0.0, 0.0, 0.8, 0.0];
     let bytes: Vec<u8> = corners.iter().flat_map(|c| c.to_le_bytes()).collect();
     let side = (count as f64).sqrt().ceil() as usize;
@@ -22,11 +31,7 @@ fn write_instanced(dir: &Path, count: usize) -> String {
         .collect();
     let doc = serde_json::json!({
         "asset": {"version": "2.0"},
-        "buffers": [{
-            "byteLength": bytes.len(),
-            "uri": format!("data:application/octet-stream;base64,{}",
-                base64::engine::general_purpose::STANDARD.encode(&bytes)),
-        }],
+        "buffers": [embedded_buffer(&bytes)],
         "bufferViews": [{"buffer": 0, "byteLength": bytes.len()}],
         "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
                        "min": [0.0, 0.0, 0.0], "max": [0.8, 0.8, 0.0]}],
@@ -251,60 +256,51 @@ fn the_estimate_bounds_the_peak_in_every_mode() {
 /// A square grid of `n` x `n` cells in one mesh, with vertex colours or
 /// without: what the renderers hold for colours grows with the mesh.
 fn write_grid(dir: &Path, n: usize, colours: bool) -> String {
-    use base64::Engine;
-    let mut bytes = Vec::new();
     let side = n + 1;
-    for j in 0..side {
-        for i in 0..side {
-            for c in [i as f32 / n as f32, 0.0, j as f32 / n as f32] {
-                bytes.extend_from_slice(&c.to_le_bytes());
-            }
-        }
-    }
-    let colour_offset = bytes.len();
-    if colours {
-        for j in 0..side {
-            for i in 0..side {
-                for c in [i as f32 / n as f32, j as f32 / n as f32, 0.5] {
-                    bytes.extend_from_slice(&c.to_le_bytes());
-                }
-            }
-        }
-    }
-    let index_offset = bytes.len();
+    let grid = |f: &dyn Fn(usize, usize) -> [f32; 3]| -> Vec<u8> {
+        (0..side * side)
+            .flat_map(|k| f(k % side, k / side))
+            .flat_map(|c| c.to_le_bytes())
+            .collect()
+    };
+    let at = |i: usize| i as f32 / n as f32;
+    let mut bytes = grid(&|i, j| [at(i), 0.0, at(j)]);
+    let positions_end = bytes.len();
     for j in 0..n {
         for i in 0..n {
             let a = (j * side + i) as u32;
             let (b, c, d) = (a + 1, a + side as u32, a + side as u32 + 1);
-            for k in [a, c, b, b, c, d] {
-                bytes.extend_from_slice(&k.to_le_bytes());
-            }
+            bytes.extend([a, c, b, b, c, d].iter().flat_map(|k| k.to_le_bytes()));
         }
     }
+    let indices_end = bytes.len();
     let vertices = side * side;
+    let mut views = vec![
+        serde_json::json!({"buffer": 0, "byteLength": positions_end}),
+        serde_json::json!({"buffer": 0, "byteOffset": positions_end,
+                           "byteLength": indices_end - positions_end}),
+    ];
+    let mut accessors = vec![
+        serde_json::json!({"bufferView": 0, "componentType": 5126, "count": vertices,
+                           "type": "VEC3", "min": [0.0, 0.0, 0.0], "max": [1.0, 0.0, 1.0]}),
+        serde_json::json!({"bufferView": 1, "componentType": 5125, "count": 6 * n * n,
+                           "type": "SCALAR"}),
+    ];
     let mut attributes = serde_json::json!({"POSITION": 0});
     if colours {
-        attributes["COLOR_0"] = 1.into();
+        bytes.extend(grid(&|i, j| [at(i), at(j), 0.5]));
+        views.push(serde_json::json!({"buffer": 0, "byteOffset": indices_end,
+                                      "byteLength": bytes.len() - indices_end}));
+        accessors.push(serde_json::json!({"bufferView": 2, "componentType": 5126,
+                                          "count": vertices, "type": "VEC3"}));
+        attributes["COLOR_0"] = 2.into();
     }
     let doc = serde_json::json!({
         "asset": {"version": "2.0"},
-        "buffers": [{
-            "byteLength": bytes.len(),
-            "uri": format!("data:application/octet-stream;base64,{}",
-                base64::engine::general_purpose::STANDARD.encode(&bytes)),
-        }],
-        "bufferViews": [
-            {"buffer": 0, "byteLength": colour_offset},
-            {"buffer": 0, "byteOffset": colour_offset, "byteLength": (index_offset - colour_offset).max(4)},
-            {"buffer": 0, "byteOffset": index_offset, "byteLength": bytes.len() - index_offset},
-        ],
-        "accessors": [
-            {"bufferView": 0, "componentType": 5126, "count": vertices, "type": "VEC3",
-             "min": [0.0, 0.0, 0.0], "max": [1.0, 0.0, 1.0]},
-            {"bufferView": 1, "componentType": 5126, "count": if colours { vertices } else { 1 }, "type": "VEC3"},
-            {"bufferView": 2, "componentType": 5125, "count": 6 * n * n, "type": "SCALAR"},
-        ],
-        "meshes": [{"primitives": [{"attributes": attributes, "indices": 2}]}],
+        "buffers": [embedded_buffer(&bytes)],
+        "bufferViews": views,
+        "accessors": accessors,
+        "meshes": [{"primitives": [{"attributes": attributes, "indices": 1}]}],
         "nodes": [{"mesh": 0}],
         "scenes": [{"nodes": [0]}],
         "scene": 0,

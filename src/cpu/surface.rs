@@ -13,14 +13,9 @@ use crate::scene::texcoords::{box_uv, plane_uv, sphere_uv};
 /// pixels by).
 pub fn hit_tint(rt: &RtScene, hit: &Hit, p: DVec3) -> (DVec3, Option<i64>) {
     let mut tint = DVec3::ONE;
-    let at = |corners: &[DVec2; 3]| {
-        let DVec2 { x: u, y: v } = hit.barycentrics;
-        (1.0 - u - v) * corners[0] + u * corners[1] + v * corners[2]
-    };
     if let Primitive::Triangle(k) = hit.primitive {
-        if let Some(c) = rt.triangle_colors.get(k as usize) {
-            let DVec2 { x: u, y: v } = hit.barycentrics;
-            tint = (1.0 - u - v) * c[0] + u * c[1] + v * c[2];
+        if let Some(corners) = rt.triangle_colors.get(k as usize) {
+            tint = at_barycentrics(corners, hit.barycentrics);
         }
     }
     let Some(pattern) = &rt.materials[hit.material as usize].pattern else {
@@ -36,8 +31,24 @@ pub fn hit_tint(rt: &RtScene, hit: &Hit, p: DVec3) -> (DVec3, Option<i64>) {
             let b = &rt.boxes[index as usize];
             box_uv(p - b.center, &b.rotation, b.half_extents, face)
         }
-        Primitive::Triangle(k) => rt.triangle_uvs.get(k as usize).map_or(DVec2::ZERO, at),
+        Primitive::Triangle(k) => rt
+            .triangle_uvs
+            .get(k as usize)
+            .map_or(DVec2::ZERO, |corners| {
+                at_barycentrics(corners, hit.barycentrics)
+            }),
     };
     let (color, cell) = pattern.at(uv.x, uv.y);
     (tint * color, Some(cell))
+}
+
+/// A value given at a triangle's corners, at barycentrics `(u, v)` (the
+/// weights of the second and third corners), as the normal is
+/// interpolated (`intersect::triangle_normal`).
+fn at_barycentrics<T>(corners: &[T; 3], barycentrics: DVec2) -> T
+where
+    T: Copy + std::ops::Mul<f64, Output = T> + std::ops::Add<Output = T>,
+{
+    let DVec2 { x: u, y: v } = barycentrics;
+    corners[0] * (1.0 - u - v) + corners[1] * u + corners[2] * v
 }

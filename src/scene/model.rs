@@ -196,6 +196,20 @@ pub struct TriangleMesh {
     pub triangles: Vec<[u32; 3]>,
 }
 
+impl TriangleMesh {
+    /// A mesh of positions, normals and triangles alone: no vertex colours,
+    /// no texture coordinates.
+    pub fn new(positions: Vec<DVec3>, normals: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> Self {
+        TriangleMesh {
+            positions,
+            normals,
+            triangles,
+            colors: Vec::new(),
+            uvs: Vec::new(),
+        }
+    }
+}
+
 /// The deepest ray tree a scene or `--depth` may ask for.
 pub const MAX_DEPTH: u32 = 64;
 

@@ -130,13 +130,7 @@ fn sphere(center: DVec3, radius: f64, segments: u32) -> TriangleMesh {
     // ring r (0-based, r < bands - 1), segment j (wrapping)
     let at = |r: u32, j: u32| 1 + r * seg + j % seg;
     let triangles = sphere_triangles(seg, bands, |_| 0, at, |_| south);
-    TriangleMesh {
-        positions,
-        normals,
-        triangles,
-        colors: Vec::new(),
-        uvs: Vec::new(),
-    }
+    TriangleMesh::new(positions, normals, triangles)
 }
 
 /// A UV sphere's triangles, wound outward: a fan from the north pole's
@@ -209,11 +203,8 @@ fn textured_sphere(center: DVec3, radius: f64, segments: u32) -> TriangleMesh {
     let at = |r: u32, j: u32| seg + r * (seg + 1) + j;
     let triangles = sphere_triangles(seg, bands, |j| j, at, |j| south + j);
     TriangleMesh {
-        positions,
-        normals,
-        triangles,
-        colors: Vec::new(),
         uvs,
+        ..TriangleMesh::new(positions, normals, triangles)
     }
 }
 
@@ -238,13 +229,7 @@ fn plane(center: DVec3, normal: DVec3, size: f64, segments: u32) -> TriangleMesh
             triangles.push([at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]);
         }
     }
-    TriangleMesh {
-        positions,
-        normals,
-        triangles,
-        colors: Vec::new(),
-        uvs: Vec::new(),
-    }
+    TriangleMesh::new(positions, normals, triangles)
 }
 
 fn cuboid(center: DVec3, half: DVec3, rotation: &glam::DMat3) -> TriangleMesh {
@@ -269,13 +254,7 @@ fn cuboid(center: DVec3, half: DVec3, rotation: &glam::DMat3) -> TriangleMesh {
             triangles.push([base, base + 2, base + 3]);
         }
     }
-    TriangleMesh {
-        positions,
-        normals,
-        triangles,
-        colors: Vec::new(),
-        uvs: Vec::new(),
-    }
+    TriangleMesh::new(positions, normals, triangles)
 }
 
 #[cfg(test)]
@@ -417,13 +396,11 @@ mod tests {
 
     #[test]
     fn mesh_is_cloned() {
-        let m = TriangleMesh {
-            positions: vec![DVec3::ZERO, DVec3::X, DVec3::Y],
-            normals: vec![DVec3::Z; 3],
-            triangles: vec![[0, 1, 2]],
-            colors: Vec::new(),
-            uvs: Vec::new(),
-        };
+        let m = TriangleMesh::new(
+            vec![DVec3::ZERO, DVec3::X, DVec3::Y],
+            vec![DVec3::Z; 3],
+            vec![[0, 1, 2]],
+        );
         assert_eq!(tessellate(&Shape::Mesh(m.clone())), m);
     }
 
