@@ -92,6 +92,7 @@ pub mod cpu;
 pub mod error;
 pub mod gpu;
 pub mod junit;
+pub mod level_of_detail;
 pub mod linear_image;
 pub mod markup;
 pub mod memory;

@@ -15,9 +15,11 @@ use rayon::prelude::*;
 
 use super::clip::{clip_near, ClipVertex, Extras};
 use super::lighting::{shade, Surface};
+use super::surface::pattern_color;
 use crate::camera::View;
+use crate::level_of_detail::flat_lambda;
 use crate::linear_image::LinearImage;
-use crate::scene::{tessellate, tessellate_textured, Interpolation, Material, Scene};
+use crate::scene::{tessellate, tessellate_textured, ImageTexture, Interpolation, Material, Scene};
 use crate::shading::RasterMode;
 
 /// Sub-pixel grid of the coverage test: 1/256 pixel.
@@ -143,7 +145,7 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
     let mut next_primitive = 0u32;
     for (object_index, object) in scene.objects.iter().enumerate() {
         let material = &scene.materials[object.material];
-        let pattern = material.pattern;
+        let pattern = material.pattern.as_ref();
         let mesh = if pattern.is_some() {
             tessellate_textured(&object.shape)
         } else {
@@ -232,10 +234,12 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
                 // the mean of the corners'.
                 let [ta, tb, tc] = tri.map(|i| tint_at(i as usize));
                 let mut tint = (ta + tb + tc) / 3.0;
-                if let Some(pattern) = &pattern {
-                    let [ua, ub, uc] = tri.map(|i| uv_at(i as usize));
-                    let uv = (ua + ub + uc) / 3.0;
-                    tint *= pattern.at(uv.x, uv.y).0;
+                if let Some(pattern) = pattern {
+                    let uvs = tri.map(|i| uv_at(i as usize));
+                    let uv = (uvs[0] + uvs[1] + uvs[2]) / 3.0;
+                    let positions = [pa, pb, pc];
+                    let lambda = |image: &_| flat_lambda(image, view, positions, uvs);
+                    tint *= pattern_color(pattern, uv, lambda).0;
                 }
                 shade(
                     &scene.lighting,
@@ -337,15 +341,10 @@ fn boundary_distance(t: &Triangle, p: DVec2) -> (f64, [f64; 3]) {
     (distance, barycentrics(t, p))
 }
 
-fn shade_sample(
-    scene: &Scene,
-    view: &View,
-    mode: RasterMode,
-    t: &Triangle,
-    bary: [f64; 3],
-) -> Sample {
-    // Perspective-correct weights; with screen-linear interpolation the
-    // attributes carry a factor w that `weight` divides back out.
+/// The interpolation weights of the sample with screen barycentrics
+/// `bary`: perspective-correct, and the factor that divides screen-linear
+/// interpolation's `w` back out (1 otherwise).
+fn interpolation_weights(t: &Triangle, bary: [f64; 3]) -> ([f64; 3], f64) {
     let w = [
         bary[0] * t.inv_w[0],
         bary[1] * t.inv_w[1],
@@ -357,6 +356,45 @@ fn shade_sample(
         / (t.vertices[0].weight * weights[0]
             + t.vertices[1].weight * weights[1]
             + t.vertices[2].weight * weights[2]);
+    (weights, scale)
+}
+
+/// The texture coordinates interpolated at window point `p` (extrapolated
+/// outside the triangle, as a helper invocation of the GPU's quad does).
+fn uv_at_point(t: &Triangle, p: DVec2) -> DVec2 {
+    let (weights, scale) = interpolation_weights(t, barycentrics(t, p));
+    let at = |k: usize| t.vertices[k].extra.as_deref().map_or(DVec2::ZERO, |e| e.uv);
+    (at(0) * weights[0] + at(1) * weights[1] + at(2) * weights[2]) * scale
+}
+
+/// The level of detail of `image` at the sample `p` as the fragment shader
+/// takes it (`shaders/include/texture.glsl`, `raster_lambda`): fine
+/// derivatives over the sample's 2 x 2 quad (the difference along its row
+/// and along its column between the quad's two pixel centres), scaled by
+/// the transform and level 0's size; `lambda = log2` of the longer.
+fn raster_lambda(t: &Triangle, p: DVec2, image: &ImageTexture) -> f64 {
+    let (x, y) = ((p.x - 0.5).floor(), (p.y - 0.5).floor());
+    let (qx, qy) = (x - x.rem_euclid(2.0) + 0.5, y - y.rem_euclid(2.0) + 0.5);
+    let dx = uv_at_point(t, DVec2::new(qx + 1.0, p.y)) - uv_at_point(t, DVec2::new(qx, p.y));
+    let dy = uv_at_point(t, DVec2::new(p.x, qy + 1.0)) - uv_at_point(t, DVec2::new(p.x, qy));
+    let m = &image.transform.0;
+    let level = &image.texture.levels[0];
+    let size = DVec2::new(f64::from(level.width), f64::from(level.height));
+    let texels = |d: DVec2| DVec2::new(m[0] * d.x + m[1] * d.y, m[3] * d.x + m[4] * d.y) * size;
+    let rho = texels(dx).length().max(texels(dy).length());
+    rho.log2()
+}
+
+fn shade_sample(
+    scene: &Scene,
+    view: &View,
+    mode: RasterMode,
+    t: &Triangle,
+    (p, bary): (DVec2, [f64; 3]),
+) -> Sample {
+    // Perspective-correct weights; with screen-linear interpolation the
+    // attributes carry a factor w that `weight` divides back out.
+    let (weights, scale) = interpolation_weights(t, bary);
     let mix = |f: fn(&ClipVertex) -> DVec3| {
         (f(&t.vertices[0]) * weights[0]
             + f(&t.vertices[1]) * weights[1]
@@ -372,11 +410,15 @@ fn shade_sample(
     // The pattern at the sample's interpolated texture coordinates (flat
     // shading's is in its triangle's colour).
     let per_sample = mode != RasterMode::Flat;
-    let patterned = material.pattern.filter(|_| per_sample).map(|pattern| {
-        let uv = mix_extra(|e| e.uv.extend(0.0)).truncate();
-        pattern.at(uv.x, uv.y)
-    });
-    let cell = patterned.map(|(_, cell)| cell);
+    let patterned = material
+        .pattern
+        .as_ref()
+        .filter(|_| per_sample)
+        .map(|pattern| {
+            let uv = mix_extra(|e| e.uv.extend(0.0)).truncate();
+            pattern_color(pattern, uv, |image| raster_lambda(t, p, image))
+        });
+    let cell = patterned.and_then(|(_, cell)| cell);
     match mode {
         RasterMode::Flat => Sample {
             color: t.flat_color,
@@ -493,7 +535,7 @@ pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
                             depth[i] = z;
                             ids[i] = Some(t.object);
                             tri_ids[i] = Some(t.primitive);
-                            let sample = shade_sample(scene, &view, mode, t, bary);
+                            let sample = shade_sample(scene, &view, mode, t, (p, bary));
                             (color[i], vanishing[i]) = (sample.color, sample.vanishing_normal);
                             cells[i] = sample.cell;
                         }

@@ -151,6 +151,10 @@ struct Pending {
     weight: f64,
     depth: u32,
     kind: RayKind,
+    /// The ray's cone (texture level of detail): its width at the origin
+    /// and how fast it widens per unit of distance.
+    cone_width: f64,
+    cone_spread: f64,
 }
 
 /// Traces rays through one scene.
@@ -158,6 +162,8 @@ pub struct Tracer<'a> {
     accel: Accel<'a>,
     view: View,
     offsets: Vec<(f64, f64)>,
+    /// A primary ray's cone spread (`level_of_detail::pixel_spread`).
+    pixel_spread: f64,
 }
 
 impl<'a> Tracer<'a> {
@@ -166,6 +172,7 @@ impl<'a> Tracer<'a> {
     pub fn new(scene: &'a RtScene, view: View) -> Self {
         Tracer {
             accel: Accel::new(scene),
+            pixel_spread: crate::level_of_detail::pixel_spread(&view),
             view,
             offsets: sample_offsets(scene.render.samples),
         }
@@ -216,6 +223,8 @@ impl<'a> Tracer<'a> {
             weight: 1.0,
             depth: 0,
             kind: RayKind::Primary,
+            cone_width: 0.0,
+            cone_spread: self.pixel_spread,
         });
         let mut sum = DVec3::ZERO;
         let mut root_object = None;
@@ -234,7 +243,8 @@ impl<'a> Tracer<'a> {
             let p = origin + hit.t * d;
             let (n, ng) = (hit.normal, hit.geometric_normal);
             let material = &scene.materials[hit.material as usize];
-            let (tint, cell) = hit_tint(scene, &hit, p);
+            let cone_width = pending.cone_width + pending.cone_spread * hit.t;
+            let (tint, cell) = hit_tint(scene, &hit, p, d, cone_width);
             if let Some(cell) = cell {
                 signature.cell(cell);
             }
@@ -306,6 +316,15 @@ impl<'a> Tracer<'a> {
                     RayKind::Refracted => stats.refracted += 1,
                     _ => stats.reflected += 1,
                 }
+                // A mirror sphere of radius r spreads a cone by 2 w / r
+                // more (its curvature); planes, boxes and triangles are
+                // flat, and refraction keeps the spread.
+                let curvature = match (kind, hit.primitive) {
+                    (RayKind::Reflected, Primitive::Sphere(i)) => {
+                        2.0 * cone_width / scene.spheres[i as usize].radius
+                    }
+                    _ => 0.0,
+                };
                 stack.push(Pending {
                     ray: Ray {
                         origin: offset_origin(p, ng, dir),
@@ -314,6 +333,8 @@ impl<'a> Tracer<'a> {
                     weight,
                     depth: pending.depth + 1,
                     kind,
+                    cone_width,
+                    cone_spread: pending.cone_spread + curvature,
                 });
             }
         }

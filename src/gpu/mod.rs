@@ -25,6 +25,7 @@ mod rt_records;
 pub mod rt_wide;
 pub mod shader_catalog;
 mod specialise;
+pub mod texture_table;
 mod timestamps;
 mod validation;
 

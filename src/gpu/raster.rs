@@ -18,6 +18,7 @@ use super::pipeline::{single_pipeline, PipelineObjects};
 use super::raster_frame::Frame;
 use super::raster_layout::{
     DrawConstants, PatternDrawConstants, Specialization, Vertex, BINDINGS, SMOOTH_BINDINGS,
+    TEXTURED_BINDINGS,
 };
 use super::raster_scene::{build_geometry, specialization};
 use super::shader_catalog::{self as shaders, ShaderBlob};
@@ -92,15 +93,31 @@ pub(crate) struct SurfaceFeatures {
     /// Texture coordinates in a third vertex stream and a pattern per draw
     /// (Gouraud and Phong; flat shading's is in its face colours).
     pub pattern: bool,
+    /// With `pattern`: some pattern is an image, sampled in the fragment
+    /// stage from the texture buffers (`gpu::texture_table`).
+    pub texture: bool,
 }
 
 /// The variant of `base` (`PHONG_FRAG`, ...) with the features it takes.
 fn variant(base: &str, screen: bool, colors: bool, pattern: bool) -> &'static ShaderBlob {
+    textured_variant(base, screen, colors, pattern, false)
+}
+
+/// `variant`, and for a fragment stage that samples images, its
+/// `_TEXTURE` variant.
+fn textured_variant(
+    base: &str,
+    screen: bool,
+    colors: bool,
+    pattern: bool,
+    texture: bool,
+) -> &'static ShaderBlob {
     let mut name = base.to_string();
     for (on, suffix) in [
         (screen, "_SCREEN"),
         (colors, "_COLOR"),
         (pattern, "_PATTERN"),
+        (texture, "_TEXTURE"),
     ] {
         if on {
             name.push_str(suffix);
@@ -119,7 +136,11 @@ fn shader_pair(
     features: SurfaceFeatures,
 ) -> (&'static ShaderBlob, &'static ShaderBlob) {
     let screen = interpolation == Interpolation::Screen;
-    let SurfaceFeatures { colors, pattern } = features;
+    let SurfaceFeatures {
+        colors,
+        pattern,
+        texture,
+    } = features;
     match mode {
         RasterMode::Flat => (
             variant("FLAT_VERT", false, colors, false),
@@ -127,20 +148,25 @@ fn shader_pair(
         ),
         RasterMode::Gouraud => (
             variant("GOURAUD_VERT", screen, colors, pattern),
-            variant("GOURAUD_FRAG", screen, false, pattern),
+            textured_variant("GOURAUD_FRAG", screen, false, pattern, texture),
         ),
         RasterMode::Phong => (
             variant("PHONG_VERT", screen, colors, pattern),
-            variant("PHONG_FRAG", screen, colors, pattern),
+            textured_variant("PHONG_FRAG", screen, colors, pattern, texture),
         ),
     }
 }
 
 /// The descriptor bindings a mode's pipeline uses: only flat shading reads
-/// the per-face records.
-pub(crate) fn bindings_of(mode: RasterMode) -> &'static [(u32, vk::DescriptorType)] {
+/// the per-face records, and only Gouraud and Phong the image textures
+/// (flat shading's are in its face colours).
+pub(crate) fn bindings_of(
+    mode: RasterMode,
+    features: SurfaceFeatures,
+) -> &'static [(u32, vk::DescriptorType)] {
     match mode {
         RasterMode::Flat => BINDINGS,
+        RasterMode::Gouraud | RasterMode::Phong if features.texture => TEXTURED_BINDINGS,
         RasterMode::Gouraud | RasterMode::Phong => SMOOTH_BINDINGS,
     }
 }
@@ -157,7 +183,7 @@ fn create_pipeline(
     let device = &context.device;
     let mut p = PipelineObjects::new(context);
     let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-    p.set_layout = create_set_layout(context, bindings_of(mode), stages)?;
+    p.set_layout = create_set_layout(context, bindings_of(mode, features), stages)?;
     let push_size = if features.pattern {
         std::mem::size_of::<PatternDrawConstants>()
     } else {
@@ -371,6 +397,7 @@ pub fn render_to(
     let features = SurfaceFeatures {
         colors: !geometry.vertex_colors.is_empty() || !geometry.face_colors.is_empty(),
         pattern: !geometry.vertex_uvs.is_empty(),
+        texture: !geometry.textures.is_empty(),
     };
     let key = format!(
         "raster {mode:?} {interpolation:?} {target:?} spec {:?} hook {:016x} {features:?}",
@@ -383,7 +410,13 @@ pub fn render_to(
     let pipeline_ms = ms_since(pipeline_started);
 
     let upload_started = Instant::now();
-    let frame = Frame::new(context, scene, &view, &geometry, mode, target, &pipeline)?;
+    let frame = Frame::new(
+        context,
+        (scene, &view, &geometry),
+        (mode, features),
+        target,
+        &pipeline,
+    )?;
     let timestamps = Timestamps::new(context)?;
     let upload_ms = ms_since(upload_started);
 

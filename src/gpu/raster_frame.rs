@@ -15,7 +15,7 @@ use super::descriptors::Descriptors;
 use super::error::GpuError;
 use super::image::Image;
 use super::pipeline::PipelineObjects;
-use super::raster::{bindings_of, image_barrier, ColorTarget, DEPTH_FORMAT};
+use super::raster::{bindings_of, image_barrier, ColorTarget, SurfaceFeatures, DEPTH_FORMAT};
 use super::raster_flat::FlatMesh;
 use super::raster_layout::{DrawConstants, FrameUniforms, PatternConstants, PatternDrawConstants};
 use super::raster_scene::{lights, RasterGeometry as Geometry};
@@ -45,16 +45,15 @@ pub(crate) struct Frame {
     _light_buffer: Buffer,
     _frame_buffer: Buffer,
     _face_buffer: Option<Buffer>,
+    _texture_buffers: Option<[Buffer; 2]>,
 }
 
 impl Frame {
     /// The scene's data uploaded and the images made, for `pipeline`.
     pub(crate) fn new(
         context: &Arc<GpuContext>,
-        scene: &Scene,
-        view: &View,
-        geometry: &Geometry,
-        mode: RasterMode,
+        (scene, view, geometry): (&Scene, &View, &Geometry),
+        (mode, features): (RasterMode, SurfaceFeatures),
         target: ColorTarget,
         pipeline: &PipelineObjects,
     ) -> Result<Self, GpuError> {
@@ -126,10 +125,35 @@ impl Frame {
             )?),
             None => None,
         };
+        // The image textures, where the variant samples them.
+        let texture_buffers = if features.texture && !flat {
+            let table = &geometry.textures;
+            Some([
+                Buffer::with_data(
+                    context,
+                    "texture records",
+                    bytemuck::cast_slice(&table.records),
+                    vk::BufferUsageFlags::STORAGE_BUFFER,
+                )?,
+                Buffer::with_data(
+                    context,
+                    "texels",
+                    bytemuck::cast_slice(&table.texels),
+                    vk::BufferUsageFlags::STORAGE_BUFFER,
+                )?,
+            ])
+        } else {
+            None
+        };
         let mut bound = vec![&light_buffer, &frame_buffer];
         bound.extend(&face_buffer);
-        let descriptors =
-            Descriptors::new(context, pipeline.set_layout, bindings_of(mode), &bound)?;
+        bound.extend(texture_buffers.iter().flatten());
+        let descriptors = Descriptors::new(
+            context,
+            pipeline.set_layout,
+            bindings_of(mode, features),
+            &bound,
+        )?;
 
         let extent = vk::Extent2D { width, height };
         let color = Image::new(
@@ -170,6 +194,7 @@ impl Frame {
             _light_buffer: light_buffer,
             _frame_buffer: frame_buffer,
             _face_buffer: face_buffer,
+            _texture_buffers: texture_buffers,
         })
     }
 
@@ -327,7 +352,15 @@ impl Frame {
             };
             let patterned = PatternDrawConstants {
                 draw: constants,
-                pattern: PatternConstants::of(m.pattern.as_ref()),
+                pattern: PatternConstants::of(
+                    m.pattern.as_ref(),
+                    geometry
+                        .textures
+                        .material_texture
+                        .get(draw.material)
+                        .copied()
+                        .flatten(),
+                ),
             };
             let bytes = if self.uv_buffer.is_some() {
                 bytemuck::bytes_of(&patterned)

@@ -10,6 +10,9 @@ use bytemuck::{Pod, Zeroable};
 pub const LIGHTS_BINDING: u32 = 0;
 pub const FRAME_BINDING: u32 = 1;
 pub const FACES_BINDING: u32 = 2;
+/// The image textures (`TEXTURE` variants, `gpu::texture_table`).
+pub const TEXTURE_RECORDS_BINDING: u32 = 3;
+pub const TEXELS_BINDING: u32 = 4;
 
 /// Set 0 of the raster pipelines: (binding, type). Flat shading binds all
 /// of it; Gouraud and Phong the part without the faces, `SMOOTH_BINDINGS`.
@@ -22,6 +25,15 @@ pub const BINDINGS: &[(u32, vk::DescriptorType)] = &[
 /// What Gouraud and Phong bind: the lights and the frame.
 pub const SMOOTH_BINDINGS: &[(u32, vk::DescriptorType)] = BINDINGS.split_at(2).0;
 
+/// What Gouraud and Phong bind with image textures: the lights, the frame,
+/// the texture records and the texels.
+pub const TEXTURED_BINDINGS: &[(u32, vk::DescriptorType)] = &[
+    (LIGHTS_BINDING, vk::DescriptorType::STORAGE_BUFFER),
+    (FRAME_BINDING, vk::DescriptorType::UNIFORM_BUFFER),
+    (TEXTURE_RECORDS_BINDING, vk::DescriptorType::STORAGE_BUFFER),
+    (TEXELS_BINDING, vk::DescriptorType::STORAGE_BUFFER),
+];
+
 /// The size of the record the host writes to each binding: one element of
 /// a runtime array, or the whole uniform block.
 pub fn record_size(binding: u32) -> usize {
@@ -29,6 +41,8 @@ pub fn record_size(binding: u32) -> usize {
         LIGHTS_BINDING => std::mem::size_of::<GpuLight>(),
         FRAME_BINDING => std::mem::size_of::<FrameUniforms>(),
         FACES_BINDING => std::mem::size_of::<GpuFace>(),
+        TEXTURE_RECORDS_BINDING => 16,
+        TEXELS_BINDING => 4,
         _ => 0,
     }
 }
@@ -99,8 +113,11 @@ pub struct PatternDrawConstants {
 }
 
 impl PatternConstants {
-    /// The values for a material's pattern, or for none.
-    pub fn of(pattern: Option<&crate::scene::Pattern>) -> Self {
+    /// The values for a material's pattern, or for none. An image
+    /// (`TEXTURE` variants) is its index in the texture table
+    /// (`gpu::texture_table`) as `w = -1 - index`, and its uv transform's
+    /// rows in the two `xyz`.
+    pub fn of(pattern: Option<&crate::scene::Pattern>, texture: Option<u32>) -> Self {
         match pattern {
             None => PatternConstants::zeroed(),
             Some(crate::scene::Pattern::Checker {
@@ -111,6 +128,14 @@ impl PatternConstants {
                 PatternConstants {
                     checker_a: [a.x, a.y, a.z, *scale as f32],
                     checker_b: [b.x, b.y, b.z, 0.0],
+                }
+            }
+            Some(crate::scene::Pattern::Image(image)) => {
+                let m = image.transform.0.map(|x| x as f32);
+                let index = texture.expect("a material's image is in the texture table");
+                PatternConstants {
+                    checker_a: [m[0], m[1], m[2], -1.0 - index as f32],
+                    checker_b: [m[3], m[4], m[5], 0.0],
                 }
             }
         }

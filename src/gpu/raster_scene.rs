@@ -14,7 +14,10 @@ use glam::DVec3;
 
 use super::raster_cull::back_faces_hidden;
 use super::raster_layout::{GpuFace, GpuLight, Specialization, Vertex};
+use super::texture_table::TextureTable;
 use crate::camera::View;
+use crate::cpu::surface::pattern_color;
+use crate::level_of_detail::flat_lambda;
 use crate::scene::{tessellate, tessellate_textured, Scene, Shape};
 
 pub struct Draw {
@@ -43,6 +46,9 @@ pub struct RasterGeometry {
     /// pattern: texture coordinates per vertex, a third vertex stream
     /// (zeros for the objects without one).
     pub vertex_uvs: Vec<[f32; 2]>,
+    /// Without `faces`, where some drawn material has an image texture:
+    /// the images as the fragment stage reads them (empty otherwise).
+    pub textures: TextureTable,
     pub draws: Vec<Draw>,
 }
 
@@ -52,6 +58,16 @@ pub fn has_patterns(scene: &Scene) -> bool {
         .objects
         .iter()
         .any(|o| scene.materials[o.material].pattern.is_some())
+}
+
+/// Whether some object of the scene has a material with an image texture.
+pub fn has_textures(scene: &Scene) -> bool {
+    scene.objects.iter().any(|o| {
+        matches!(
+            scene.materials[o.material].pattern,
+            Some(crate::scene::Pattern::Image(_))
+        )
+    })
 }
 
 /// Whether some mesh of the scene has vertex colours: the raster
@@ -86,8 +102,12 @@ pub fn build_geometry(scene: &Scene, view: &View, with_faces: bool) -> RasterGeo
         faces: Vec::new(),
         face_colors: Vec::new(),
         vertex_uvs: Vec::new(),
+        textures: TextureTable::default(),
         draws: Vec::new(),
     };
+    if !with_faces && has_textures(scene) {
+        geometry.textures = TextureTable::new(&scene.materials);
+    }
     // Reserved exactly: growth by doubling left up to half of each list
     // unused (`docs/memory.md`).
     let (vertex_count, triangle_count) = scene
@@ -107,7 +127,7 @@ pub fn build_geometry(scene: &Scene, view: &View, with_faces: bool) -> RasterGeo
         geometry.face_colors.reserve_exact(triangle_count as usize);
     }
     for object in &scene.objects {
-        let pattern = scene.materials[object.material].pattern;
+        let pattern = scene.materials[object.material].pattern.as_ref();
         let mesh = if pattern.is_some() {
             tessellate_textured(&object.shape)
         } else {
@@ -150,10 +170,12 @@ pub fn build_geometry(scene: &Scene, view: &View, with_faces: bool) -> RasterGeo
             if face_colors {
                 let [ta, tb, tc] = tri.map(tint_at);
                 let mut color = (ta + tb + tc) / 3.0;
-                if let Some(pattern) = &pattern {
-                    let [ua, ub, uc] = tri.map(uv_at);
-                    let uv = (ua + ub + uc) / 3.0;
-                    color *= pattern.at(uv.x, uv.y).0;
+                if let Some(pattern) = pattern {
+                    let uvs = tri.map(uv_at);
+                    let uv = (uvs[0] + uvs[1] + uvs[2]) / 3.0;
+                    let positions = tri.map(|i| mesh.positions[i as usize]);
+                    let lambda = |image: &_| flat_lambda(image, view, positions, uvs);
+                    color *= pattern_color(pattern, uv, lambda).0;
                 }
                 geometry.face_colors.push(f32x3(color));
             }

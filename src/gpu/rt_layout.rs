@@ -320,7 +320,8 @@ pub struct GpuTriangleColors {
 pub struct GpuTriangleUvs {
     /// Corner 0's `(u, v)`, then corner 1's.
     pub uv01: [f32; 4],
-    /// Corner 2's `(u, v)`, then two unused.
+    /// Corner 2's `(u, v)`, the triangle's uv area per unit of its world
+    /// area (for the ray cones' level of detail), and one unused.
     pub uv2: [f32; 4],
 }
 

@@ -11,6 +11,7 @@ use glam::DVec3;
 use super::error::GpuError;
 use super::rt_bvh::{gpu_bvh, BvhKinds, GpuBvh, LeafBases};
 use super::rt_layout::*;
+use super::texture_table::TextureTable;
 use crate::rt_scene::RtScene;
 
 /// The storage buffers' contents.
@@ -27,6 +28,9 @@ pub struct SceneRecords {
     pub triangle_uvs: Vec<GpuTriangleUvs>,
     /// One per material where some material has a pattern; else empty.
     pub patterns: Vec<GpuPattern>,
+    /// The image textures (`gpu::texture_table`); empty without any.
+    pub texture_records: Vec<[u32; 4]>,
+    pub texels: Vec<f32>,
     pub bvh: GpuBvh,
     pub materials: Vec<GpuMaterial>,
 }
@@ -47,6 +51,15 @@ impl SceneRecords {
             end: 1,
         };
     }
+}
+
+/// A triangle's uv area per unit of its world area (its texel density
+/// before the texture's size and transform: `level_of_detail`).
+fn uv_density(positions: [DVec3; 3], uvs: [glam::DVec2; 3]) -> f64 {
+    let [a, b, c] = positions;
+    let world = 0.5 * (b - a).cross(c - a).length();
+    let (e1, e2) = (uvs[1] - uvs[0], uvs[2] - uvs[0]);
+    0.5 * e1.perp_dot(e2).abs() / world
 }
 
 fn v3(v: DVec3) -> [f32; 3] {
@@ -75,6 +88,7 @@ pub(super) fn in_order<T: Copy>(list: &[T], order: &[u32]) -> Vec<T> {
 
 pub fn records(rt: &RtScene) -> Result<SceneRecords, GpuError> {
     let bvh = gpu_bvh(rt, BvhKinds::of(rt))?;
+    let textures = TextureTable::new(&rt.materials);
     // Leaf order: a leaf's triangles are the run its link names.
     let order = if rt.triangles.is_empty() {
         &[][..]
@@ -146,23 +160,27 @@ pub fn records(rt: &RtScene) -> Result<SceneRecords, GpuError> {
         },
         triangle_uvs: order
             .iter()
-            .filter_map(|&i| rt.triangle_uvs.get(i as usize))
-            .map(|[a, b, c]| {
-                let (a, b, c) = (a.as_vec2(), b.as_vec2(), c.as_vec2());
+            .filter_map(|&i| Some((rt.triangle_uvs.get(i as usize)?, i)))
+            .map(|(uvs, i)| {
+                let density = uv_density(rt.triangles[i as usize].positions, *uvs);
+                let [a, b, c] = uvs.map(|uv| uv.as_vec2());
                 GpuTriangleUvs {
                     uv01: [a.x, a.y, b.x, b.y],
-                    uv2: [c.x, c.y, 0.0, 0.0],
+                    uv2: [c.x, c.y, density as f32, 0.0],
                 }
             })
             .collect(),
         patterns: if rt.materials.iter().any(|m| m.pattern.is_some()) {
             rt.materials
                 .iter()
-                .map(|m| GpuPattern::of(m.pattern.as_ref()))
+                .zip(&textures.material_texture)
+                .map(|(m, &texture)| GpuPattern::of(m.pattern.as_ref(), texture))
                 .collect()
         } else {
             Vec::new()
         },
+        texture_records: textures.records,
+        texels: textures.texels,
         bvh,
         materials: rt
             .materials

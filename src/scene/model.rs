@@ -9,6 +9,8 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
+pub use super::texture::{Filter, Sampler, Texture, Wrap};
+
 /// A whole scene, validated: every number finite, every material index valid,
 /// every mesh with at least one non-degenerate triangle.
 #[derive(Debug, Clone)]
@@ -119,27 +121,74 @@ pub struct Material {
     pub pattern: Option<Pattern>,
 }
 
-/// A procedural texture over a surface's texture coordinates `(u, v)`
-/// (docs/lighting-model.md, "Surface colour"), evaluated exactly at the
-/// point, with no filtering.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// What multiplies a material's colour over its surface: a procedural
+/// pattern or an image, at the surface's texture coordinates `(u, v)`
+/// (docs/lighting-model.md, "Surface colour").
+#[derive(Debug, Clone, PartialEq)]
 pub enum Pattern {
     /// Two colours alternating on the `uv` grid scaled by `scale`:
-    /// `floor(scale u) + floor(scale v)` even gives `colors[0]`.
+    /// `floor(scale u) + floor(scale v)` even gives `colors[0]`. Evaluated
+    /// exactly at the point, with no filtering.
     Checker { scale: f64, colors: [DVec3; 2] },
+    /// An image, filtered by its sampler at a level of detail each renderer
+    /// chooses by the contract's rules.
+    Image(Arc<ImageTexture>),
+}
+
+/// An image texture as a material uses it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImageTexture {
+    /// What messages call it: the file, or the glTF image's name or index.
+    pub name: String,
+    pub texture: Texture,
+    pub sampler: Sampler,
+    /// Applied to the surface's `(u, v)` before the lookup:
+    /// `(u', v') = (m[0] u + m[1] v + m[2], m[3] u + m[4] v + m[5])`
+    /// (glTF's `KHR_texture_transform`, a TOML texture's `scale`).
+    pub transform: UvTransform,
+}
+
+/// An affine map of texture coordinates, row-major 2 x 3.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UvTransform(pub [f64; 6]);
+
+impl UvTransform {
+    pub const IDENTITY: UvTransform = UvTransform([1.0, 0.0, 0.0, 0.0, 1.0, 0.0]);
+
+    pub fn apply(&self, u: f64, v: f64) -> (f64, f64) {
+        let m = &self.0;
+        (m[0] * u + m[1] * v + m[2], m[3] * u + m[4] * v + m[5])
+    }
+
+    /// How much it scales areas: `|det|` of its linear part.
+    pub fn area_scale(&self) -> f64 {
+        let m = &self.0;
+        (m[0] * m[4] - m[1] * m[3]).abs()
+    }
 }
 
 impl Pattern {
-    /// The pattern's colour at `(u, v)`, and the cell it lies in (what
-    /// `check` compares neighbours by: a colour edge lies between cells).
-    pub fn at(&self, u: f64, v: f64) -> (DVec3, i64) {
-        match *self {
+    /// A checker's colour at `(u, v)`, and the cell it lies in (what
+    /// `check` compares neighbours by: a colour edge lies between cells);
+    /// `None` for an image, which is sampled at a level of detail
+    /// (`cpu::sample`).
+    pub fn checker_at(&self, u: f64, v: f64) -> Option<(DVec3, i64)> {
+        match self {
             Pattern::Checker { scale, colors } => {
                 let (i, j) = ((scale * u).floor(), (scale * v).floor());
                 let parity = (i + j).rem_euclid(2.0);
                 let cell = ((i as i64) << 32) ^ ((j as i64) & 0xffff_ffff);
-                (colors[usize::from(parity != 0.0)], cell)
+                Some((colors[usize::from(parity != 0.0)], cell))
             }
+            Pattern::Image(_) => None,
+        }
+    }
+
+    /// The image texture, if this is one.
+    pub fn image(&self) -> Option<&ImageTexture> {
+        match self {
+            Pattern::Image(image) => Some(image),
+            Pattern::Checker { .. } => None,
         }
     }
 }
@@ -291,6 +340,10 @@ pub fn plane_axes(n: DVec3) -> (DVec3, DVec3) {
 mod tests {
     use super::*;
 
+    fn checker_at(p: &Pattern, u: f64, v: f64) -> (DVec3, i64) {
+        p.checker_at(u, v).expect("a checker")
+    }
+
     #[test]
     fn a_checker_alternates_by_cell_also_below_zero() {
         let a = DVec3::X;
@@ -301,12 +354,21 @@ mod tests {
         };
         // Cells half a unit wide: (0, 0) even, (1, 0) odd, (-1, 0) odd,
         // (-1, -1) even.
-        assert_eq!(checker.at(0.1, 0.2).0, a);
-        assert_eq!(checker.at(0.6, 0.2).0, b);
-        assert_eq!(checker.at(-0.1, 0.2).0, b);
-        assert_eq!(checker.at(-0.1, -0.2).0, a);
-        assert_ne!(checker.at(0.1, 0.2).1, checker.at(0.6, 0.2).1);
-        assert_ne!(checker.at(0.1, 0.6).1, checker.at(0.6, 0.1).1);
-        assert_eq!(checker.at(0.1, 0.2).1, checker.at(0.4, 0.4).1);
+        assert_eq!(checker_at(&checker, 0.1, 0.2).0, a);
+        assert_eq!(checker_at(&checker, 0.6, 0.2).0, b);
+        assert_eq!(checker_at(&checker, -0.1, 0.2).0, b);
+        assert_eq!(checker_at(&checker, -0.1, -0.2).0, a);
+        assert_ne!(
+            checker_at(&checker, 0.1, 0.2).1,
+            checker_at(&checker, 0.6, 0.2).1
+        );
+        assert_ne!(
+            checker_at(&checker, 0.1, 0.6).1,
+            checker_at(&checker, 0.6, 0.1).1
+        );
+        assert_eq!(
+            checker_at(&checker, 0.1, 0.2).1,
+            checker_at(&checker, 0.4, 0.4).1
+        );
     }
 }
