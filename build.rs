@@ -20,27 +20,30 @@ struct Variant {
 
 /// The raster stages' features, each a define and a suffix of the
 /// variant's name: `interpolation = "screen"`, vertex colours (for flat
-/// shading, a colour per face), a pattern. Every subset a stage takes is
-/// compiled, so that a scene gets the module for exactly what it has.
+/// shading, a colour per face), a pattern, and image textures (which come
+/// with the pattern's texture coordinates and constants). Every subset a
+/// stage takes is compiled, so that a scene gets the module for exactly
+/// what it has.
 const SCREEN_LINEAR: u8 = 1;
 const VERTEX_COLOR: u8 = 2;
 const PATTERN: u8 = 4;
+const TEXTURE: u8 = 8;
 
-/// The defines of each subset of the features, indexed by its bits.
-const FEATURE_DEFINES: [&[(&str, Option<&str>)]; 8] = [
-    &[],
-    &[("SCREEN_LINEAR", None)],
-    &[("VERTEX_COLOR", None)],
-    &[("SCREEN_LINEAR", None), ("VERTEX_COLOR", None)],
-    &[("PATTERN", None)],
-    &[("SCREEN_LINEAR", None), ("PATTERN", None)],
-    &[("VERTEX_COLOR", None), ("PATTERN", None)],
-    &[
-        ("SCREEN_LINEAR", None),
-        ("VERTEX_COLOR", None),
-        ("PATTERN", None),
-    ],
-];
+/// The defines of a subset of the features.
+fn feature_defines(features: u8) -> &'static [(&'static str, Option<&'static str>)] {
+    let all = [
+        (SCREEN_LINEAR, "SCREEN_LINEAR"),
+        (VERTEX_COLOR, "VERTEX_COLOR"),
+        (PATTERN, "PATTERN"),
+        (TEXTURE, "TEXTURE"),
+    ];
+    let defines: Vec<(&'static str, Option<&'static str>)> = all
+        .iter()
+        .filter(|(bit, _)| features & bit != 0)
+        .map(|&(_, name)| (name, None))
+        .collect();
+    Box::leak(defines.into_boxed_slice())
+}
 
 /// Each raster stage: its name, source, stage, and the features it takes
 /// (the others do not change its code).
@@ -67,7 +70,7 @@ const RASTER_STAGES: &[(&str, &str, glslang::ShaderStage, u8)] = &[
         "GOURAUD_FRAG",
         "gouraud.frag.glsl",
         glslang::ShaderStage::Fragment,
-        SCREEN_LINEAR | PATTERN,
+        SCREEN_LINEAR | PATTERN | TEXTURE,
     ),
     (
         "PHONG_VERT",
@@ -79,18 +82,20 @@ const RASTER_STAGES: &[(&str, &str, glslang::ShaderStage, u8)] = &[
         "PHONG_FRAG",
         "phong.frag.glsl",
         glslang::ShaderStage::Fragment,
-        SCREEN_LINEAR | VERTEX_COLOR | PATTERN,
+        SCREEN_LINEAR | VERTEX_COLOR | PATTERN | TEXTURE,
     ),
 ];
 
 /// The suffix the features add to a variant's name (`gpu::raster` looks
-/// variants up by it): `_SCREEN`, `_COLOR`, `_PATTERN`, in that order.
+/// variants up by it): `_SCREEN`, `_COLOR`, `_PATTERN`, `_TEXTURE`, in
+/// that order.
 fn feature_suffix(features: u8) -> String {
     let mut suffix = String::new();
     for (bit, name) in [
         (SCREEN_LINEAR, "_SCREEN"),
         (VERTEX_COLOR, "_COLOR"),
         (PATTERN, "_PATTERN"),
+        (TEXTURE, "_TEXTURE"),
     ] {
         if features & bit != 0 {
             suffix.push_str(name);
@@ -102,15 +107,16 @@ fn feature_suffix(features: u8) -> String {
 fn variants() -> Vec<Variant> {
     let mut out = Vec::new();
     for &(name, source, stage, takes) in RASTER_STAGES {
-        for features in 0..8u8 {
-            if features & !takes != 0 {
+        for features in 0..16u8 {
+            // Images are read at the pattern's texture coordinates.
+            if features & !takes != 0 || (features & TEXTURE != 0 && features & PATTERN == 0) {
                 continue;
             }
             out.push(Variant {
                 name: format!("{name}{}", feature_suffix(features)),
                 source,
                 stage,
-                defines: FEATURE_DEFINES[features as usize],
+                defines: feature_defines(features),
             });
         }
     }

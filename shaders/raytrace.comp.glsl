@@ -30,6 +30,7 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
 #include "rt_interface.glsl"
 #include "lighting.glsl"
+#include "texture.glsl"
 
 // Depth is at most 64 (checked on the host). Only a ray that both reflects
 // and refracts leaves a ray waiting, one per level.
@@ -74,6 +75,10 @@ struct Ray {
     vec3 dir;
     float weight;
     int depth;
+    // The ray's cone (an image's level of detail, TEXTURES): its width at
+    // the origin and its growth per unit of distance.
+    float cone_width;
+    float cone_spread;
 };
 
 uint local_counts[5];  // primary, shadow, reflected, refracted, pruned
@@ -892,14 +897,55 @@ vec2 hit_uv(Hit hit, Surfel s) {
                 dot(offset, g.rotation[kv]) / (2.0 * g.half_extents[kv])) + 0.5;
 }
 
+// Texels per unit of area of image `index` (its level 0, before its
+// transform) on the surface at the hit: the twin of `surface_density` in
+// src/cpu/surface.rs.
+float hit_density(Hit hit, Surfel s, uint index) {
+    uint shape = hit.shape & ~KIND_MASK;
+    uint kind = hit.shape & KIND_MASK;
+    float texels = texel_area(index);
+    if (HAS_BVH && kind == KIND_TRIANGLE) {
+        return texels * triangle_uvs[shape].uv2.z;
+    }
+    if (kind == KIND_SPHERE) {
+        const float PI = 3.14159265358979323846;
+        float r = sphere_geometry(int(shape)).radius;
+        float sin_theta = sqrt(max(1.0 - s.normal.y * s.normal.y, 0.0));
+        return texels / (2.0 * PI * PI * r * r * sin_theta);
+    }
+    if (kind == KIND_PLANE) {
+        float size = 2.0 * plane_geometry(int(shape)).half_size;
+        return texels / (size * size);
+    }
+    BoxGeometry g = box_geometry(int(shape));
+    vec3 a = abs(transpose(g.rotation) * s.normal);
+    int k = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+    return texels / (4.0 * g.half_extents[(k + 1) % 3] * g.half_extents[(k + 2) % 3]);
+}
+
 // The hit's material's pattern at the hit (1 without one): the twin of
-// `Pattern::at` (src/scene/model.rs). Called only with PATTERNS.
-vec3 hit_pattern(Hit hit, Surfel s) {
+// `pattern_color` in src/cpu/surface.rs. An image (TEXTURES) is read at the
+// level of detail of the ray's cone, `cone_width` wide at the hit along
+// `dir`. Called only with PATTERNS.
+vec3 hit_pattern(Hit hit, Surfel s, vec3 dir, float cone_width) {
     vec4 a = patterns[s.material].checker_a;
     if (a.w == 0.0) {
         return vec3(1.0);
     }
-    vec2 cell = floor(a.w * hit_uv(hit, s));
+    vec2 uv = hit_uv(hit, s);
+    if (TEXTURES) {
+        if (a.w < 0.0) {
+            uint index = uint(-a.w) - 1u;
+            vec3 b = patterns[s.material].checker_b.xyz;
+            vec3 at = vec3(uv, 1.0);
+            vec2 st = vec2(dot(a.xyz, at), dot(b, at));
+            // How the transform scales areas.
+            float det = abs(a.x * b.y - a.y * b.x);
+            float density = hit_density(hit, s, index) * det;
+            return sample_texture(index, st, cone_lambda(density, cone_width, dot(s.normal, dir)));
+        }
+    }
+    vec2 cell = floor(a.w * uv);
     return mod(cell.x + cell.y, 2.0) == 0.0 ? a.rgb : patterns[s.material].checker_b.rgb;
 }
 
@@ -1018,7 +1064,10 @@ vec3 local_shading(Surfel s, Surface m, vec3 d, bool lit) {
 vec3 trace_sample(vec3 dir, bool live) {
     Ray waiting[STACK_SIZE];
     int top = 0;
-    Ray ray = Ray(vec3(0.0), dir, 1.0, 0);
+    // A primary cone widens by a pixel's height per unit of distance
+    // (level_of_detail::pixel_spread).
+    float pixel_spread = 2.0 / (frame.right_focal.w * float(frame.image.y));
+    Ray ray = Ray(vec3(0.0), dir, 1.0, 0, 0.0, pixel_spread);
     if (live) {
         count(0);
     }
@@ -1059,7 +1108,7 @@ vec3 trace_sample(vec3 dir, bool live) {
             }
             if (PATTERNS) {
                 if (hits) {
-                    surface.color *= hit_pattern(hit, s);
+                    surface.color *= hit_pattern(hit, s, ray.dir, ray.cone_width + ray.cone_spread * hit.t);
                 }
             }
             local = local_shading(s, surface, ray.dir, hits);
@@ -1113,10 +1162,21 @@ vec3 trace_sample(vec3 dir, bool live) {
                     refracts = false;
                     count(4);
                 }
+                // The children's cones start as wide as this one at the hit;
+                // a mirror sphere spreads its reflection by 2 w / r more
+                // (its curvature), flat surfaces and refraction do not.
+                float cone_width = ray.cone_width + ray.cone_spread * hit.t;
+                float curvature = 0.0;
+                if (TEXTURES) {
+                    if ((hit.shape & KIND_MASK) == KIND_SPHERE) {
+                        curvature = 2.0 * cone_width / sphere_geometry(int(hit.shape & ~KIND_MASK)).radius;
+                    }
+                }
                 Ray reflected;
                 if (reflects) {
                     vec3 r = ray.dir - 2.0 * dot(ray.dir, N) * N;
-                    reflected = Ray(offset_origin(s.p, s.geometric, r), r, reflect_weight, ray.depth + 1);
+                    reflected = Ray(offset_origin(s.p, s.geometric, r), r, reflect_weight, ray.depth + 1,
+                                    cone_width, ray.cone_spread + curvature);
                     count(2);
                 }
                 if (refracts) {
@@ -1124,7 +1184,7 @@ vec3 trace_sample(vec3 dir, bool live) {
                         waiting[top++] = reflected;
                     }
                     ray = Ray(offset_origin(s.p, s.geometric, refract_dir), refract_dir, refract_weight,
-                              ray.depth + 1);
+                              ray.depth + 1, cone_width, ray.cone_spread);
                     count(3);
                     live = true;
                 } else if (reflects) {

@@ -15,13 +15,21 @@ layout(std140, set = 0, binding = 1) uniform FrameUniforms {
     vec4 ambient_k;  // rgb: Ia, w: the constant k of Il / (d + k)
 } frame;
 
+#ifdef TEXTURE
+// The scene's image textures (gpu::texture_table), read by texture.glsl.
+layout(std430, set = 0, binding = 3) readonly buffer TextureRecordBuffer { uvec4 texture_records[]; };
+layout(std430, set = 0, binding = 4) readonly buffer TexelBuffer { float texels[]; };
+#endif
+
 layout(push_constant) uniform DrawConstants {
     mat4 clip_from_relative;  // projection * view rotation
     vec4 color_ka;            // rgb: material colour C, a: ka
     vec4 kd_ks_p;             // x: kd, y: ks, z: p
 #ifdef PATTERN
     // The draw's pattern (raster_layout::PatternConstants).
-    vec4 checker_a;           // rgb: first colour, w: scale (0: no pattern)
+    vec4 checker_a;           // rgb: first colour, w: scale (0: no pattern;
+                              // -1 - index: image `index`, its uv transform's
+                              // rows in the two xyz)
     vec4 checker_b;           // rgb: second colour
 #endif
 } draw;

@@ -47,6 +47,8 @@ layout(constant_id = 15) const int MATERIAL_COUNT = 0;
 layout(constant_id = 16) const bool VERTEX_COLORS = false;
 // Whether some material has a pattern (`patterns`, `triangle_uvs` below).
 layout(constant_id = 17) const bool PATTERNS = false;
+// Whether some pattern is an image (`texture_records`, `texels` below).
+layout(constant_id = 18) const bool TEXTURES = false;
 
 layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     vec4 ambient_k;       // rgb: Ia, w: k
@@ -164,14 +166,19 @@ layout(std430, set = 0, binding = 12) readonly buffer TriangleColorBuffer { Tria
 // PATTERNS.
 struct TriangleUvs {
     vec4 uv01;  // xy: corner 0, zw: corner 1
-    vec4 uv2;   // xy: corner 2
+    vec4 uv2;   // xy: corner 2, z: uv area per unit of world area
 };
 struct MaterialPattern {
-    vec4 checker_a;  // rgb: first colour, w: scale (0: no pattern)
+    vec4 checker_a;  // rgb: first colour, w: scale (0: no pattern; -1 - index:
+                     // image `index`, its uv transform's rows in the two xyz)
     vec4 checker_b;  // rgb: second colour
 };
 layout(std430, set = 0, binding = 13) readonly buffer TriangleUvBuffer { TriangleUvs triangle_uvs[]; };
 layout(std430, set = 0, binding = 14) readonly buffer PatternBuffer { MaterialPattern patterns[]; };
+// The image textures (gpu::texture_table), read by texture.glsl only with
+// TEXTURES.
+layout(std430, set = 0, binding = 15) readonly buffer TextureRecordBuffer { uvec4 texture_records[]; };
+layout(std430, set = 0, binding = 16) readonly buffer TexelBuffer { float texels[]; };
 // The work queue: the next work item to take (zeroed before each dispatch;
 // see main).
 layout(std430, set = 0, binding = 11) buffer WorkQueueBuffer { uint next_item; };

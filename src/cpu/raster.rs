@@ -15,7 +15,7 @@ use rayon::prelude::*;
 
 use super::clip::{clip_near, ClipVertex, Extras};
 use super::lighting::{shade, Surface};
-use super::surface::pattern_color;
+use super::surface::{pattern_color, AT_DISCONTINUITY};
 use crate::camera::View;
 use crate::level_of_detail::flat_lambda;
 use crate::linear_image::LinearImage;
@@ -474,14 +474,19 @@ struct Sample {
 }
 
 /// Marks every pixel whose 3x3 neighbourhood holds another pattern cell
-/// than its own: the pattern's colour changes there, and a sample of the
-/// GPU's, whose texture coordinates are f32, may land on either side.
+/// than its own, and every pixel on a jump of an image's colour
+/// (`AT_DISCONTINUITY`): the pattern's colour changes there, and a sample of
+/// the GPU's, whose texture coordinates are f32, may land on either side.
 fn mark_cell_edges(width: usize, height: usize, cells: &[Option<i64>], near_edge: &mut [bool]) {
     for y in 0..height {
         for x in 0..width {
             let Some(own) = cells[y * width + x] else {
                 continue;
             };
+            if own == AT_DISCONTINUITY {
+                near_edge[y * width + x] = true;
+                continue;
+            }
             let differs = (y.saturating_sub(1)..(y + 2).min(height)).any(|ny| {
                 (x.saturating_sub(1)..(x + 2).min(width))
                     .any(|nx| cells[ny * width + nx].is_some_and(|c| c != own))

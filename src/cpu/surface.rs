@@ -14,10 +14,23 @@ use crate::rt_scene::RtScene;
 use crate::scene::texcoords::{box_face_axes, box_uv, plane_uv, sphere_uv};
 use crate::scene::{Filter, ImageTexture, Pattern};
 
+/// The cell of a sample that lies on a jump of an image's colour: within
+/// `DISCONTINUITY_MARGIN` of a texel edge where the texture is read
+/// unfiltered, or of a switch of level or filter. There another renderer's
+/// rounding may read the other side; `check` measures such samples apart.
+pub const AT_DISCONTINUITY: i64 = i64::MIN;
+
+/// How near (in texels, or in levels of detail) a sample must be to a jump
+/// of colour to count as on it: the GPU's f32 texture coordinates are off
+/// by about 1e-7 of their value, some 1e-5 texel for a texture of 1024
+/// repeated 100 times, and its level by as much again; 1e-3 is 100 times
+/// that.
+pub const DISCONTINUITY_MARGIN: f64 = 1e-3;
+
 /// A pattern's colour at `uv`, and the cell `check` compares neighbouring
-/// pixels by where the colour jumps (a checker's cell; an image's texel
-/// where it is read unfiltered, NEAREST). An image is read at the level
-/// `lambda` gives it.
+/// pixels by where the colour jumps: a checker's cell; for an image,
+/// `AT_DISCONTINUITY` where the sample lies on a jump (`on_a_jump`), else
+/// none. An image is read at the level `lambda` gives it.
 pub fn pattern_color(
     pattern: &Pattern,
     uv: DVec2,
@@ -32,28 +45,55 @@ pub fn pattern_color(
             let lambda = lambda(image);
             let (u, v) = image.transform.apply(uv.x, uv.y);
             let color = sample(&image.texture, &image.sampler, DVec2::new(u, v), lambda);
-            (color, texel_cell(image, u, v, lambda))
+            let cell = on_a_jump(image, u, v, lambda).then_some(AT_DISCONTINUITY);
+            (color, cell)
         }
     }
 }
 
-/// The texel of level 0 that an unfiltered read takes, for an image read
-/// with NEAREST where `lambda` puts it; `None` where the read is filtered
-/// (its colour continuous in `uv`).
-fn texel_cell(image: &ImageTexture, u: f64, v: f64, lambda: f64) -> Option<i64> {
+/// Whether an image's colour jumps within `DISCONTINUITY_MARGIN` of the
+/// sample: at a texel edge of a level read with NEAREST, where the level
+/// read with NEAREST between levels switches, or at `lambda = 0` where
+/// magnification and minification filter differently.
+fn on_a_jump(image: &ImageTexture, u: f64, v: f64, lambda: f64) -> bool {
     let sampler = &image.sampler;
-    let filter = if lambda <= 0.0 {
-        sampler.magnification
+    let near_integer = |x: f64| (x - x.round()).abs() < DISCONTINUITY_MARGIN;
+    let last = (image.texture.levels.len() - 1) as f64;
+    let (filter, level) = if lambda <= 0.0 {
+        (sampler.magnification, 0.0)
     } else {
-        sampler.minification
+        let lambda = lambda.min(last);
+        match sampler.mipmap {
+            None => (sampler.minification, 0.0),
+            Some(Filter::Nearest) => {
+                if near_integer(lambda + 0.5) && lambda < last {
+                    return true;
+                }
+                (
+                    sampler.minification,
+                    ((lambda + 0.5).ceil() - 1.0).clamp(0.0, last),
+                )
+            }
+            // Blended levels are continuous in lambda, but a NEAREST read
+            // of either jumps at that level's texel edges.
+            Some(Filter::Linear) => (sampler.minification, lambda.floor()),
+        }
     };
-    if filter == Filter::Linear && sampler.mipmap != Some(Filter::Nearest) {
-        return None;
+    if sampler.magnification != sampler.minification && lambda.abs() < DISCONTINUITY_MARGIN {
+        return true;
     }
-    let level = &image.texture.levels[0];
-    let i = (u * f64::from(level.width)).floor() as i64;
-    let j = (v * f64::from(level.height)).floor() as i64;
-    Some((i << 32) ^ (j & 0xffff_ffff))
+    if filter == Filter::Linear {
+        return false;
+    }
+    let levels = if sampler.mipmap == Some(Filter::Linear) && lambda > 0.0 {
+        vec![level, (level + 1.0).min(last)]
+    } else {
+        vec![level]
+    };
+    levels.into_iter().any(|level| {
+        let size = &image.texture.levels[level as usize];
+        near_integer(u * f64::from(size.width)) || near_integer(v * f64::from(size.height))
+    })
 }
 
 /// The tint at `hit` (whose point is `p`, reached along the unit direction

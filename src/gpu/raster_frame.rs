@@ -350,19 +350,13 @@ impl Frame {
                 color_ka: [color.x, color.y, color.z, m.ka as f32],
                 kd_ks_p: [m.kd as f32, m.ks as f32, m.p as f32, 0.0],
             };
-            let patterned = PatternDrawConstants {
-                draw: constants,
-                pattern: PatternConstants::of(
-                    m.pattern.as_ref(),
-                    geometry
-                        .textures
-                        .material_texture
-                        .get(draw.material)
-                        .copied()
-                        .flatten(),
-                ),
-            };
+            let patterned;
             let bytes = if self.uv_buffer.is_some() {
+                let texture = geometry.textures.material_texture.get(draw.material);
+                patterned = PatternDrawConstants {
+                    draw: constants,
+                    pattern: PatternConstants::of(m.pattern.as_ref(), texture.copied().flatten()),
+                };
                 bytemuck::bytes_of(&patterned)
             } else {
                 bytemuck::bytes_of(&constants)

@@ -183,6 +183,11 @@ fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSp
         },
         vertex_colors: u32::from(!rt.triangle_colors.is_empty()),
         patterns: u32::from(rt.materials.iter().any(|m| m.pattern.is_some())),
+        textures: u32::from(
+            rt.materials
+                .iter()
+                .any(|m| matches!(m.pattern, Some(crate::scene::Pattern::Image(_)))),
+        ),
     }
 }
 
@@ -286,15 +291,17 @@ pub fn render_with(
         "triangle shading",
         bytemuck::cast_slice(&r.triangle_shading),
     )?;
-    // Bound whether or not the scene has vertex colours or patterns: the
-    // bindings are in the module either way, read only where VERTEX_COLORS
-    // or PATTERNS is on.
+    // Bound whether or not the scene has vertex colours, patterns or
+    // images: the bindings are in the module either way, read only where
+    // VERTEX_COLORS, PATTERNS or TEXTURES is on.
     let triangle_colors = upload("triangle colours", bytemuck::cast_slice(&r.triangle_colors))?;
     let triangle_uvs = upload(
         "triangle texture coordinates",
         bytemuck::cast_slice(&r.triangle_uvs),
     )?;
     let patterns = upload("patterns", bytemuck::cast_slice(&r.patterns))?;
+    let texture_records = upload("texture records", bytemuck::cast_slice(&r.texture_records))?;
+    let texels = upload("texels", bytemuck::cast_slice(&r.texels))?;
     // Zeroed on the device before the dispatch (below), whatever memory
     // the allocator hands out.
     let work_queue = Buffer::new(
@@ -341,6 +348,8 @@ pub fn render_with(
             &triangle_colors,
             &triangle_uvs,
             &patterns,
+            &texture_records,
+            &texels,
         ],
     )?;
 

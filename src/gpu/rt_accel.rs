@@ -485,6 +485,8 @@ mod tests {
             triangle_colors: Vec::new(),
             triangle_uvs: Vec::new(),
             patterns: Vec::new(),
+            texture_records: Vec::new(),
+            texels: Vec::new(),
             bvh: GpuBvh::default(),
             materials: Vec::new(),
         };

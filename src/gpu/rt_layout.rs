@@ -23,6 +23,8 @@ pub const WORK_QUEUE: u32 = 11;
 pub const TRIANGLE_COLORS: u32 = 12;
 pub const TRIANGLE_UVS: u32 = 13;
 pub const PATTERNS: u32 = 14;
+pub const TEXTURE_RECORDS: u32 = 15;
+pub const TEXELS: u32 = 16;
 
 const STORAGE: vk::DescriptorType = vk::DescriptorType::STORAGE_BUFFER;
 
@@ -43,6 +45,8 @@ pub const BINDINGS: &[(u32, vk::DescriptorType)] = &[
     (TRIANGLE_COLORS, STORAGE),
     (TRIANGLE_UVS, STORAGE),
     (PATTERNS, STORAGE),
+    (TEXTURE_RECORDS, STORAGE),
+    (TEXELS, STORAGE),
 ];
 
 /// The ray-query engine's second set (`--traversal query`): the top-level
@@ -134,6 +138,7 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (15, "MATERIAL_COUNT"),
     (16, "VERTEX_COLORS"),
     (17, "PATTERNS"),
+    (18, "TEXTURES"),
 ];
 
 #[repr(C)]
@@ -351,6 +356,7 @@ pub struct TraceSpecialization {
     pub material_count: i32,
     pub vertex_colors: u32,
     pub patterns: u32,
+    pub textures: u32,
 }
 
 impl TraceSpecialization {
@@ -381,6 +387,8 @@ pub fn record_size(binding: u32) -> usize {
         TRIANGLE_COLORS => std::mem::size_of::<GpuTriangleColors>(),
         TRIANGLE_UVS => std::mem::size_of::<GpuTriangleUvs>(),
         PATTERNS => std::mem::size_of::<GpuPattern>(),
+        TEXTURE_RECORDS => 16,
+        TEXELS => 4,
         MATERIALS => std::mem::size_of::<GpuMaterial>(),
         OUTPUT => 16,
         // A fixed array of 8 counters and one counter, not runtime arrays:
