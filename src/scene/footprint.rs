@@ -6,8 +6,10 @@
 //! layout (`model.rs`); what the renderers add on top is `crate::memory`'s
 //! business. `docs/memory.md` has the measurements behind both.
 
+use std::sync::Arc;
+
 use super::error::SceneError;
-use super::model::{Object, Scene, Shape};
+use super::model::{ImageTexture, Object, Pattern, Scene, Shape};
 use super::tessellate;
 
 /// Geometry counts: objects, vertices and triangles, as the raster modes
@@ -124,6 +126,49 @@ impl LoadLimits {
     }
 }
 
+/// How many copies of a texture's linear texels a render holds: the
+/// scene's [`Texture`](super::Texture), and on the GPU path the texture
+/// table's copy on the host and its buffer on the device
+/// (`gpu::texture_table`). The CPU reference holds the first alone; the
+/// loader counts all three, so that it errs high.
+pub const TEXEL_COPIES: u64 = 3;
+
+/// The bytes of one copy of the linear texels of a `width` x `height`
+/// texture with its whole mip chain: 12 a texel (RGB in `f32`), summed over
+/// the levels as [`Texture::new`](super::Texture::new) makes them (each
+/// side halved, rounding down, at least 1), about 4/3 of level 0's
+/// `12 width height`.
+pub fn texel_bytes(width: u32, height: u32) -> u64 {
+    let (mut w, mut h) = (u64::from(width.max(1)), u64::from(height.max(1)));
+    let mut texels = 0u64;
+    loop {
+        texels = texels.saturating_add(w.saturating_mul(h));
+        if w == 1 && h == 1 {
+            return texels.saturating_mul(12);
+        }
+        w = (w / 2).max(1);
+        h = (h / 2).max(1);
+    }
+}
+
+/// The bytes of one copy of the texels of every distinct image texture
+/// `scene`'s materials use (each `Arc` counted once, mip chains included):
+/// what rendering adds per copy it holds ([`TEXEL_COPIES`] on the GPU
+/// path, one on the CPU reference's).
+pub fn scene_texture_bytes(scene: &Scene) -> u64 {
+    let mut seen: Vec<&Arc<ImageTexture>> = Vec::new();
+    let mut bytes = 0u64;
+    for material in &scene.materials {
+        if let Some(Pattern::Image(image)) = &material.pattern {
+            if !seen.iter().any(|s| Arc::ptr_eq(s, image)) {
+                seen.push(image);
+                bytes = bytes.saturating_add(image.texture.texel_count().saturating_mul(12));
+            }
+        }
+    }
+    bytes
+}
+
 /// `bytes` for a person: "1.5 GiB", "320 MiB", "12 KiB", "100 B".
 pub fn format_bytes(bytes: u64) -> String {
     const UNITS: [&str; 4] = ["KiB", "MiB", "GiB", "TiB"];
@@ -176,5 +221,20 @@ mod tests {
             e.starts_with("f.gltf: ") && e.contains("100 triangles") && e.contains("--max-memory"),
             "{e}"
         );
+    }
+
+    /// Every level of the chain, as `Texture::new` makes it.
+    #[test]
+    fn texel_bytes_count_the_whole_mip_chain() {
+        assert_eq!(texel_bytes(1, 1), 12);
+        // 4x4, 2x2, 1x1.
+        assert_eq!(texel_bytes(4, 4), 12 * (16 + 4 + 1));
+        // 5x3, 2x1, 1x1.
+        assert_eq!(texel_bytes(5, 3), 12 * (15 + 2 + 1));
+        let t = crate::scene::Texture::new(5, 3, vec![[0.0; 3]; 15]);
+        assert_eq!(texel_bytes(5, 3), t.texel_count() * 12);
+        // About 4/3 of level 0 for a large square.
+        let big = texel_bytes(4096, 4096) as f64 / (12.0 * 4096.0 * 4096.0);
+        assert!((big - 4.0 / 3.0).abs() < 1e-6, "{big}");
     }
 }

@@ -3,14 +3,17 @@
 //! 2x2 box averages, and a sampler's wrap modes and filters. The f64
 //! sampling itself is the CPU reference's (`cpu::sample`).
 //!
-//! Not yet used by the renderers: glTF base colour textures are still
-//! announced by a warning and left out (issue 31); this is the first step,
-//! the sampling rules and their oracle test.
+//! The loaders fill them in: glTF base colour textures and TOML
+//! `texture` tables (`image_file`, docs/scene-format.md).
 
-use crate::srgb::srgb8_to_linear;
+use crate::srgb::{srgb16_to_linear, srgb8_to_linear};
+
+/// Image files (PNG, JPEG) decoded into textures, within the memory limit.
+#[path = "image_file.rs"]
+pub mod image_file;
 
 /// What happens to texture coordinates outside `[0, 1]`, per axis.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Wrap {
     Repeat,
     ClampToEdge,
@@ -18,14 +21,14 @@ pub enum Wrap {
 }
 
 /// Picking one texel, or blending the four nearest texel centres.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Filter {
     Nearest,
     Linear,
 }
 
 /// How a texture is read: glTF's sampler.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Sampler {
     pub wrap_u: Wrap,
     pub wrap_v: Wrap,
@@ -49,6 +52,72 @@ impl Sampler {
         minification: Filter::Linear,
         mipmap: Some(Filter::Linear),
     };
+}
+
+impl Wrap {
+    /// The TOML spellings, in the order messages list them.
+    pub const NAMES: [&'static str; 3] = ["repeat", "clamp", "mirror"];
+
+    /// A TOML texture's `wrap` (both axes): "repeat", "clamp" (CLAMP_TO_EDGE)
+    /// or "mirror" (MIRRORED_REPEAT).
+    pub fn from_name(name: &str) -> Option<Wrap> {
+        match name {
+            "repeat" => Some(Wrap::Repeat),
+            "clamp" => Some(Wrap::ClampToEdge),
+            "mirror" => Some(Wrap::MirroredRepeat),
+            _ => None,
+        }
+    }
+}
+
+/// The three filterings a TOML texture names (its `filter`), each a
+/// magnification, minification and mipmap filter together.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum FilterPreset {
+    /// NEAREST both ways, no mipmaps.
+    Nearest,
+    /// LINEAR both ways, no mipmaps.
+    Bilinear,
+    /// LINEAR magnification, LINEAR_MIPMAP_LINEAR minification.
+    Trilinear,
+}
+
+impl FilterPreset {
+    pub const ALL: [FilterPreset; 3] = [
+        FilterPreset::Nearest,
+        FilterPreset::Bilinear,
+        FilterPreset::Trilinear,
+    ];
+
+    /// "nearest", "bilinear" or "trilinear".
+    pub fn name(self) -> &'static str {
+        match self {
+            FilterPreset::Nearest => "nearest",
+            FilterPreset::Bilinear => "bilinear",
+            FilterPreset::Trilinear => "trilinear",
+        }
+    }
+
+    /// The inverse of `name`.
+    pub fn from_name(name: &str) -> Option<FilterPreset> {
+        FilterPreset::ALL.into_iter().find(|f| f.name() == name)
+    }
+
+    /// A sampler wrapping both axes with `wrap`, filtering as this says.
+    pub fn sampler(self, wrap: Wrap) -> Sampler {
+        let (filter, mipmap) = match self {
+            FilterPreset::Nearest => (Filter::Nearest, None),
+            FilterPreset::Bilinear => (Filter::Linear, None),
+            FilterPreset::Trilinear => (Filter::Linear, Some(Filter::Linear)),
+        };
+        Sampler {
+            wrap_u: wrap,
+            wrap_v: wrap,
+            magnification: filter,
+            minification: filter,
+            mipmap,
+        }
+    }
 }
 
 /// One level of a texture: `width` x `height` linear RGB texels, row by
@@ -128,5 +197,23 @@ impl Texture {
             .map(|p| [p[0], p[1], p[2]].map(srgb8_to_linear))
             .collect();
         Texture::new(width, height, texels)
+    }
+
+    /// As [`Texture::from_srgb8_rgba`], from 16-bit sRGB RGBA pixels (a
+    /// 16-bit PNG), each channel decoded at its full precision.
+    pub fn from_srgb16_rgba(width: u32, height: u32, rgba: &[u16]) -> Self {
+        let texels = rgba
+            .chunks_exact(4)
+            .map(|p| [p[0], p[1], p[2]].map(srgb16_to_linear))
+            .collect();
+        Texture::new(width, height, texels)
+    }
+
+    /// The texels of every level, each counted once.
+    pub fn texel_count(&self) -> u64 {
+        self.levels
+            .iter()
+            .map(|l| u64::from(l.width) * u64::from(l.height))
+            .sum()
     }
 }
