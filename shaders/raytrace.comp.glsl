@@ -875,7 +875,10 @@ vec2 hit_uv(Hit hit, Surfel s) {
         // Longitude from +Z toward +X, colatitude from the top.
         const float TWO_PI = 6.28318530717958647692;
         vec3 n = s.normal;
-        return vec2(0.5 + atan(n.x, n.z) / TWO_PI, acos(clamp(n.y, -1.0, 1.0)) / (0.5 * TWO_PI));
+        // The colatitude as atan(sin, cos), not acos(n.y): near the poles
+        // acos of an f32 loses its digits (and lavapipe's acos more), where
+        // an image's texels are narrowest.
+        return vec2(0.5 + atan(n.x, n.z) / TWO_PI, atan(length(n.xz), n.y) / (0.5 * TWO_PI));
     }
     if (kind == KIND_PLANE) {
         PlaneGeometry g = plane_geometry(int(index));
@@ -910,7 +913,7 @@ float hit_density(Hit hit, Surfel s, uint index) {
     if (kind == KIND_SPHERE) {
         const float PI = 3.14159265358979323846;
         float r = sphere_geometry(int(shape)).radius;
-        float sin_theta = sqrt(max(1.0 - s.normal.y * s.normal.y, 0.0));
+        float sin_theta = length(s.normal.xz);
         return texels / (2.0 * PI * PI * r * r * sin_theta);
     }
     if (kind == KIND_PLANE) {

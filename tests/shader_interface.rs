@@ -20,10 +20,12 @@ struct HostInterface {
 }
 
 /// Flat shading's stages bind all of the raster set; Gouraud's and
-/// Phong's the part without the faces. The variants with a pattern push
+/// Phong's the part without the faces, and with image textures
+/// (`TEXTURE`) the texture buffers too. The variants with a pattern push
 /// its constants after the draw's.
 fn host_for(shader: &ShaderBlob) -> HostInterface {
     let patterned = shader.defines.iter().any(|(d, _)| *d == "PATTERN");
+    let textured = shader.defines.iter().any(|(d, _)| *d == "TEXTURE");
     let push_constant_size = if patterned {
         std::mem::size_of::<raster_layout::PatternDrawConstants>()
     } else {
@@ -43,6 +45,7 @@ fn host_for(shader: &ShaderBlob) -> HostInterface {
             push_constant_size: 0,
         },
         _ if shader.name.starts_with("flat.") => raster(raster_layout::BINDINGS),
+        ShaderStage::Fragment if textured => raster(raster_layout::TEXTURED_BINDINGS),
         ShaderStage::Vertex | ShaderStage::Fragment => raster(raster_layout::SMOOTH_BINDINGS),
     }
 }
@@ -198,6 +201,7 @@ fn specialization_constants_match_by_id_and_name() {
             offset_of!(TraceSpecialization, vertex_colors),
         ),
         ("PATTERNS", offset_of!(TraceSpecialization, patterns)),
+        ("TEXTURES", offset_of!(TraceSpecialization, textures)),
     ];
     assert_eq!(fields.len(), rt_layout::SPEC_CONSTANTS.len());
     for (name, offset) in fields {
@@ -227,8 +231,9 @@ fn every_stage_is_present() {
         // vertex stage with and without face colours, Gouraud's and Phong's
         // with each of screen-linear, vertex colours and a pattern; flat's
         // fragment stage alone, Gouraud's with screen-linear and a pattern,
-        // Phong's with all three.
-        (2 + 8 + 8, 1 + 4 + 8, 3)
+        // Phong's with all three; and the two smooth fragment stages'
+        // pattern variants again with image textures (2 and 4 of them).
+        (2 + 8 + 8, 1 + (4 + 2) + (8 + 4), 3)
     );
     // The second ray tracer is the ray-query engine, and it has its set.
     assert!(ALL_SHADERS.iter().any(|s| {
