@@ -2,14 +2,18 @@
 //! `mode[:key=value,...]`, e.g. `flat`, `gouraud:segments=16`,
 //! `phong:interpolation=screen`, `raytrace:depth=3,cutoff=0.01,samples=4`,
 //! `phong:lighting=blinn.glsl` (a lighting hook, any mode),
-//! `raytrace:traversal=query` (the GPU ray tracer's engine).
+//! `raytrace:traversal=query` (the GPU ray tracer's engine),
+//! `phong:filter=nearest` (how image textures are filtered, any mode).
 
 use std::fmt;
 use std::path::Path;
 use std::str::FromStr;
 use std::sync::Arc;
 
-use crate::scene::{Interpolation, LightingHook, Scene, SceneError, Shape, Traversal, MAX_DEPTH};
+use crate::scene::{
+    Filter, ImageTexture, Interpolation, LightingHook, Pattern, Sampler, Scene, SceneError, Shape,
+    Traversal, MAX_DEPTH,
+};
 use crate::shading::Shading;
 
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -28,6 +32,57 @@ pub struct Variant {
     /// The GPU ray tracer's engine (`--traversal`).
     #[serde(default)]
     pub traversal: Option<Traversal>,
+    /// How every image texture is filtered, in place of its sampler's
+    /// filters (its wrap modes stay).
+    #[serde(default)]
+    pub filter: Option<TextureFilter>,
+}
+
+/// A texture filter as variants name it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TextureFilter {
+    /// NEAREST, level 0 alone.
+    Nearest,
+    /// LINEAR, level 0 alone.
+    Bilinear,
+    /// LINEAR within and between mip levels (LINEAR_MIPMAP_LINEAR).
+    Trilinear,
+}
+
+impl TextureFilter {
+    pub fn name(self) -> &'static str {
+        match self {
+            TextureFilter::Nearest => "nearest",
+            TextureFilter::Bilinear => "bilinear",
+            TextureFilter::Trilinear => "trilinear",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        [
+            TextureFilter::Nearest,
+            TextureFilter::Bilinear,
+            TextureFilter::Trilinear,
+        ]
+        .into_iter()
+        .find(|f| f.name() == name)
+    }
+
+    /// `sampler` with this filter and its own wrap modes.
+    pub fn applied_to(self, sampler: Sampler) -> Sampler {
+        let (filter, mipmap) = match self {
+            TextureFilter::Nearest => (Filter::Nearest, None),
+            TextureFilter::Bilinear => (Filter::Linear, None),
+            TextureFilter::Trilinear => (Filter::Linear, Some(Filter::Linear)),
+        };
+        Sampler {
+            magnification: filter,
+            minification: filter,
+            mipmap,
+            ..sampler
+        }
+    }
 }
 
 impl Variant {
@@ -42,6 +97,7 @@ impl Variant {
             shadows: None,
             lighting: None,
             traversal: None,
+            filter: None,
         }
     }
 
@@ -77,6 +133,15 @@ impl Variant {
         if let Some(t) = self.traversal {
             s.render.traversal = t;
         }
+        if let Some(filter) = self.filter {
+            for material in &mut s.materials {
+                if let Some(Pattern::Image(image)) = &mut material.pattern {
+                    let mut filtered = ImageTexture::clone(image);
+                    filtered.sampler = filter.applied_to(filtered.sampler);
+                    *image = Arc::new(filtered);
+                }
+            }
+        }
         Ok(s)
     }
 }
@@ -108,6 +173,9 @@ impl fmt::Display for Variant {
         }
         if let Some(t) = self.traversal {
             keys.push(format!("traversal={}", t.name()));
+        }
+        if let Some(filter) = self.filter {
+            keys.push(format!("filter={}", filter.name()));
         }
         if keys.is_empty() {
             write!(f, "{}", self.shading)
@@ -204,9 +272,15 @@ impl FromStr for Variant {
                     only(!raster, "raytrace")?;
                     v.traversal = Some(value.parse().map_err(|_| bad("auto, bvh or query"))?);
                 }
+                "filter" => {
+                    v.filter = Some(
+                        TextureFilter::from_name(value)
+                            .ok_or_else(|| bad("nearest, bilinear or trilinear"))?,
+                    );
+                }
                 _ => {
                     return Err(format!(
-                        "variant `{text}`: unknown setting `{key}`; expected segments, interpolation, depth, cutoff, samples, shadows, lighting or traversal"
+                        "variant `{text}`: unknown setting `{key}`; expected segments, interpolation, depth, cutoff, samples, shadows, lighting, traversal or filter"
                     ))
                 }
             }
@@ -218,7 +292,8 @@ impl FromStr for Variant {
 /// The variants that show a scene's interesting axes: every mode; a
 /// tessellation sweep of the raster modes if the scene has spheres; screen
 /// against perspective interpolation; a depth sweep and a cut-off sweep of
-/// the ray tracer if anything reflects or refracts.
+/// the ray tracer if anything reflects or refracts; the three texture
+/// filters in Phong shading and ray tracing if an object has an image.
 pub fn default_variants(scene: &Scene) -> Vec<Variant> {
     let parse = |s: &str| s.parse::<Variant>().expect("built-in variants parse");
     let mut list = Vec::new();
@@ -249,6 +324,17 @@ pub fn default_variants(scene: &Scene) -> Vec<Variant> {
         list.push(parse("raytrace"));
     }
     list.push(parse("raytrace:samples=4"));
+    let textured = scene
+        .objects
+        .iter()
+        .any(|o| matches!(scene.materials[o.material].pattern, Some(Pattern::Image(_))));
+    if textured {
+        for mode in ["phong", "raytrace"] {
+            for filter in ["nearest", "bilinear", "trilinear"] {
+                list.push(parse(&format!("{mode}:filter={filter}")));
+            }
+        }
+    }
     list
 }
 
@@ -268,11 +354,69 @@ mod tests {
             "raytrace:depth=2,lighting=hook.glsl",
             "raytrace:depth=1,traversal=query",
             "raytrace:traversal=bvh",
+            "phong:filter=nearest",
+            "raytrace:depth=2,filter=trilinear",
+            "flat:filter=bilinear",
         ] {
             let v: Variant = text.parse().unwrap();
             assert_eq!(v.to_string(), text);
             assert_eq!(v.to_string().parse::<Variant>().unwrap(), v);
         }
+    }
+
+    /// A filter replaces every image's filters and keeps its wrap modes;
+    /// checkers and untextured materials are left alone.
+    #[test]
+    fn a_filter_variant_sets_every_image_sampler() {
+        use crate::scene::{Texture, UvTransform, Wrap};
+        let mut scene = crate::scene::default_scene();
+        let clamped = Sampler {
+            wrap_u: Wrap::ClampToEdge,
+            wrap_v: Wrap::MirroredRepeat,
+            ..Sampler::GLTF_DEFAULT
+        };
+        scene.materials[0].pattern = Some(Pattern::Image(Arc::new(ImageTexture {
+            name: "t".into(),
+            texture: Texture::new(1, 1, vec![[1.0; 3]]),
+            sampler: clamped,
+            transform: UvTransform::IDENTITY,
+        })));
+        let sampler_of = |s: &Scene| match &s.materials[0].pattern {
+            Some(Pattern::Image(image)) => image.sampler,
+            _ => panic!("an image"),
+        };
+        for (name, filter, mipmap) in [
+            ("nearest", Filter::Nearest, None),
+            ("bilinear", Filter::Linear, None),
+            ("trilinear", Filter::Linear, Some(Filter::Linear)),
+        ] {
+            let v: Variant = format!("phong:filter={name}").parse().unwrap();
+            let applied = sampler_of(&v.apply(&scene).unwrap());
+            assert_eq!(
+                applied,
+                Sampler {
+                    magnification: filter,
+                    minification: filter,
+                    mipmap,
+                    ..clamped
+                },
+                "{name}"
+            );
+            assert_eq!(v.apply(&scene).unwrap().materials[1], scene.materials[1]);
+        }
+        let names: Vec<String> = default_variants(&scene)
+            .iter()
+            .map(|v| v.to_string())
+            .collect();
+        assert!(
+            names.iter().any(|n| n == "raytrace:filter=nearest"),
+            "{names:?}"
+        );
+        let plain: Vec<String> = default_variants(&crate::scene::default_scene())
+            .iter()
+            .map(|v| v.to_string())
+            .collect();
+        assert!(!plain.iter().any(|n| n.contains("filter")), "{plain:?}");
     }
 
     #[test]
@@ -287,6 +431,7 @@ mod tests {
             ("phong:segments", "key=value"),
             ("phong:traversal=query", "raytrace only"),
             ("raytrace:traversal=rtx", "auto, bvh or query"),
+            ("phong:filter=anisotropic", "nearest, bilinear or trilinear"),
             (
                 "raytrace:depth=3,depth=4",
                 "`depth` is given more than once",
