@@ -40,9 +40,38 @@
 //! See [`map_material`] for the exact rule. Materials are added to
 //! `Scene::materials` named `<file stem>/<material name or index>` (a
 //! primitive without material uses `<file stem>/default`), once per file.
+//!
+//! # Base colour textures
+//!
+//! `pbrMetallicRoughness.baseColorTexture` becomes the material's
+//! [`Pattern::Image`], multiplying `baseColorFactor` (which stays the
+//! material's `color`):
+//!
+//! - texture coordinates: the primitive's `TEXCOORD_n` for the texture's
+//!   `texCoord` n (or its `KHR_texture_transform` `texCoord`), floats or
+//!   normalised unsigned bytes or shorts; a primitive without that set is
+//!   an error naming the primitive, the set and the material;
+//! - the sampler: `wrapS`/`wrapT` REPEAT (10497), CLAMP_TO_EDGE (33071),
+//!   MIRRORED_REPEAT (33648); `magFilter` NEAREST (9728) or LINEAR (9729);
+//!   `minFilter` NEAREST, LINEAR (no mipmaps) or NEAREST_MIPMAP_NEAREST
+//!   (9984), LINEAR_MIPMAP_NEAREST (9985), NEAREST_MIPMAP_LINEAR (9986),
+//!   LINEAR_MIPMAP_LINEAR (9987) (the first word within a level, the last
+//!   between levels). glTF leaves the filters to the viewer where a
+//!   sampler or a filter is absent: shadelab takes
+//!   [`Sampler::GLTF_DEFAULT`] (REPEAT, LINEAR, LINEAR_MIPMAP_LINEAR). A
+//!   value glTF does not define is an error naming the sampler and key;
+//! - the image: a buffer view (in a GLB or any buffer), a base64 data URI,
+//!   or a file beside the glTF (its URI percent-decoded), PNG or JPEG by
+//!   its content, sRGB, decoded once per scene (`image_file`) and refused
+//!   before decoding when it would not fit the memory limit. Its alpha is
+//!   ignored, with a warning per image where it is not all opaque;
+//! - `KHR_texture_transform` on it: `uv' = T R S uv` with `T` the offset,
+//!   `S` the scale and `R = [[cos r, sin r], [-sin r, cos r]]` for the
+//!   rotation `r` (the extension's convention), as a [`UvTransform`].
 
+use std::borrow::Cow;
 use std::collections::HashMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::{DMat3, DMat4, DQuat, DVec2, DVec3};
 use gltf::accessor::{DataType, Dimensions};
@@ -52,14 +81,18 @@ use super::defaults::{DEFAULT_FOV_Y_DEG, DEFAULT_MATERIAL};
 use super::error::SceneError;
 use super::footprint::{GeometrySize, LoadLimits};
 use super::model::{
-    Camera, ImageSettings, Lighting, Material, Object, PointLight, RenderSettings, Scene, Shape,
-    TriangleMesh,
+    Camera, Filter, ImageSettings, Lighting, Material, Object, Pattern, PointLight, RenderSettings,
+    Sampler, Scene, Shape, TriangleMesh, UvTransform, Wrap,
 };
+use super::texture::image_file::{ImageFailure, ImageKey, TextureRequest, TextureStore};
 
-/// A parsed glTF file with its buffers loaded (images are never loaded).
+/// A parsed glTF file with its buffers loaded (images are loaded by the
+/// materials that use them).
 struct GltfFile {
     label: String,
     stem: String,
+    /// Where files it names (buffers, images) lie.
+    base: PathBuf,
     doc: gltf::Document,
     buffers: Vec<gltf::buffer::Data>,
     /// The raw JSON of what the `gltf` crate does not read for us.
@@ -67,8 +100,10 @@ struct GltfFile {
 }
 
 /// The parts of the JSON read as plain JSON: the accessor references the
-/// `gltf` crate indexes before validating them, and the materials, for
-/// extensions it is not built to read (`KHR_materials_ior`). Everything else
+/// `gltf` crate indexes before validating them, the samplers and images it
+/// would refuse with a vaguer message or unwrap, and the materials and
+/// textures, for extensions it is not built to read (`KHR_materials_ior`)
+/// and the texture transform's values in full precision. Everything else
 /// is skipped rather than kept: a file instancing a mesh two million times
 /// has two million nodes, and a JSON tree of them cost about 400 bytes each.
 #[derive(serde::Deserialize, Default)]
@@ -79,6 +114,12 @@ struct RawParts {
     meshes: serde_json::Value,
     #[serde(default)]
     materials: serde_json::Value,
+    #[serde(default)]
+    samplers: serde_json::Value,
+    #[serde(default)]
+    images: serde_json::Value,
+    #[serde(default)]
+    textures: serde_json::Value,
 }
 
 fn open(path: &Path) -> Result<GltfFile, SceneError> {
@@ -112,6 +153,8 @@ fn parse(bytes: &[u8], label: String, stem: String, base: &Path) -> Result<GltfF
     })?;
     drop(json_bytes);
     check_primitive_references(&label, &raw)?;
+    check_samplers(&label, &raw)?;
+    check_images_and_textures(&label, &raw)?;
     let gltf::Gltf { document, blob } = gltf::Gltf::from_slice(bytes)
         .map_err(|e| SceneError::mesh(&label, format!("not a valid glTF 2.0 file ({e})")))?;
     check_buffer_uris(&label, &document)?;
@@ -127,6 +170,7 @@ fn parse(bytes: &[u8], label: String, stem: String, base: &Path) -> Result<GltfF
     Ok(GltfFile {
         label,
         stem,
+        base: base.to_path_buf(),
         doc: document,
         buffers,
         raw,
@@ -257,6 +301,122 @@ fn check_primitive_references(label: &str, raw: &RawParts) -> Result<(), SceneEr
                     ));
                 }
             }
+        }
+    }
+    Ok(())
+}
+
+/// The values glTF defines for each sampler key, with their names.
+const SAMPLER_VALUES: [(&str, &[(u64, &str)]); 4] = [
+    ("magFilter", &[(9728, "NEAREST"), (9729, "LINEAR")]),
+    (
+        "minFilter",
+        &[
+            (9728, "NEAREST"),
+            (9729, "LINEAR"),
+            (9984, "NEAREST_MIPMAP_NEAREST"),
+            (9985, "LINEAR_MIPMAP_NEAREST"),
+            (9986, "NEAREST_MIPMAP_LINEAR"),
+            (9987, "LINEAR_MIPMAP_LINEAR"),
+        ],
+    ),
+    (
+        "wrapS",
+        &[
+            (33071, "CLAMP_TO_EDGE"),
+            (33648, "MIRRORED_REPEAT"),
+            (10497, "REPEAT"),
+        ],
+    ),
+    (
+        "wrapT",
+        &[
+            (33071, "CLAMP_TO_EDGE"),
+            (33648, "MIRRORED_REPEAT"),
+            (10497, "REPEAT"),
+        ],
+    ),
+];
+
+/// A sampler value glTF does not define is refused here, naming the
+/// sampler, the key and the values it may take. The `gltf` crate would
+/// refuse most of them itself, but as "samplers[0].wrapS: Invalid value",
+/// and it reads the number as a `u32` after truncating it: 4294977793
+/// (2^32 + 10497) passed for REPEAT.
+fn check_samplers(label: &str, raw: &RawParts) -> Result<(), SceneError> {
+    for (i, sampler) in raw.samplers.as_array().into_iter().flatten().enumerate() {
+        for (key, defined) in SAMPLER_VALUES {
+            let Some(value) = sampler.get(key) else {
+                continue;
+            };
+            let known = value
+                .as_u64()
+                .is_some_and(|v| defined.iter().any(|(code, _)| *code == v));
+            if known {
+                continue;
+            }
+            let name = match sampler.get("name").and_then(|n| n.as_str()) {
+                Some(n) if !n.is_empty() => format!(" (`{n}`)"),
+                _ => String::new(),
+            };
+            let expected: Vec<String> = defined
+                .iter()
+                .map(|(code, what)| format!("{code} ({what})"))
+                .collect();
+            return Err(SceneError::mesh(
+                label,
+                format!(
+                    "sampler {i}{name}: {key} is {value}, which glTF does not define; expected one of {}",
+                    expected.join(", ")
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// What the `gltf` crate unwraps without a check when an image is read (a
+/// buffer view without a MIME type, an image with neither a URI nor a
+/// buffer view), and a texture without a source image (which it refuses as
+/// "Missing data"): refused here, each naming the image or texture.
+fn check_images_and_textures(label: &str, raw: &RawParts) -> Result<(), SceneError> {
+    let present = |v: &serde_json::Value, key: &str| v.get(key).is_some_and(|x| !x.is_null());
+    for (i, image) in raw.images.as_array().into_iter().flatten().enumerate() {
+        let problem = if present(image, "bufferView") {
+            (!present(image, "mimeType")).then_some(
+                "is in a buffer view but has no mimeType; glTF requires one (\"image/png\" or \"image/jpeg\")",
+            )
+        } else {
+            (!present(image, "uri"))
+                .then_some("has neither a uri nor a bufferView; expected one of them")
+        };
+        if let Some(problem) = problem {
+            return Err(SceneError::mesh(label, format!("image {i} {problem}")));
+        }
+    }
+    for (i, texture) in raw.textures.as_array().into_iter().flatten().enumerate() {
+        if !present(texture, "source") {
+            let extensions: Vec<&String> = texture
+                .get("extensions")
+                .and_then(|e| e.as_object())
+                .map(|e| e.keys().collect())
+                .unwrap_or_default();
+            let only = if extensions.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    " (only through {}, which shadelab does not read)",
+                    extensions
+                        .iter()
+                        .map(|e| e.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+            };
+            return Err(SceneError::mesh(
+                label,
+                format!("texture {i} has no source image{only}; expected a PNG or JPEG source"),
+            ));
         }
     }
     Ok(())
@@ -494,7 +654,7 @@ fn primitive_mesh(
     mesh: &gltf::Mesh,
     prim: &gltf::Primitive,
     world: DMat4,
-    uv_user: Option<&str>,
+    uv_use: Option<&UvUse>,
     warnings: &mut Vec<String>,
 ) -> Result<Option<TriangleMesh>, SceneError> {
     let what = format!("{}, primitive {}", mesh_name(mesh), prim.index());
@@ -607,8 +767,8 @@ fn primitive_mesh(
         Some(acc) => vertex_colors(file, &what, &acc, &reader, n, warnings)?,
         None => Vec::new(),
     };
-    let uvs = match uv_user {
-        Some(user) => texture_coordinates(file, &what, prim, &reader, user, n)?,
+    let uvs = match uv_use {
+        Some(used) => texture_coordinates(file, &what, prim, &reader, used, n)?,
         None => Vec::new(),
     };
 
@@ -743,28 +903,39 @@ where
     Ok(rgba.iter().map(|c| DVec3::new(c[0], c[1], c[2])).collect())
 }
 
-/// A primitive's `TEXCOORD_0`, one `(u, v)` per vertex, which the material
-/// named `user` needs: floats as they are, normalised unsigned bytes or
-/// shorts divided by their maximum. Missing, of another type or count, or
-/// not finite: an error naming the primitive.
+/// Which texture coordinates a primitive's material reads, and who reads
+/// them (for messages: "the pattern of material `m`").
+struct UvUse {
+    set: u32,
+    user: String,
+}
+
+/// A primitive's `TEXCOORD_n`, one `(u, v)` per vertex, which its
+/// material needs (`used`): floats as they are, normalised unsigned bytes
+/// or shorts divided by their maximum. Missing, of another type or count,
+/// or not finite: an error naming the primitive.
 fn texture_coordinates<'a, 's, F>(
     file: &GltfFile,
     what: &str,
     prim: &gltf::Primitive,
     reader: &gltf::mesh::Reader<'a, 's, F>,
-    user: &str,
+    used: &UvUse,
     vertex_count: usize,
 ) -> Result<Vec<DVec2>, SceneError>
 where
     F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
 {
-    let Some(acc) = prim.get(&gltf::Semantic::TexCoords(0)) else {
+    let set = used.set;
+    let Some(acc) = prim.get(&gltf::Semantic::TexCoords(set)) else {
         return Err(SceneError::mesh(
             &file.label,
-            format!("{what} has no texture coordinates (TEXCOORD_0), which the pattern of material `{user}` needs"),
+            format!(
+                "{what} has no texture coordinates (TEXCOORD_{set}), which {} needs",
+                used.user
+            ),
         ));
     };
-    let uv_what = format!("{what} TEXCOORD_0");
+    let uv_what = format!("{what} TEXCOORD_{set}");
     let err = |msg: String| {
         SceneError::mesh(
             &file.label,
@@ -785,7 +956,7 @@ where
     }
     check_accessor_storage(file, &uv_what, &acc)?;
     use gltf::mesh::util::ReadTexCoords;
-    let uvs: Vec<[f64; 2]> = match reader.read_tex_coords(0) {
+    let uvs: Vec<[f64; 2]> = match reader.read_tex_coords(set) {
         Some(ReadTexCoords::U8(it)) => it.map(|c| c.map(|x| f64::from(x) / 255.0)).collect(),
         Some(ReadTexCoords::U16(it)) => it.map(|c| c.map(|x| f64::from(x) / 65535.0)).collect(),
         Some(ReadTexCoords::F32(it)) => it.map(|c| c.map(f64::from)).collect(),
@@ -926,8 +1097,9 @@ fn build_mesh(
 /// material without a PBR block (glTF defaults m = r = 1) from rendering
 /// ambient-only.
 ///
-/// Textures, emission and vertex colours are not modelled (each announced
-/// by a warning, `unmodelled_features`). Then any of `ka`, `kd`, `ks`, `p`, `kr`, `kt`,
+/// The base colour texture is added by the caller (`base_colour_texture`,
+/// the module docs); the other textures and emission are not modelled
+/// (each announced by a warning, `unmodelled_features`). Then any of `ka`, `kd`, `ks`, `p`, `kr`, `kt`,
 /// `ior` present in the material's `extras` object replaces the computed
 /// value (it must be a finite number, `>= 0`, and `ior > 0`; other extras
 /// keys are ignored). A primitive without a material gets color 0.8 grey,
@@ -1010,18 +1182,43 @@ pub fn map_material(
 
 /// What a glTF material carries that the lighting model does not take:
 /// each named for the warning, so that an asset never renders in other
-/// colours than its author's without a word. Textures and emission are not
-/// modelled (issue 31 adds the base colour texture); `KHR_materials_ior`
-/// is, through `ior`.
-fn unmodelled_features(mat: &gltf::Material, raw_materials: &serde_json::Value) -> Vec<String> {
+/// colours than its author's without a word. The textures other than the
+/// base colour's and emission are not modelled; `KHR_materials_ior` is,
+/// through `ior`, and `KHR_texture_transform` on the base colour texture
+/// is. Other extensions on the base colour texture (its texture info or
+/// its texture) are named too: its PNG or JPEG source is what is drawn.
+fn unmodelled_features(file: &GltfFile, mat: &gltf::Material) -> Vec<String> {
+    let raw_materials = &file.raw.materials;
     let pbr = mat.pbr_metallic_roughness();
     let mut features = Vec::new();
+    let keys = |v: Option<&serde_json::Value>| -> Vec<String> {
+        v.and_then(|v| v.get("extensions")?.as_object().cloned())
+            .map(|o| o.keys().cloned().collect())
+            .unwrap_or_default()
+    };
+    if let Some(info) = pbr.base_color_texture() {
+        let info_json = mat.index().and_then(|i| {
+            raw_materials
+                .get(i)?
+                .get("pbrMetallicRoughness")?
+                .get("baseColorTexture")
+        });
+        let texture_json = file.raw.textures.get(info.texture().index());
+        let others = keys(info_json)
+            .into_iter()
+            .filter(|k| k != "KHR_texture_transform")
+            .chain(keys(texture_json));
+        for name in others {
+            features.push(format!(
+                "the extension {name} on its base colour texture (its PNG or JPEG source is drawn)"
+            ));
+        }
+    }
     let mut note = |present: bool, what: &str| {
         if present {
             features.push(what.to_string());
         }
     };
-    note(pbr.base_color_texture().is_some(), "a base colour texture");
     note(
         pbr.metallic_roughness_texture().is_some(),
         "a metallic-roughness texture",
@@ -1089,6 +1286,299 @@ pub(crate) fn push_material(materials: &mut Vec<Material>, m: Material) -> usize
     }
 }
 
+/// The name a material goes by in messages: its name, else its index.
+fn material_label(mat: &gltf::Material) -> String {
+    match (mat.name(), mat.index()) {
+        (Some(n), _) if !n.is_empty() => n.to_string(),
+        (_, Some(i)) => i.to_string(),
+        (_, None) => "default".to_string(),
+    }
+}
+
+/// The `KHR_texture_transform` object on a material's base colour texture.
+fn base_colour_transform_json<'f>(
+    file: &'f GltfFile,
+    mat: &gltf::Material,
+) -> Option<&'f serde_json::Value> {
+    file.raw
+        .materials
+        .get(mat.index()?)?
+        .get("pbrMetallicRoughness")?
+        .get("baseColorTexture")?
+        .get("extensions")?
+        .get("KHR_texture_transform")
+}
+
+/// The texture coordinate set a material's base colour texture reads (its
+/// `KHR_texture_transform`'s `texCoord`, else its own), if it has one.
+fn base_colour_set(file: &GltfFile, mat: &gltf::Material) -> Option<u32> {
+    let info = mat.pbr_metallic_roughness().base_color_texture()?;
+    let overridden = base_colour_transform_json(file, mat)
+        .and_then(|t| t.get("texCoord")?.as_u64())
+        .and_then(|set| u32::try_from(set).ok());
+    Some(overridden.unwrap_or(info.tex_coord()))
+}
+
+/// `KHR_texture_transform` on a material's base colour texture as the map
+/// of its texture coordinates, `uv' = T R S uv` (module docs): with
+/// offset `(ox, oy)`, rotation `r` and scale `(sx, sy)`,
+/// `[cos r sx, sin r sy, ox; -sin r sx, cos r sy, oy]`. The identity
+/// without it.
+fn base_colour_uv_transform(
+    file: &GltfFile,
+    mat: &gltf::Material,
+    who: &str,
+) -> Result<UvTransform, SceneError> {
+    let Some(t) = base_colour_transform_json(file, mat) else {
+        return Ok(UvTransform::IDENTITY);
+    };
+    let bad = |key: &str, expected: &str| {
+        SceneError::mesh(
+            &file.label,
+            format!(
+                "material `{who}`: KHR_texture_transform `{key}` is {}; expected {expected}",
+                t.get(key).map_or("missing".to_string(), |v| v.to_string())
+            ),
+        )
+    };
+    let pair = |key: &str, default: [f64; 2]| match t.get(key) {
+        None => Ok(default),
+        Some(v) => match v
+            .as_array()
+            .map(|a| a.iter().map(|x| x.as_f64()).collect::<Vec<_>>())
+        {
+            Some(xs) if xs.len() == 2 && xs.iter().all(Option::is_some) => {
+                Ok([xs[0].unwrap_or(0.0), xs[1].unwrap_or(0.0)])
+            }
+            _ => Err(bad(key, "two numbers")),
+        },
+    };
+    let offset = pair("offset", [0.0, 0.0])?;
+    let scale = pair("scale", [1.0, 1.0])?;
+    let rotation = match t.get("rotation") {
+        None => 0.0,
+        Some(v) => v
+            .as_f64()
+            .ok_or_else(|| bad("rotation", "a number (radians)"))?,
+    };
+    let (sin, cos) = rotation.sin_cos();
+    let m = [
+        cos * scale[0],
+        sin * scale[1],
+        offset[0],
+        -sin * scale[0],
+        cos * scale[1],
+        offset[1],
+    ];
+    if !m.iter().all(|x| x.is_finite()) {
+        return Err(bad("scale", "finite numbers"));
+    }
+    // No -0 (sin 0 times a scale): equal transforms compare and share as
+    // equal.
+    Ok(UvTransform(m.map(|x| x + 0.0)))
+}
+
+/// A glTF sampler as the renderers sample (module docs); glTF's defaults
+/// where it says nothing: [`Sampler::GLTF_DEFAULT`].
+fn sampler_of(texture: &gltf::Texture) -> Sampler {
+    use gltf::texture::{MagFilter, MinFilter, WrappingMode};
+    let s = texture.sampler();
+    let wrap = |w: WrappingMode| match w {
+        WrappingMode::Repeat => Wrap::Repeat,
+        WrappingMode::ClampToEdge => Wrap::ClampToEdge,
+        WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
+    };
+    let default = Sampler::GLTF_DEFAULT;
+    let magnification = match s.mag_filter() {
+        Some(MagFilter::Nearest) => Filter::Nearest,
+        Some(MagFilter::Linear) => Filter::Linear,
+        None => default.magnification,
+    };
+    let (minification, mipmap) = match s.min_filter() {
+        None => (default.minification, default.mipmap),
+        Some(MinFilter::Nearest) => (Filter::Nearest, None),
+        Some(MinFilter::Linear) => (Filter::Linear, None),
+        Some(MinFilter::NearestMipmapNearest) => (Filter::Nearest, Some(Filter::Nearest)),
+        Some(MinFilter::LinearMipmapNearest) => (Filter::Linear, Some(Filter::Nearest)),
+        Some(MinFilter::NearestMipmapLinear) => (Filter::Nearest, Some(Filter::Linear)),
+        Some(MinFilter::LinearMipmapLinear) => (Filter::Linear, Some(Filter::Linear)),
+    };
+    Sampler {
+        wrap_u: wrap(s.wrap_s()),
+        wrap_v: wrap(s.wrap_t()),
+        magnification,
+        minification,
+        mipmap,
+    }
+}
+
+/// Where an image's bytes lie.
+enum ImageSource<'f> {
+    /// A file beside the glTF: its path and the URI's decoded name.
+    File(PathBuf, String),
+    /// A base64 data URI.
+    DataUri(&'f str),
+    /// A buffer view.
+    View(gltf::buffer::View<'f>),
+}
+
+/// An image's name for messages: its file ("image 2 (`wood.png`)"), else
+/// its name, else its index alone ("image 2").
+fn image_what(image: &gltf::Image, source: &ImageSource) -> String {
+    let name = match source {
+        ImageSource::File(_, name) => Some(name.clone()),
+        _ => image.name().filter(|n| !n.is_empty()).map(str::to_string),
+    };
+    match name {
+        Some(n) => format!("image {} (`{n}`)", image.index()),
+        None => format!("image {}", image.index()),
+    }
+}
+
+/// Where `image`'s bytes lie (checked by `check_images_and_textures`, so
+/// that the `gltf` crate's `source` does not panic).
+fn image_source<'f>(
+    file: &GltfFile,
+    image: &gltf::Image<'f>,
+) -> Result<ImageSource<'f>, SceneError> {
+    Ok(match image.source() {
+        gltf::image::Source::View { view, .. } => ImageSource::View(view),
+        gltf::image::Source::Uri { uri, .. } if uri.starts_with("data:") => {
+            ImageSource::DataUri(uri)
+        }
+        gltf::image::Source::Uri { uri, .. } => {
+            if uri.contains(':') {
+                return Err(SceneError::mesh(
+                    &file.label,
+                    format!(
+                        "image {}: its uri `{uri}` is neither a file beside the glTF nor a data: URI; expected a relative file name or a data: URI",
+                        image.index()
+                    ),
+                ));
+            }
+            let Ok(name) = String::from_utf8(percent_decoded_bytes(uri)) else {
+                return Err(SceneError::mesh(
+                    &file.label,
+                    format!(
+                        "image {}: its uri `{uri}` percent-decodes to bytes that are not UTF-8; expected a file name or a data: URI",
+                        image.index()
+                    ),
+                ));
+            };
+            ImageSource::File(file.base.join(&name), name)
+        }
+    })
+}
+
+/// The bytes of an image, read (a file), decoded (a data URI) or borrowed
+/// (a buffer view); `what` names it in messages.
+fn image_bytes<'f>(
+    file: &'f GltfFile,
+    source: &ImageSource<'f>,
+    what: &str,
+) -> Result<Cow<'f, [u8]>, SceneError> {
+    let err = |message: String| SceneError::mesh(&file.label, format!("{what} {message}"));
+    match source {
+        ImageSource::File(path, name) => std::fs::read(path).map(Cow::Owned).map_err(|e| {
+            err(format!(
+                "names the file `{name}`, which cannot be read ({}: {e}); put it beside the .gltf or fix the uri",
+                path.display()
+            ))
+        }),
+        ImageSource::DataUri(uri) => {
+            use base64::Engine;
+            let (header, data) = uri.split_once(',').unwrap_or((uri, ""));
+            if !header.ends_with(";base64") {
+                return Err(err(format!(
+                    "is a data URI that is not base64 (`{}`); expected data:image/png;base64,... or data:image/jpeg;base64,...",
+                    header.chars().take(60).collect::<String>()
+                )));
+            }
+            base64::engine::general_purpose::STANDARD
+                .decode(data)
+                .map(Cow::Owned)
+                .map_err(|e| err(format!("is a data URI that is not valid base64 ({e})")))
+        }
+        ImageSource::View(view) => {
+            let bytes = file
+                .buffers
+                .get(view.buffer().index())
+                .and_then(|b| b.0.get(view.offset()..view.offset().checked_add(view.length())?));
+            bytes.map(Cow::Borrowed).ok_or_else(|| {
+                err(format!(
+                    "is in buffer view {}, which runs past the end of buffer {}",
+                    view.index(),
+                    view.buffer().index()
+                ))
+            })
+        }
+    }
+}
+
+/// A material's base colour texture as its pattern (module docs), from
+/// `store`, which decodes each image once and holds the bytes of all to
+/// `limits` together with `geometry` (the file's). A warning per image
+/// whose alpha is not all opaque.
+fn base_colour_texture(
+    file: &GltfFile,
+    mat: &gltf::Material,
+    store: &mut TextureStore,
+    limits: &LoadLimits,
+    geometry: u64,
+    warnings: &mut Vec<String>,
+) -> Result<Option<Pattern>, SceneError> {
+    let Some(info) = mat.pbr_metallic_roughness().base_color_texture() else {
+        return Ok(None);
+    };
+    let who = material_label(mat);
+    let texture = info.texture();
+    let image = texture.source();
+    let source = image_source(file, &image)?;
+    let what = image_what(&image, &source);
+    let key = match &source {
+        ImageSource::File(path, _) => {
+            ImageKey::File(std::fs::canonicalize(path).unwrap_or_else(|_| path.clone()))
+        }
+        _ => ImageKey::Embedded {
+            label: file.label.clone(),
+            index: image.index(),
+        },
+    };
+    let request = TextureRequest {
+        key,
+        name: format!("{} {what}", file.label),
+        sampler: sampler_of(&texture),
+        transform: base_colour_uv_transform(file, mat, &who)?,
+    };
+    let fail = |failure: ImageFailure| {
+        let message = format!(
+            "{what} (the base colour texture of material `{who}`) {}",
+            failure.message()
+        );
+        match failure {
+            ImageFailure::TooLarge(_) => SceneError::TooLarge {
+                file: file.label.clone(),
+                message,
+            },
+            ImageFailure::Unreadable(_) => SceneError::mesh(&file.label, message),
+        }
+    };
+    let fetched = store.texture(
+        request,
+        limits,
+        geometry,
+        || image_bytes(file, &source, &what),
+        fail,
+    )?;
+    if fetched.newly_translucent {
+        warnings.push(format!(
+            "{}: {what} has alpha below 1 (not all opaque); shadelab uses its RGB and ignores the alpha",
+            file.label
+        ));
+    }
+    Ok(Some(Pattern::Image(fetched.texture)))
+}
+
 /// What a glTF file contributes to a scene.
 struct Contents<'a> {
     objects: Vec<Object>,
@@ -1110,10 +1600,11 @@ fn instanced_size(file: &GltfFile) -> Result<GeometrySize, SceneError> {
             let corners = prim.indices().map_or(vertices, |i| i.count() as u64);
             size.add(1, vertices, corners / 3);
             // Counted whenever the file has them: coordinates are read only
-            // for a pattern, which is not known here, so this may count more.
-            let attributed = [gltf::Semantic::Colors(0), gltf::Semantic::TexCoords(0)]
-                .iter()
-                .any(|s| prim.get(s).is_some());
+            // for a texture or pattern, which is not known here, so this may
+            // count more.
+            let attributed = prim.attributes().any(|(s, _)| {
+                matches!(s, gltf::Semantic::Colors(0) | gltf::Semantic::TexCoords(_))
+            });
             if attributed {
                 size.add_attributed(vertices, corners / 3);
             }
@@ -1123,16 +1614,25 @@ fn instanced_size(file: &GltfFile) -> Result<GeometrySize, SceneError> {
     Ok(size)
 }
 
+/// How one glTF file is being loaded into a scene: the limit, and the
+/// scene's textures so far.
+pub(crate) struct Loading<'s> {
+    pub limits: &'s LoadLimits,
+    pub textures: &'s mut TextureStore,
+}
+
 fn contents<'a>(
     file: &'a GltfFile,
     post: DMat4,
     material_override: Option<usize>,
     materials: &mut Vec<Material>,
     warnings: &mut Vec<String>,
-    limits: &LoadLimits,
+    loading: &mut Loading,
 ) -> Result<Contents<'a>, SceneError> {
+    let limits = loading.limits;
     let size = instanced_size(file)?;
     limits.check(&file.label, &size)?;
+    let geometry = size.model_bytes();
     let mut per_file: HashMap<Option<usize>, usize> = HashMap::new();
     let mut objects = Vec::with_capacity(size.objects as usize);
     let mut nodes = Vec::new();
@@ -1143,14 +1643,37 @@ fn contents<'a>(
         let Some(mesh) = node.mesh() else {
             return Ok(());
         };
-        // Texture coordinates are read only for a material that uses them:
-        // today, a TOML material with a pattern given to the whole file.
-        let uv_user = material_override
-            .filter(|&i| materials[i].pattern.is_some())
-            .map(|i| materials[i].name.clone());
         for prim in mesh.primitives() {
+            // Texture coordinates are read only for a material that uses
+            // them: a TOML material with a pattern or texture given to the
+            // whole file (TEXCOORD_0), or the file's own material with a
+            // base colour texture (its set).
+            let uv_use = match material_override {
+                Some(i) => materials[i].pattern.as_ref().map(|p| UvUse {
+                    set: 0,
+                    user: format!(
+                        "the {} of material `{}`",
+                        if p.image().is_some() {
+                            "texture"
+                        } else {
+                            "pattern"
+                        },
+                        materials[i].name
+                    ),
+                }),
+                None => {
+                    let mat = prim.material();
+                    base_colour_set(file, &mat).map(|set| UvUse {
+                        set,
+                        user: format!(
+                            "the base colour texture of material `{}`",
+                            material_label(&mat)
+                        ),
+                    })
+                }
+            };
             let at = post * *world;
-            let Some(tri) = primitive_mesh(file, &mesh, &prim, at, uv_user.as_deref(), warnings)?
+            let Some(tri) = primitive_mesh(file, &mesh, &prim, at, uv_use.as_ref(), warnings)?
             else {
                 continue;
             };
@@ -1163,25 +1686,32 @@ fn contents<'a>(
                         Some(&i) => i,
                         None => {
                             let m = match key {
-                                Some(i) => {
-                                    let label = match mat.name() {
-                                        Some(n) if !n.is_empty() => n.to_string(),
-                                        _ => i.to_string(),
-                                    };
-                                    let unmodelled = unmodelled_features(&mat, &file.raw.materials);
+                                Some(_) => {
+                                    let label = material_label(&mat);
+                                    let unmodelled = unmodelled_features(file, &mat);
                                     if !unmodelled.is_empty() {
                                         warnings.push(format!(
-                                            "{}: material `{label}` has {}, which shadelab does not model; it renders with its factors alone",
+                                            "{}: material `{label}` has {}, which shadelab does not model; it renders without {}",
                                             file.label,
-                                            unmodelled.join(", ")
+                                            unmodelled.join(", "),
+                                            if unmodelled.len() == 1 { "it" } else { "them" }
                                         ));
                                     }
-                                    map_material(
+                                    let mut m = map_material(
                                         &file.label,
                                         format!("{}/{label}", file.stem),
                                         &mat,
                                         &file.raw.materials,
-                                    )?
+                                    )?;
+                                    m.pattern = base_colour_texture(
+                                        file,
+                                        &mat,
+                                        loading.textures,
+                                        limits,
+                                        geometry,
+                                        warnings,
+                                    )?;
+                                    m
                                 }
                                 None => default_material(format!("{}/default", file.stem)),
                             };
@@ -1217,10 +1747,10 @@ pub(crate) fn load_meshes(
     material_override: Option<usize>,
     materials: &mut Vec<Material>,
     warnings: &mut Vec<String>,
-    limits: &LoadLimits,
+    loading: &mut Loading,
 ) -> Result<Vec<Object>, SceneError> {
     let file = open(path)?;
-    Ok(contents(&file, post, material_override, materials, warnings, limits)?.objects)
+    Ok(contents(&file, post, material_override, materials, warnings, loading)?.objects)
 }
 
 /// Loads a glTF file as a whole scene (rules in the crate docs of `scene`):
@@ -1246,13 +1776,17 @@ pub fn scene_from_slice(
 fn scene_of(file: &GltfFile, limits: &LoadLimits) -> Result<Scene, SceneError> {
     let mut materials = Vec::new();
     let mut warnings = Vec::new();
+    let mut textures = TextureStore::default();
     let Contents { objects, nodes } = contents(
         file,
         DMat4::IDENTITY,
         None,
         &mut materials,
         &mut warnings,
-        limits,
+        &mut Loading {
+            limits,
+            textures: &mut textures,
+        },
     )?;
 
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
@@ -1400,7 +1934,10 @@ mod tests {
             None,
             &mut materials,
             &mut warnings,
-            &LoadLimits::default(),
+            &mut Loading {
+                limits: &LoadLimits::default(),
+                textures: &mut TextureStore::default(),
+            },
         )?;
         Ok(Loaded {
             objects,
@@ -1500,7 +2037,8 @@ mod tests {
 
     /// What the model does not take is announced, one line per material
     /// naming each feature (issue 31: the Duck rendered white-grey without
-    /// a word). Vertex colours are modelled now and say nothing.
+    /// a word). Vertex colours and base colour textures are modelled now
+    /// and say nothing; a normal map's image is never read.
     #[test]
     fn unmodelled_material_features_are_announced() {
         let dir = tempfile::tempdir().unwrap();
@@ -1510,7 +2048,6 @@ mod tests {
             d["textures"] = serde_json::json!([{"source": 0}]);
             d["materials"] = serde_json::json!([{
                 "name": "duck",
-                "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}},
                 "normalTexture": {"index": 0},
                 "emissiveFactor": [0.5, 0.0, 0.0],
                 "extensions": {"KHR_materials_ior": {"ior": 1.4}, "KHR_materials_clearcoat": {}}
@@ -1527,7 +2064,6 @@ mod tests {
             .collect();
         assert_eq!(material.len(), 1, "{:?}", l.warnings);
         for feature in [
-            "a base colour texture",
             "a normal map",
             "emission (emissiveFactor)",
             "the extension KHR_materials_clearcoat",
@@ -1535,7 +2071,12 @@ mod tests {
             assert!(material[0].contains(feature), "{feature}: {}", material[0]);
         }
         assert!(
-            !material[0].contains("KHR_materials_ior"),
+            !material[0].contains("KHR_materials_ior") && !material[0].contains("base colour"),
+            "{}",
+            material[0]
+        );
+        assert!(
+            material[0].ends_with("it renders without them"),
             "{}",
             material[0]
         );
@@ -1697,7 +2238,10 @@ mod tests {
             Some(0),
             &mut materials,
             &mut warnings,
-            &limits,
+            &mut Loading {
+                limits: &limits,
+                textures: &mut TextureStore::default(),
+            },
         )
         .map_err(|e| e.to_string())
     }

@@ -259,7 +259,12 @@ impl TextureStore {
             sampler,
             transform,
         } = request;
-        let full = (key.clone(), sampler, transform.0.map(f64::to_bits));
+        // `+ 0.0`: -0 and 0 are one key.
+        let full = (
+            key.clone(),
+            sampler,
+            transform.0.map(|x| (x + 0.0).to_bits()),
+        );
         if let Some(t) = self.textures.get(&full) {
             return Ok(Fetched {
                 texture: Arc::clone(t),

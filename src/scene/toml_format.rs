@@ -22,6 +22,7 @@
 //! | `ka`, `kd`, `ks`, `p`, `kr`, `kt` | 0.2, 0.8, 0, 32, 0, 0 | >= 0 |
 //! | `ior` | `1.0` | > 0 |
 //! | `pattern` | none | `{ kind = "checker", scale = 8, colors = [[0.9, 0.9, 0.9], [0.15, 0.15, 0.15]] }`: scale > 0, two colours each >= 0 |
+//! | `texture` | none | `{ file = "floor.png", scale = 1, wrap = "repeat", filter = "trilinear" }`: `file` required (PNG or JPEG, sRGB, relative to the scene file), scale > 0, wrap `"repeat"`, `"clamp"` or `"mirror"`, filter `"nearest"`, `"bilinear"` or `"trilinear"`; not with `pattern` |
 //! | `render.depth` | `5` | 0..=64 |
 //! | `render.cutoff` | `0.001` | >= 0 |
 //! | `render.shadows` | `true` | |
@@ -50,6 +51,7 @@
 //! Materials are referenced by name; they are stored in `Scene::materials`
 //! in name order, followed by materials imported from mesh files.
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::fmt;
 use std::path::Path;
@@ -65,8 +67,13 @@ use super::footprint::LoadLimits;
 use super::gltf_import;
 use super::model::{
     Camera, ImageSettings, Interpolation, Lighting, Material, Object, Pattern, PointLight,
-    RenderSettings, Scene, Shape, Traversal, MAX_DEPTH, MAX_RESOLUTION,
+    RenderSettings, Scene, Shape, Traversal, UvTransform, MAX_DEPTH, MAX_RESOLUTION,
 };
+use super::texture::image_file::{
+    ImageFailure, ImageKey, TextureRequest, TextureStore, TEXTURE_FILTER, TEXTURE_SCALE,
+    TEXTURE_WRAP,
+};
+use super::texture::{FilterPreset, Wrap};
 
 // ---------------------------------------------------------------------------
 // Value types with their own checks (so the TOML parser attaches the line).
@@ -228,6 +235,18 @@ struct MaterialRaw {
     kt: Option<Spanned<Finite>>,
     ior: Option<Spanned<Finite>>,
     pattern: Option<Spanned<PatternRaw>>,
+    texture: Option<Spanned<TextureRaw>>,
+}
+
+/// `texture = { file = "floor.png", scale = 1, wrap = "repeat", filter =
+/// "trilinear" }`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TextureRaw {
+    file: Spanned<String>,
+    scale: Option<Spanned<Finite>>,
+    wrap: Option<Spanned<String>>,
+    filter: Option<Spanned<String>>,
 }
 
 /// `pattern = { kind = "checker", scale = 8, colors = [[...], [...]] }`.
@@ -522,6 +541,90 @@ impl Ctx<'_> {
         Ok(Pattern::Checker { scale, colors })
     }
 
+    /// A material's `texture` (`what` its key), its defaults filled in
+    /// (`image_file`'s consts): the image from `store`, which decodes each
+    /// file once per scene and holds it to the memory limit. Also whether
+    /// the image was decoded now and its alpha is not all opaque.
+    fn texture(
+        &self,
+        s: &Spanned<TextureRaw>,
+        what: &str,
+        base_dir: &Path,
+        store: &mut TextureStore,
+    ) -> Result<(Pattern, bool), SceneError> {
+        let raw = s.get_ref();
+        let scale = match &raw.scale {
+            Some(v) => self.positive(v, &format!("{what}.scale"))?,
+            None => TEXTURE_SCALE,
+        };
+        let quoted = |names: &[&str]| {
+            names
+                .iter()
+                .map(|n| format!("\"{n}\""))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let wrap = match &raw.wrap {
+            Some(w) => Wrap::from_name(w.get_ref()).ok_or_else(|| {
+                self.err(
+                    w,
+                    format!(
+                        "`{what}.wrap` is {:?}; expected one of {}",
+                        w.get_ref(),
+                        quoted(&Wrap::NAMES)
+                    ),
+                )
+            })?,
+            None => TEXTURE_WRAP,
+        };
+        let filter = match &raw.filter {
+            Some(f) => FilterPreset::from_name(f.get_ref()).ok_or_else(|| {
+                let names = FilterPreset::ALL.map(FilterPreset::name);
+                self.err(
+                    f,
+                    format!(
+                        "`{what}.filter` is {:?}; expected one of {}",
+                        f.get_ref(),
+                        quoted(&names)
+                    ),
+                )
+            })?,
+            None => TEXTURE_FILTER,
+        };
+        let file = raw.file.get_ref();
+        let path = base_dir.join(file);
+        let key = ImageKey::File(std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone()));
+        let request = TextureRequest {
+            key,
+            name: file.clone(),
+            sampler: filter.sampler(wrap),
+            transform: UvTransform([scale, 0.0, 0.0, 0.0, scale, 0.0]),
+        };
+        let read = || {
+            std::fs::read(&path).map(Cow::Owned).map_err(|e| {
+                self.err(
+                    &raw.file,
+                    format!(
+                        "`{what}.file`: cannot read `{file}` ({}: {e}); expected a PNG or JPEG file, relative to the scene file",
+                        path.display()
+                    ),
+                )
+            })
+        };
+        let fail = |failure: ImageFailure| {
+            let message = format!("`{what}.file`: `{file}` {}", failure.message());
+            match failure {
+                ImageFailure::TooLarge(_) => SceneError::TooLarge {
+                    file: self.label.to_string(),
+                    message: format!("line {}: {message}", self.line(&raw.file)),
+                },
+                ImageFailure::Unreadable(_) => self.err(&raw.file, message),
+            }
+        };
+        let fetched = store.texture(request, self.limits, 0, read, fail)?;
+        Ok((Pattern::Image(fetched.texture), fetched.newly_translucent))
+    }
+
     fn int_in(
         &self,
         s: &Spanned<i64>,
@@ -674,6 +777,8 @@ pub fn parse_within(
 
     // materials
     let mut materials = Vec::with_capacity(raw.materials.len());
+    let mut warnings = Vec::new();
+    let mut textures = TextureStore::default();
     for (name, m) in &raw.materials {
         let r = m.get_ref();
         let get =
@@ -691,9 +796,28 @@ pub fn parse_within(
             Some(s) => cx.positive(s, &format!("materials.{name}.ior"))?,
             None => d.ior,
         };
-        let pattern = match &r.pattern {
-            Some(raw) => Some(cx.pattern(raw, &format!("materials.{name}.pattern"))?),
-            None => None,
+        let pattern = match (&r.pattern, &r.texture) {
+            (Some(_), Some(t)) => {
+                return Err(cx.err(
+                    t,
+                    format!(
+                    "[materials.{name}] has both a `pattern` and a `texture`; expected one of them"
+                ),
+                ))
+            }
+            (Some(raw), None) => Some(cx.pattern(raw, &format!("materials.{name}.pattern"))?),
+            (None, Some(t)) => {
+                let what = format!("materials.{name}.texture");
+                let (texture, translucent) = cx.texture(t, &what, base_dir, &mut textures)?;
+                if translucent {
+                    warnings.push(format!(
+                        "{label}: the image `{}` of [materials.{name}] has alpha below 1 (not all opaque); shadelab uses its RGB and ignores the alpha",
+                        t.get_ref().file.get_ref()
+                    ));
+                }
+                Some(texture)
+            }
+            (None, None) => None,
         };
         materials.push(Material {
             name: name.clone(),
@@ -712,7 +836,6 @@ pub fn parse_within(
 
     // objects
     let mut objects = Vec::new();
-    let mut warnings = Vec::new();
     for (i, obj) in raw.objects.iter().enumerate() {
         convert_object(
             &cx,
@@ -723,6 +846,7 @@ pub fn parse_within(
             &mut materials,
             &mut objects,
             &mut warnings,
+            &mut textures,
         )?;
     }
 
@@ -780,6 +904,7 @@ fn convert_object(
     materials: &mut Vec<Material>,
     objects: &mut Vec<Object>,
     warnings: &mut Vec<String>,
+    textures: &mut TextureStore,
 ) -> Result<(), SceneError> {
     let o = obj.get_ref();
     let shape = o.shape.get_ref().as_str();
@@ -882,8 +1007,12 @@ fn convert_object(
             * DMat4::from_mat3(rotation)
             * DMat4::from_scale(scale);
         let path = base_dir.join(file.get_ref());
+        let mut loading = gltf_import::Loading {
+            limits: cx.limits,
+            textures,
+        };
         let loaded =
-            gltf_import::load_meshes(&path, post, material, materials, warnings, cx.limits)
+            gltf_import::load_meshes(&path, post, material, materials, warnings, &mut loading)
                 .map_err(|e| SceneError::InObject {
                     file: cx.label.to_string(),
                     line: cx.line(file),

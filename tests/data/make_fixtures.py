@@ -49,12 +49,42 @@ and, for assets/vertex-colors.toml, into ../../assets/models/:
                         triangle (floats, RGB); TEXCOORD_0 likewise after
                         them (floats for the cube, 0 to 1 across each face;
                         shorts for the floor; bytes for the triangle)
+
+and, for the image textures (tests/texture_import.rs), here:
+
+- checker-2x2.png       a 2x2 RGBA PNG: red, green (top row), blue, sRGB
+                        grey 128 (bottom row), all opaque
+- textured_file.gltf    a unit quad with TEXCOORD_0 (v down the image: 0 at
+                        the quad's top) under a material whose base colour
+                        texture is checker-2x2.png beside it, its URI
+                        percent-encoded (checker%2D2x2.png), no sampler,
+                        baseColorFactor (0.5, 1, 1)
+- textured_datauri.gltf the same with the PNG as a base64 data URI, a
+                        sampler (NEAREST, NEAREST_MIPMAP_LINEAR,
+                        CLAMP_TO_EDGE, MIRRORED_REPEAT) and
+                        KHR_texture_transform (offset (0.5, -0.25),
+                        rotation 0.5, scale (2, 3); extensionsRequired)
+- textured.glb          the same quad as binary glTF, the PNG in a buffer
+                        view (image/png), a sampler (LINEAR,
+                        NEAREST_MIPMAP_NEAREST, REPEAT, CLAMP_TO_EDGE)
+- textured_texcoord1.gltf
+                        three quads side by side with TEXCOORD_0 (floats)
+                        and TEXCOORD_1 (normalised unsigned bytes, another
+                        mapping): material `set1` reads texCoord 1,
+                        `transformed` texCoord 0 overridden to 1 by
+                        KHR_texture_transform, `set0` texCoord 0
+- box-textured.gltf     a unit cube, four corners per face with 0..1
+                        coordinates across each face, its base colour an
+                        8x8 PNG of two colours (a checkerboard of 2x2-texel
+                        cells, orange and cream) as a data URI, like the
+                        Khronos BoxTextured sample
 """
 
 import base64
 import json
 import os
 import struct
+import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -144,6 +174,16 @@ class Builder:
                                "componentType": USHORT, "count": len(idx),
                                "type": "SCALAR"})
         return len(self.accessors) - 1
+
+    def blob(self, data):
+        """Adds raw bytes (an image) in a buffer view of their own; returns
+        the view's index."""
+        self._align()
+        offset = len(self.data)
+        self.data += data
+        self.views.append({"buffer": 0, "byteOffset": offset,
+                           "byteLength": len(data)})
+        return len(self.views) - 1
 
     def finish(self, doc, embed=True):
         """Completes `doc` with buffers/views/accessors."""
@@ -563,6 +603,139 @@ def vertex_colors():
         f.write("\n")
 
 
+def png_bytes(rows):
+    """An 8-bit RGBA PNG of `rows` (lists of (r, g, b, a)), standard
+    library only."""
+    height, width = len(rows), len(rows[0])
+    raw = b"".join(b"\0" + bytes(c for px in row for c in px) for row in rows)
+
+    def chunk(tag, data):
+        return (struct.pack(">I", len(data)) + tag + data
+                + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF))
+
+    ihdr = struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr)
+            + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
+
+
+CHECKER_2X2 = [[(255, 0, 0, 255), (0, 255, 0, 255)],
+               [(0, 0, 255, 255), (128, 128, 128, 255)]]
+
+
+def data_uri(png):
+    return "data:image/png;base64," + base64.b64encode(png).decode("ascii")
+
+
+def textured_quad(b, offset=0.0):
+    """A unit quad in z = 0 at x = offset, facing +Z, with TEXCOORD_0 (the
+    image's top at the quad's top); returns the primitive (no material)."""
+    pos = [(offset, 0, 0), (offset + 1, 0, 0), (offset + 1, 1, 0), (offset, 1, 0)]
+    return {"attributes": {"POSITION": b.vec3(pos),
+                           "NORMAL": b.vec3([(0, 0, 1)] * 4),
+                           "TEXCOORD_0": b.vec2([(0, 1), (1, 1), (1, 0), (0, 0)])},
+            "indices": b.indices([0, 1, 2, 0, 2, 3])}
+
+
+def textured_doc(prims, materials, textures, images, samplers=None):
+    doc = {
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"name": "quad", "mesh": 0}],
+        "meshes": [{"name": "quad", "primitives": prims}],
+        "materials": materials,
+        "textures": textures,
+        "images": images,
+    }
+    if samplers is not None:
+        doc["samplers"] = samplers
+    return doc
+
+
+def painted(name, texture_info, factor=(0.5, 1, 1, 1)):
+    return {"name": name,
+            "pbrMetallicRoughness": {"baseColorFactor": list(factor),
+                                     "baseColorTexture": texture_info,
+                                     "metallicFactor": 0.0,
+                                     "roughnessFactor": 1.0}}
+
+
+def textures():
+    png = png_bytes(CHECKER_2X2)
+    with open(os.path.join(HERE, "checker-2x2.png"), "wb") as f:
+        f.write(png)
+
+    b = Builder()
+    prim = dict(textured_quad(b), material=0)
+    doc = textured_doc([prim], [painted("painted", {"index": 0})],
+                       [{"source": 0}], [{"uri": "checker%2D2x2.png"}])
+    write_gltf("textured_file.gltf", b.finish(doc))
+
+    b = Builder()
+    prim = dict(textured_quad(b), material=0)
+    transform = {"offset": [0.5, -0.25], "rotation": 0.5, "scale": [2, 3]}
+    doc = textured_doc(
+        [prim],
+        [painted("painted", {"index": 0, "extensions": {
+            "KHR_texture_transform": transform}})],
+        [{"source": 0, "sampler": 0}],
+        [{"name": "checker", "uri": data_uri(png)}],
+        [{"magFilter": 9728, "minFilter": 9986, "wrapS": 33071,
+          "wrapT": 33648}])
+    doc["extensionsUsed"] = ["KHR_texture_transform"]
+    doc["extensionsRequired"] = ["KHR_texture_transform"]
+    write_gltf("textured_datauri.gltf", b.finish(doc))
+
+    b = Builder()
+    prim = dict(textured_quad(b), material=0)
+    view = b.blob(png)
+    doc = textured_doc([prim], [painted("painted", {"index": 0})],
+                       [{"source": 0, "sampler": 0}],
+                       [{"bufferView": view, "mimeType": "image/png"}],
+                       [{"magFilter": 9729, "minFilter": 9984, "wrapS": 10497,
+                         "wrapT": 33071}])
+    b.finish(doc, embed=False)
+    write_glb("textured.glb", doc, b.data)
+
+    b = Builder()
+    prims = []
+    for i in range(3):
+        prim = textured_quad(b, offset=1.5 * i)
+        # TEXCOORD_1: the quad's corners mirrored left to right, as bytes.
+        prim["attributes"]["TEXCOORD_1"] = b.colors(
+            [(255, 255), (0, 255), (0, 0), (255, 0)], 5121, "VEC2")
+        prim["material"] = i
+        prims.append(prim)
+    materials = [
+        painted("set1", {"index": 0, "texCoord": 1}),
+        painted("transformed", {"index": 0, "extensions": {
+            "KHR_texture_transform": {"texCoord": 1}}}),
+        painted("set0", {"index": 0}),
+    ]
+    doc = textured_doc(prims, materials, [{"source": 0}],
+                       [{"uri": data_uri(png)}])
+    doc["extensionsUsed"] = ["KHR_texture_transform"]
+    write_gltf("textured_texcoord1.gltf", b.finish(doc))
+
+    orange, cream = (230, 120, 30, 255), (250, 240, 210, 255)
+    rows = [[orange if (i // 2 + j // 2) % 2 == 0 else cream for i in range(8)]
+            for j in range(8)]
+    b = Builder()
+    positions, normals, idx = unit_cube()
+    corners = [(0.0, 1.0), (1.0, 1.0), (1.0, 0.0), (0.0, 0.0)]
+    prim = {"attributes": {"POSITION": b.vec3(positions),
+                           "NORMAL": b.vec3(normals),
+                           "TEXCOORD_0": b.vec2(corners * 6)},
+            "indices": b.indices(idx), "material": 0}
+    doc = textured_doc([prim],
+                       [painted("box", {"index": 0}, factor=(1, 1, 1, 1))],
+                       [{"source": 0, "sampler": 0}],
+                       [{"name": "checker-8x8", "uri": data_uri(png_bytes(rows))}],
+                       [{"magFilter": 9729, "minFilter": 9987}])
+    doc["nodes"][0]["name"] = "box"
+    doc["meshes"][0]["name"] = "box"
+    write_gltf("box-textured.gltf", b.finish(doc))
+
+
 def main():
     tri_indexed()
     tri_unindexed()
@@ -578,6 +751,7 @@ def main():
     slivers()
     bad_normals()
     vertex_colors()
+    textures()
 
 
 if __name__ == "__main__":
