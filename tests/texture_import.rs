@@ -847,6 +847,10 @@ fn toml_texture_errors_name_the_line_and_key() {
             &["t.toml line 5", "`materials.m.texture.scale` is 0; expected a number > 0"],
         ),
         (
+            "texture = { file = \"floor.png\", scale = 1e200 }",
+            &["t.toml line 5", "`materials.m.texture.scale` is 1e200; expected a number > 0 whose square is finite"],
+        ),
+        (
             "texture = { file = \"floor.png\", wrap = \"tile\" }",
             &["line 5", "`materials.m.texture.wrap` is \"tile\"; expected one of \"repeat\", \"clamp\", \"mirror\""],
         ),

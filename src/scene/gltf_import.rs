@@ -1370,8 +1370,12 @@ fn base_colour_uv_transform(
         cos * scale[1],
         offset[1],
     ];
-    if !m.iter().all(|x| x.is_finite()) {
-        return Err(bad("scale", "finite numbers"));
+    // The renderers' level of detail takes its area scale, `|det|`.
+    if !m.iter().all(|x| x.is_finite()) || !UvTransform(m).area_scale().is_finite() {
+        return Err(bad(
+            "scale",
+            "two numbers whose product is finite (the scale of the texture's area)",
+        ));
     }
     // No -0 (sin 0 times a scale): equal transforms compare and share as
     // equal.
@@ -2089,6 +2093,87 @@ mod tests {
             d["meshes"][0]["primitives"][0]["material"] = 0.into();
         });
         assert!(meshes(&plain, DMat4::IDENTITY).unwrap().warnings.is_empty());
+    }
+
+    /// The fixture `name` (tests/data) with `patch` applied, loaded from a
+    /// scratch folder: what it gives, or its error's message.
+    fn load_patched_fixture(
+        name: &str,
+        patch: impl FnOnce(&mut serde_json::Value),
+    ) -> Result<Loaded, String> {
+        let text = std::fs::read_to_string(fixture(name)).unwrap();
+        let mut doc: serde_json::Value = serde_json::from_str(&text).unwrap();
+        patch(&mut doc);
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("patched.gltf");
+        std::fs::write(&path, doc.to_string()).unwrap();
+        meshes(&path, DMat4::IDENTITY).map_err(|e| e.to_string())
+    }
+
+    /// Extensions on the base colour texture other than the transform are
+    /// named (their PNG source is drawn); the transform is not.
+    #[test]
+    fn other_extensions_on_the_base_colour_texture_are_announced() {
+        let l = load_patched_fixture("textured_datauri.gltf", |d| {
+            d["textures"][0]["extensions"] = serde_json::json!({"EXT_texture_webp": {"source": 0}});
+            d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]
+                ["MSFT_lod"] = serde_json::json!({});
+        })
+        .unwrap();
+        assert_eq!(l.warnings.len(), 1, "{:?}", l.warnings);
+        let w = &l.warnings[0];
+        for part in [
+            "patched.gltf: material `painted` has ",
+            "the extension MSFT_lod on its base colour texture (its PNG or JPEG source is drawn)",
+            "the extension EXT_texture_webp on its base colour texture",
+        ] {
+            assert!(w.contains(part), "{w}\nshould say: {part}");
+        }
+        assert!(!w.contains("KHR_texture_transform"), "{w}");
+        assert!(matches!(&l.materials[0].pattern, Some(Pattern::Image(_))));
+    }
+
+    /// An image's buffer view must lie inside its buffer; a texture's
+    /// transform must be numbers.
+    #[test]
+    fn an_image_past_its_buffer_or_a_bad_transform_is_refused() {
+        let e = load_patched_fixture("textured_datauri.gltf", |d| {
+            let views = d["bufferViews"].as_array_mut().unwrap();
+            views.push(serde_json::json!({"buffer": 0, "byteOffset": 16, "byteLength": 1_000_000}));
+            let view = views.len() - 1;
+            d["images"][0] = serde_json::json!({"bufferView": view, "mimeType": "image/png"});
+        })
+        .err()
+        .expect("an error");
+        assert!(
+            e.ends_with(
+                "patched.gltf: image 0 is in buffer view 4, which runs past the end of buffer 0"
+            ),
+            "{e}"
+        );
+        let e = load_patched_fixture("textured_datauri.gltf", |d| {
+            d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]
+                ["KHR_texture_transform"]["scale"] = serde_json::json!([1e150, 1e150]);
+            d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]
+                ["KHR_texture_transform"]["rotation"] = serde_json::json!(0.0);
+        });
+        // 1e150 is finite in f64 (the transform's precision; the gltf
+        // crate's f32 would make it infinite), and so is the area's scale.
+        let l = e.unwrap();
+        let Some(Pattern::Image(image)) = &l.materials[0].pattern else {
+            panic!("{:?}", l.materials[0].pattern)
+        };
+        assert_eq!(image.transform.0[0], 1e150);
+        let e = load_patched_fixture("textured_datauri.gltf", |d| {
+            d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]
+                ["KHR_texture_transform"]["scale"] = serde_json::json!([1e200, 1e200]);
+        })
+        .err()
+        .expect("an error");
+        assert!(
+            e.contains("material `painted`: KHR_texture_transform `scale` is [1e+200,1e+200]; expected two numbers whose product is finite"),
+            "{e}"
+        );
     }
 
     fn vertex_colors_model() -> PathBuf {

@@ -442,7 +442,15 @@ fn toml_error(label: &str, text: &str, err: &toml::de::Error) -> SceneError {
             .unwrap_or_default();
         let fixed = raw
             .replace("invalid type:", "wrong type:")
-            .replace("expected i64", "expected an integer");
+            .replace("expected i64", "expected an integer")
+            .replace(
+                "expected struct PatternRaw",
+                "expected a table such as { kind = \"checker\" }",
+            )
+            .replace(
+                "expected struct TextureRaw",
+                "expected a table such as { file = \"floor.png\" }",
+            );
         format!("{key}{fixed}")
     };
     SceneError::Syntax {
@@ -554,7 +562,17 @@ impl Ctx<'_> {
     ) -> Result<(Pattern, bool), SceneError> {
         let raw = s.get_ref();
         let scale = match &raw.scale {
-            Some(v) => self.positive(v, &format!("{what}.scale"))?,
+            Some(v) => {
+                let scale = self.positive(v, &format!("{what}.scale"))?;
+                // The renderers' level of detail takes the area's scale.
+                if !(scale * scale).is_finite() {
+                    return Err(self.err(
+                        v,
+                        format!("`{what}.scale` is {scale:e}; expected a number > 0 whose square is finite"),
+                    ));
+                }
+                scale
+            }
             None => TEXTURE_SCALE,
         };
         let quoted = |names: &[&str]| {
@@ -1619,6 +1637,51 @@ samples = 1                       # ray tracing: samples per pixel
             let e = parse_err(&with_camera(rest));
             assert_has(&e, parts);
         }
+    }
+
+    /// A texture or pattern given as a bare string is named as the table
+    /// it should be, not as the loader's own type.
+    #[test]
+    fn a_texture_or_pattern_that_is_not_a_table_says_what_is_expected() {
+        for (rest, parts) in [
+            (
+                "[materials.m]\ntexture = \"floor.png\"\n",
+                &["line 5", "key `texture` in [materials.m]", "wrong type: string \"floor.png\", expected a table such as { file = \"floor.png\" }"][..],
+            ),
+            (
+                "[materials.m]\npattern = \"checker\"\n",
+                &["line 5", "expected a table such as { kind = \"checker\" }"],
+            ),
+        ] {
+            let e = parse_err(&with_camera(rest));
+            assert_has(&e, parts);
+            assert!(!e.contains("Raw"), "{e}");
+        }
+    }
+
+    /// A TOML texture's defaults are glTF's sampler defaults and no
+    /// transform; a glTF file resolves in the scene's folder.
+    #[test]
+    fn a_texture_table_defaults_to_repeat_trilinear_scale_1() {
+        assert_eq!(
+            TEXTURE_FILTER.sampler(TEXTURE_WRAP),
+            crate::scene::Sampler::GLTF_DEFAULT
+        );
+        assert_eq!(TEXTURE_SCALE, 1.0);
+        let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+        let s = parse(
+            &with_camera("[materials.m]\ntexture = { file = \"checker-2x2.png\" }\n"),
+            &dir,
+            "t.toml",
+        )
+        .unwrap();
+        let Some(Pattern::Image(image)) = &s.materials[0].pattern else {
+            panic!("{:?}", s.materials[0].pattern)
+        };
+        assert_eq!(image.sampler, crate::scene::Sampler::GLTF_DEFAULT);
+        assert_eq!(image.transform, UvTransform::IDENTITY);
+        assert_eq!(image.name, "checker-2x2.png");
+        assert_eq!(image.texture.levels[0].texels[0], [1.0, 0.0, 0.0]);
     }
 
     #[test]
