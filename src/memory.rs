@@ -11,7 +11,7 @@
 //! `docs/memory.md` has the measurements and the command that repeats them.
 
 use crate::error::Error;
-use crate::scene::footprint::format_bytes;
+use crate::scene::footprint::{format_bytes, scene_texture_bytes, TEXEL_COPIES};
 use crate::scene::{GeometrySize, LoadLimits, Scene};
 use crate::shading::Shading;
 
@@ -229,7 +229,15 @@ impl MemoryLimit {
             },
         );
         let (g, c) = (largest(gpu, Backend::Gpu), largest(cpu, Backend::Cpu));
-        let total = g.map_or(0, |e| e.0).saturating_add(c.map_or(0, |e| e.0));
+        // Image textures: the scene's texels once, and a GPU render's two
+        // more (its texture table on the host and the buffer on the
+        // device); the CPU reference reads the scene's.
+        let texels = scene_texture_bytes(scene);
+        let texture_bytes = texels.saturating_mul(if g.is_some() { TEXEL_COPIES } else { 1 });
+        let total = g
+            .map_or(0, |e| e.0)
+            .saturating_add(c.map_or(0, |e| e.0))
+            .saturating_add(texture_bytes);
         if total <= self.bytes {
             return Ok(total);
         }
@@ -241,8 +249,13 @@ impl MemoryLimit {
             }
             (None, None) => "rendering it".into(),
         };
+        let textures = if texels > 0 {
+            format!(", {} of textures", format_bytes(texture_bytes))
+        } else {
+            String::new()
+        };
         Err(Error::Usage(format!(
-            "{name}: {work} at {}x{} would take about {} ({} objects, {} triangles, {} vertices), over the memory limit of {} ({}); raise the limit with --max-memory or {LIMIT_ENV}, or lower the resolution or the geometry",
+            "{name}: {work} at {}x{} would take about {} ({} objects, {} triangles, {} vertices{textures}), over the memory limit of {} ({}); raise the limit with --max-memory or {LIMIT_ENV}, or lower the resolution or the geometry",
             scene.image.width,
             scene.image.height,
             format_bytes(total),
@@ -459,5 +472,57 @@ mod tests {
                 && e.contains("--max-memory X"),
             "{e}"
         );
+    }
+
+    /// An image counts once for the scene and twice more for a GPU render
+    /// (its texture table, host and device), each shared texture once.
+    #[test]
+    fn image_textures_count_per_copy_and_once_per_texture() {
+        use crate::scene::{ImageTexture, Pattern, Sampler, Texture, UvTransform};
+        // Against a checker, whose surfaces carry the same coordinates.
+        let mut plain = default_scene();
+        let checker = Pattern::Checker {
+            scale: 1.0,
+            colors: [glam::DVec3::ONE; 2],
+        };
+        plain.materials[0].pattern = Some(checker.clone());
+        plain.materials[1].pattern = Some(checker);
+        let mut textured = plain.clone();
+        // 64 x 64 with its chain: 5461 texels of 12 bytes.
+        let image = std::sync::Arc::new(ImageTexture {
+            name: "t".into(),
+            texture: Texture::new(64, 64, vec![[0.5; 3]; 64 * 64]),
+            sampler: Sampler::GLTF_DEFAULT,
+            transform: UvTransform::IDENTITY,
+        });
+        textured.materials[0].pattern = Some(Pattern::Image(image.clone()));
+        textured.materials[1].pattern = Some(Pattern::Image(image));
+        let unlimited = MemoryLimit {
+            bytes: u64::MAX,
+            source: "test".into(),
+        };
+        let cost = |scene: &Scene, gpu: &[Shading], cpu: &[Shading]| {
+            unlimited.check("s", scene, gpu, cpu).unwrap()
+        };
+        let one_copy = 5461 * 12;
+        let gpu = [Shading::Phong];
+        let cpu = [Shading::Flat];
+        assert_eq!(
+            cost(&textured, &gpu, &[]) - cost(&plain, &gpu, &[]),
+            3 * one_copy
+        );
+        assert_eq!(
+            cost(&textured, &[], &cpu) - cost(&plain, &[], &cpu),
+            one_copy
+        );
+        let need = cost(&textured, &gpu, &cpu);
+        let e = MemoryLimit {
+            bytes: need - 1,
+            source: "test".into(),
+        }
+        .check("s", &textured, &gpu, &cpu)
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("of textures"), "{e}");
     }
 }
