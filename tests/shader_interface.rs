@@ -152,6 +152,11 @@ fn specialization_constants_match_by_id_and_name() {
         4 * rt_layout::SPEC_CONSTANTS.len()
     );
     let raster = raster_layout::Specialization::map_entries();
+    assert_eq!(raster.len(), raster_layout::SPEC_CONSTANTS.len());
+    assert_eq!(
+        std::mem::size_of::<raster_layout::Specialization>(),
+        4 * raster.len()
+    );
     for (entry, (id, _)) in raster.iter().zip(raster_layout::SPEC_CONSTANTS) {
         assert_eq!(entry.constant_id, u32::from(*id));
     }
@@ -202,6 +207,14 @@ fn specialization_constants_match_by_id_and_name() {
         ),
         ("PATTERNS", offset_of!(TraceSpecialization, patterns)),
         ("TEXTURES", offset_of!(TraceSpecialization, textures)),
+        (
+            "SAMPLER_FIXED",
+            offset_of!(TraceSpecialization, sampler_fixed),
+        ),
+        (
+            "FIXED_SAMPLER",
+            offset_of!(TraceSpecialization, fixed_sampler),
+        ),
     ];
     assert_eq!(fields.len(), rt_layout::SPEC_CONSTANTS.len());
     for (name, offset) in fields {
@@ -214,7 +227,7 @@ fn specialization_constants_match_by_id_and_name() {
     // The shared constants mean the same in both pipelines.
     assert_eq!(
         &rt_layout::SPEC_CONSTANTS[..3],
-        raster_layout::SPEC_CONSTANTS
+        &raster_layout::SPEC_CONSTANTS[..3]
     );
 }
 

@@ -18,7 +18,10 @@ layout(std140, set = 0, binding = 1) uniform FrameUniforms {
 #ifdef TEXTURE
 // The scene's image textures (gpu::texture_table), read by texture.glsl.
 layout(std430, set = 0, binding = 3) readonly buffer TextureRecordBuffer { uvec4 texture_records[]; };
-layout(std430, set = 0, binding = 4) readonly buffer TexelBuffer { float texels[]; };
+layout(std430, set = 0, binding = 4) readonly buffer TexelBuffer { vec4 texels[]; };
+// Where every image has one sampler: its bits (texture.glsl).
+layout(constant_id = 3) const bool SAMPLER_FIXED = false;
+layout(constant_id = 4) const uint FIXED_SAMPLER = 0u;
 #endif
 
 layout(push_constant) uniform DrawConstants {

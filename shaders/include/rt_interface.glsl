@@ -49,6 +49,9 @@ layout(constant_id = 16) const bool VERTEX_COLORS = false;
 layout(constant_id = 17) const bool PATTERNS = false;
 // Whether some pattern is an image (`texture_records`, `texels` below).
 layout(constant_id = 18) const bool TEXTURES = false;
+// Where every image has one sampler: its bits (texture.glsl).
+layout(constant_id = 19) const bool SAMPLER_FIXED = false;
+layout(constant_id = 20) const uint FIXED_SAMPLER = 0u;
 
 layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     vec4 ambient_k;       // rgb: Ia, w: k
@@ -178,7 +181,7 @@ layout(std430, set = 0, binding = 14) readonly buffer PatternBuffer { MaterialPa
 // The image textures (gpu::texture_table), read by texture.glsl only with
 // TEXTURES.
 layout(std430, set = 0, binding = 15) readonly buffer TextureRecordBuffer { uvec4 texture_records[]; };
-layout(std430, set = 0, binding = 16) readonly buffer TexelBuffer { float texels[]; };
+layout(std430, set = 0, binding = 16) readonly buffer TexelBuffer { vec4 texels[]; };
 // The work queue: the next work item to take (zeroed before each dispatch;
 // see main).
 layout(std430, set = 0, binding = 11) buffer WorkQueueBuffer { uint next_item; };

@@ -6,85 +6,89 @@
 //
 // Needs, declared before it is included: `texture_records` (uvec4: per
 // texture, its first level record, level count and sampler bits; per level,
-// its first texel, width and height: src/gpu/texture_table.rs) and
-// `texels` (three floats per texel, linear RGB).
+// its first texel, width and height: src/gpu/texture_table.rs), `texels`
+// (vec4 per texel, linear RGB), and the specialization constants
+// `SAMPLER_FIXED` and `FIXED_SAMPLER`: where every image of the scene has
+// one sampler, its bits, so that the branches on them fold away when the
+// pipeline is built (lavapipe's code generation is then a fraction).
 
-// `k` modulo `n` in 0..n, also for a negative `k` (GLSL's % is undefined
-// for negative operands).
-int euclid_mod(int k, int n) {
-    return k >= 0 ? k % n : (n - 1) - ((-k - 1) % n);
-}
-
-// An index (an integer, perhaps outside 0..size) wrapped into it: 0 repeat,
-// 1 clamp to edge, 2 mirrored repeat.
-int wrap_index(float i, int size, uint mode) {
-    // Far outside the texture the coordinate has no precision left to
-    // place a texel; bounded so that the conversion stays defined.
-    int k = int(clamp(i, -1.0e9, 1.0e9));
+// An index (an integer in a float, perhaps outside 0..size) wrapped into
+// it: 0 repeat, 1 clamp to edge, 2 mirrored repeat. In float arithmetic:
+// an integer modulo is a division per lane that the driver cannot
+// vectorise (lavapipe's code generation took seconds over it). Exact while
+// |i| < 2^24 / size's rounding allows: beyond some 16 million texels from
+// the origin a repeat may land one texel off, and the clamp keeps it in
+// the texture.
+float wrap_index(float i, float size, uint mode) {
     if (mode == 1u) {
-        return clamp(k, 0, size - 1);
+        return clamp(i, 0.0, size - 1.0);
     }
     if (mode == 2u) {
-        int m = euclid_mod(k, 2 * size);
-        return m >= size ? 2 * size - 1 - m : m;
+        float period = 2.0 * size;
+        float m = i - period * floor(i / period);
+        m = m >= size ? period - 1.0 - m : m;
+        return clamp(m, 0.0, size - 1.0);
     }
-    return euclid_mod(k, size);
+    return clamp(i - size * floor(i / size), 0.0, size - 1.0);
 }
 
-vec3 texel_at(uvec4 level, uint sampler_bits, float i, float j) {
-    int w = int(level.y);
-    int h = int(level.z);
-    int x = wrap_index(i, w, sampler_bits & 3u);
-    int y = wrap_index(j, h, (sampler_bits >> 2) & 3u);
-    uint k = 3u * (level.x + uint(y * w + x));
-    return vec3(texels[k], texels[k + 1u], texels[k + 2u]);
-}
-
-// One level read with NEAREST (`linear` false) or LINEAR.
+// One level read with NEAREST (`linear` false) or LINEAR. Each of the
+// four indices is wrapped once; NEAREST reads one texel.
 vec3 filtered(uvec4 level, uint sampler_bits, bool linear, vec2 uv) {
     vec2 size = vec2(level.yz);
-    if (!linear) {
-        return texel_at(level, sampler_bits, floor(uv.x * size.x), floor(uv.y * size.y));
-    }
-    vec2 xy = uv * size - 0.5;
+    vec2 xy = linear ? uv * size - 0.5 : uv * size;
     vec2 ij = floor(xy);
     vec2 f = xy - ij;
-    vec3 top = texel_at(level, sampler_bits, ij.x, ij.y) * (1.0 - f.x)
-               + texel_at(level, sampler_bits, ij.x + 1.0, ij.y) * f.x;
-    vec3 bottom = texel_at(level, sampler_bits, ij.x, ij.y + 1.0) * (1.0 - f.x)
-                  + texel_at(level, sampler_bits, ij.x + 1.0, ij.y + 1.0) * f.x;
+    uint wrap_u = sampler_bits & 3u;
+    uint wrap_v = (sampler_bits >> 2) & 3u;
+    uint x0 = uint(wrap_index(ij.x, size.x, wrap_u));
+    uint y0 = uint(wrap_index(ij.y, size.y, wrap_v));
+    vec3 t00 = texels[level.x + y0 * level.y + x0].rgb;
+    if (!linear) {
+        return t00;
+    }
+    uint x1 = uint(wrap_index(ij.x + 1.0, size.x, wrap_u));
+    uint y1 = uint(wrap_index(ij.y + 1.0, size.y, wrap_v));
+    vec3 t10 = texels[level.x + y0 * level.y + x1].rgb;
+    vec3 t01 = texels[level.x + y1 * level.y + x0].rgb;
+    vec3 t11 = texels[level.x + y1 * level.y + x1].rgb;
+    vec3 top = t00 * (1.0 - f.x) + t10 * f.x;
+    vec3 bottom = t01 * (1.0 - f.x) + t11 * f.x;
     return top * (1.0 - f.y) + bottom * f.y;
 }
 
 // Texture `index` at `uv` with level of detail `lambda`: magnification at
 // lambda <= 0, else minification, within level 0 or, with mip levels, the
 // nearest level (Vulkan's ceil(lambda + 0.5) - 1) or a blend of the two
-// around lambda, lambda clamped to the chain.
+// around lambda, lambda clamped to the chain. The levels are chosen first,
+// so that the filter's code is there twice, not once per case.
 vec3 sample_texture(uint index, vec2 uv, float lambda) {
     uvec4 texture_record = texture_records[index];
     uint bits = texture_record.z;
-    uint first = texture_record.x;
-    if (lambda <= 0.0) {
-        return filtered(texture_records[first], bits, (bits & 16u) != 0u, uv);
+    if (SAMPLER_FIXED) {
+        bits = FIXED_SAMPLER;
     }
-    bool linear = (bits & 32u) != 0u;
-    uint mip = (bits >> 6) & 3u;
     float last = float(texture_record.y - 1u);
-    lambda = min(lambda, last);
-    if (mip == 0u) {
-        return filtered(texture_records[first], bits, linear, uv);
+    bool linear = (bits & 16u) != 0u;
+    float level = 0.0;
+    float fraction = 0.0;
+    if (lambda > 0.0) {
+        linear = (bits & 32u) != 0u;
+        uint mip = (bits >> 6) & 3u;
+        float clamped = min(lambda, last);
+        if (mip == 1u) {
+            level = clamp(ceil(clamped + 0.5) - 1.0, 0.0, last);
+        } else if (mip == 2u) {
+            level = floor(clamped);
+            fraction = clamped - level;
+        }
     }
-    if (mip == 1u) {
-        float level = clamp(ceil(lambda + 0.5) - 1.0, 0.0, last);
-        return filtered(texture_records[first + uint(level)], bits, linear, uv);
-    }
-    float lower = floor(lambda);
-    float fraction = lambda - lower;
-    vec3 a = filtered(texture_records[first + uint(lower)], bits, linear, uv);
+    uint first = texture_record.x;
+    vec3 a = filtered(texture_records[first + uint(level)], bits, linear, uv);
     if (fraction == 0.0) {
         return a;
     }
-    vec3 b = filtered(texture_records[first + uint(min(lower + 1.0, last))], bits, linear, uv);
+    vec3 b = filtered(texture_records[first + uint(min(level + 1.0, last))], bits, linear, uv);
     return a * (1.0 - fraction) + b * fraction;
 }
 

@@ -41,8 +41,7 @@ pub fn record_size(binding: u32) -> usize {
         LIGHTS_BINDING => std::mem::size_of::<GpuLight>(),
         FRAME_BINDING => std::mem::size_of::<FrameUniforms>(),
         FACES_BINDING => std::mem::size_of::<GpuFace>(),
-        TEXTURE_RECORDS_BINDING => 16,
-        TEXELS_BINDING => 4,
+        TEXTURE_RECORDS_BINDING | TEXELS_BINDING => 16,
         _ => 0,
     }
 }
@@ -52,6 +51,8 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (0, "LIGHT_COUNT"),
     (1, "USE_SPECULAR"),
     (2, "USE_ATTENUATION"),
+    (3, "SAMPLER_FIXED"),
+    (4, "FIXED_SAMPLER"),
 ];
 
 #[repr(C)]
@@ -149,19 +150,17 @@ pub struct Specialization {
     pub light_count: i32,
     pub use_specular: u32,
     pub use_attenuation: u32,
+    pub sampler_fixed: u32,
+    pub fixed_sampler: u32,
 }
 
 impl Specialization {
-    pub fn map_entries() -> [vk::SpecializationMapEntry; 3] {
-        let entry = |id: u16, index: u32| vk::SpecializationMapEntry {
-            constant_id: u32::from(id),
-            offset: index * 4,
+    pub fn map_entries() -> [vk::SpecializationMapEntry; 5] {
+        let entry = |index: usize| vk::SpecializationMapEntry {
+            constant_id: u32::from(SPEC_CONSTANTS[index].0),
+            offset: index as u32 * 4,
             size: 4,
         };
-        [
-            entry(SPEC_CONSTANTS[0].0, 0),
-            entry(SPEC_CONSTANTS[1].0, 1),
-            entry(SPEC_CONSTANTS[2].0, 2),
-        ]
+        [entry(0), entry(1), entry(2), entry(3), entry(4)]
     }
 }

@@ -215,10 +215,13 @@ pub fn specialization(scene: &Scene) -> Specialization {
         .objects
         .iter()
         .any(|o| scene.materials[o.material].ks > 0.0);
+    let fixed_sampler = TextureTable::common_sampler(&scene.materials);
     Specialization {
         light_count: scene.lights.len() as i32,
         use_specular: u32::from(use_specular),
         use_attenuation: u32::from(scene.lighting.attenuation),
+        sampler_fixed: u32::from(fixed_sampler.is_some()),
+        fixed_sampler: fixed_sampler.unwrap_or(0),
     }
 }
 

@@ -160,6 +160,11 @@ fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSp
     let in_bvh = BvhKinds::of(rt);
     let listed = |in_bvh: bool, count: usize| if in_bvh { 0 } else { count as i32 };
     let materials_listed = lists_materials(rt.materials.len());
+    let fixed_sampler = if options.every_feature {
+        None
+    } else {
+        super::texture_table::TextureTable::common_sampler(&rt.materials)
+    };
     TraceSpecialization {
         light_count: lighting.light_count,
         use_specular: on(lighting.use_specular != 0),
@@ -188,6 +193,8 @@ fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSp
                 .iter()
                 .any(|m| matches!(m.pattern, Some(crate::scene::Pattern::Image(_)))),
         ),
+        sampler_fixed: u32::from(fixed_sampler.is_some()),
+        fixed_sampler: fixed_sampler.unwrap_or(0),
     }
 }
 

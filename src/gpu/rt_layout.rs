@@ -139,6 +139,8 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (16, "VERTEX_COLORS"),
     (17, "PATTERNS"),
     (18, "TEXTURES"),
+    (19, "SAMPLER_FIXED"),
+    (20, "FIXED_SAMPLER"),
 ];
 
 #[repr(C)]
@@ -357,6 +359,8 @@ pub struct TraceSpecialization {
     pub vertex_colors: u32,
     pub patterns: u32,
     pub textures: u32,
+    pub sampler_fixed: u32,
+    pub fixed_sampler: u32,
 }
 
 impl TraceSpecialization {
@@ -387,8 +391,7 @@ pub fn record_size(binding: u32) -> usize {
         TRIANGLE_COLORS => std::mem::size_of::<GpuTriangleColors>(),
         TRIANGLE_UVS => std::mem::size_of::<GpuTriangleUvs>(),
         PATTERNS => std::mem::size_of::<GpuPattern>(),
-        TEXTURE_RECORDS => 16,
-        TEXELS => 4,
+        TEXTURE_RECORDS | TEXELS => 16,
         MATERIALS => std::mem::size_of::<GpuMaterial>(),
         OUTPUT => 16,
         // A fixed array of 8 counters and one counter, not runtime arrays:

@@ -30,7 +30,7 @@ pub struct SceneRecords {
     pub patterns: Vec<GpuPattern>,
     /// The image textures (`gpu::texture_table`); empty without any.
     pub texture_records: Vec<[u32; 4]>,
-    pub texels: Vec<f32>,
+    pub texels: Vec<[f32; 4]>,
     pub bvh: GpuBvh,
     pub materials: Vec<GpuMaterial>,
 }
