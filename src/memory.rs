@@ -229,9 +229,9 @@ impl MemoryLimit {
             },
         );
         let (g, c) = (largest(gpu, Backend::Gpu), largest(cpu, Backend::Cpu));
-        // Image textures: the scene's texels once, and a GPU render's two
-        // more (its texture table on the host and the buffer on the
-        // device); the CPU reference reads the scene's.
+        // Image textures: the scene's texels once, and with a GPU render
+        // its texture table on the host and the buffer on the device
+        // (`TEXEL_COPIES` in all); the CPU reference reads the scene's.
         let texels = scene_texture_bytes(scene);
         let texture_bytes = texels.saturating_mul(if g.is_some() { TEXEL_COPIES } else { 1 });
         let total = g
@@ -474,8 +474,9 @@ mod tests {
         );
     }
 
-    /// An image counts once for the scene and twice more for a GPU render
-    /// (its texture table, host and device), each shared texture once.
+    /// An image counts once for the scene and `TEXEL_COPIES` times with a
+    /// GPU render (its texture table, host and device), each shared
+    /// texture once.
     #[test]
     fn image_textures_count_per_copy_and_once_per_texture() {
         use crate::scene::{ImageTexture, Pattern, Sampler, Texture, UvTransform};
@@ -509,7 +510,7 @@ mod tests {
         let cpu = [Shading::Flat];
         assert_eq!(
             cost(&textured, &gpu, &[]) - cost(&plain, &gpu, &[]),
-            3 * one_copy
+            TEXEL_COPIES * one_copy
         );
         assert_eq!(
             cost(&textured, &[], &cpu) - cost(&plain, &[], &cpu),

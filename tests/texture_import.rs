@@ -561,10 +561,11 @@ fn a_decompression_bomb_is_refused_by_the_estimate() {
 #[test]
 fn texture_bytes_count_against_the_limit_with_the_geometry() {
     let p = data("textured_file.gltf");
-    // 2x2 and 1x1 texels, three copies of 12 bytes; the file's bytes, 16
-    // decoded, 16 as RGBA.
+    // 2x2 and 1x1 texels, TEXEL_COPIES copies of 12 bytes; the file's
+    // bytes, 16 decoded, 16 as RGBA.
     let file = std::fs::metadata(data("checker-2x2.png")).unwrap().len();
-    let texture = 3 * 12 * 5 + file + 16 + 16;
+    let copies = shadelab::scene::footprint::TEXEL_COPIES;
+    let texture = copies * 12 * 5 + file + 16 + 16;
     let geometry = {
         let mut size = shadelab::scene::GeometrySize::default();
         size.add(1, 4, 2);

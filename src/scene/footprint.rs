@@ -126,12 +126,14 @@ impl LoadLimits {
     }
 }
 
-/// How many copies of a texture's linear texels a render holds: the
-/// scene's [`Texture`](super::Texture), and on the GPU path the texture
-/// table's copy on the host and its buffer on the device
-/// (`gpu::texture_table`). The CPU reference holds the first alone; the
-/// loader counts all three, so that it errs high.
-pub const TEXEL_COPIES: u64 = 3;
+/// How many copies of a texture's linear texels (12 bytes a texel) a
+/// render holds, rounded up: the scene's [`Texture`](super::Texture) (12
+/// bytes a texel), and on the GPU path the texture table's copy on the
+/// host and its buffer on the device (`gpu::texture_table`, 16 bytes a
+/// texel each: RGB and a pad), 44 bytes in all, counted as 48. The CPU
+/// reference holds the first alone; the loader counts them all, so that it
+/// errs high.
+pub const TEXEL_COPIES: u64 = 4;
 
 /// The bytes of one copy of the linear texels of a `width` x `height`
 /// texture with its whole mip chain: 12 a texel (RGB in `f32`), summed over

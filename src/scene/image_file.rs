@@ -23,7 +23,7 @@
 //! chain (12 bytes a texel, about 4/3 of the image), held
 //! [`TEXEL_COPIES`] times: in the scene, and on the GPU path in the texture
 //! table on the host and in its device buffer. An 8-bit RGBA image costs
-//! about `w h (4 + 4 + 3 * 16) = 56 w h` bytes and its file. The sum errs
+//! about `w h (4 + 4 + 4 * 16) = 72 w h` bytes and its file. The sum errs
 //! high, as the rest of the estimate does: the decoder's buffer is freed
 //! before the texels are made, and the CPU reference holds one copy.
 
@@ -399,7 +399,7 @@ mod tests {
     fn the_cost_is_counted_from_the_header_and_held_to_the_limit() {
         let bytes = png(4, 4, &[200; 64]);
         let (transient, held) = image_cost(4, 4, bytes.len() as u64, 64, false);
-        assert_eq!(held, 3 * 12 * (16 + 4 + 1));
+        assert_eq!(held, TEXEL_COPIES * 12 * (16 + 4 + 1));
         assert_eq!(transient, bytes.len() as u64 + 64 + 64);
         let at = LoadLimits {
             max_bytes: 1000 + transient + held,
@@ -459,8 +459,8 @@ mod tests {
         assert_eq!(c.texture.sampler, nearest);
         assert_eq!(d.texture.transform.0[4], 2.0);
         assert_eq!(reads, 1, "decoded once");
-        // 2x1 and 1x1: three texels, three copies each of 12 bytes, for
-        // each of the three textures.
-        assert_eq!(store.held(), 3 * 3 * 12 * 3);
+        // 2x1 and 1x1: three texels, TEXEL_COPIES copies each of 12
+        // bytes, for each of the three textures.
+        assert_eq!(store.held(), 3 * 3 * 12 * TEXEL_COPIES);
     }
 }
