@@ -39,11 +39,17 @@ pub fn cone_lambda(density: f64, width: f64, cos: f64) -> f64 {
 /// texture coordinates `uvs` (before the texture's transform): its area in
 /// texels (level 0) over its area in the world.
 pub fn triangle_density(image: &ImageTexture, positions: [DVec3; 3], uvs: [DVec2; 3]) -> f64 {
+    uv_per_world_area(positions, uvs) * texel_area(image)
+}
+
+/// A triangle's uv area per unit of its world area: its texel density
+/// before the texture's size and transform (the GPU ray tracer keeps it
+/// per triangle and multiplies those in: `gpu::rt_records`).
+pub fn uv_per_world_area(positions: [DVec3; 3], uvs: [DVec2; 3]) -> f64 {
     let [a, b, c] = positions;
     let world = 0.5 * (b - a).cross(c - a).length();
     let (e1, e2) = (uvs[1] - uvs[0], uvs[2] - uvs[0]);
-    let uv = 0.5 * e1.perp_dot(e2).abs();
-    uv * texel_area(image) / world
+    0.5 * e1.perp_dot(e2).abs() / world
 }
 
 /// Texels per unit of uv area: level 0's width times its height, times how
@@ -91,5 +97,18 @@ mod tests {
         // one level, the longer axis deciding (as Vulkan's rho does).
         assert!((cone_lambda(1e4, 0.01, 0.5) - 1.0).abs() < 1e-12);
         assert_eq!(cone_lambda(1e4, 0.0, 0.0), 0.0);
+    }
+
+    /// A right triangle of legs 2 and 3 in the world (area 3) whose uv
+    /// legs are 0.5 and 0.25 (area 1/16).
+    #[test]
+    fn a_triangle_density_is_its_uv_area_over_its_world_area() {
+        let positions = [
+            DVec3::ZERO,
+            DVec3::new(2.0, 0.0, 0.0),
+            DVec3::new(0.0, 3.0, 0.0),
+        ];
+        let uvs = [DVec2::ZERO, DVec2::new(0.5, 0.0), DVec2::new(0.0, 0.25)];
+        assert!((uv_per_world_area(positions, uvs) - 1.0 / 48.0).abs() < 1e-15);
     }
 }

@@ -85,12 +85,13 @@ fn on_a_jump(image: &ImageTexture, u: f64, v: f64, lambda: f64) -> bool {
     if filter == Filter::Linear {
         return false;
     }
-    let levels = if sampler.mipmap == Some(Filter::Linear) && lambda > 0.0 {
-        vec![level, (level + 1.0).min(last)]
+    let blended = sampler.mipmap == Some(Filter::Linear) && lambda > 0.0;
+    let next = if blended {
+        (level + 1.0).min(last)
     } else {
-        vec![level]
+        level
     };
-    levels.into_iter().any(|level| {
+    [level, next].into_iter().any(|level| {
         let size = &image.texture.levels[level as usize];
         near_integer(u * f64::from(size.width)) || near_integer(v * f64::from(size.height))
     })

@@ -12,6 +12,7 @@ use super::error::GpuError;
 use super::rt_bvh::{gpu_bvh, BvhKinds, GpuBvh, LeafBases};
 use super::rt_layout::*;
 use super::texture_table::TextureTable;
+use crate::level_of_detail::uv_per_world_area;
 use crate::rt_scene::RtScene;
 
 /// The storage buffers' contents.
@@ -51,15 +52,6 @@ impl SceneRecords {
             end: 1,
         };
     }
-}
-
-/// A triangle's uv area per unit of its world area (its texel density
-/// before the texture's size and transform: `level_of_detail`).
-fn uv_density(positions: [DVec3; 3], uvs: [glam::DVec2; 3]) -> f64 {
-    let [a, b, c] = positions;
-    let world = 0.5 * (b - a).cross(c - a).length();
-    let (e1, e2) = (uvs[1] - uvs[0], uvs[2] - uvs[0]);
-    0.5 * e1.perp_dot(e2).abs() / world
 }
 
 fn v3(v: DVec3) -> [f32; 3] {
@@ -162,7 +154,7 @@ pub fn records(rt: &RtScene) -> Result<SceneRecords, GpuError> {
             .iter()
             .filter_map(|&i| Some((rt.triangle_uvs.get(i as usize)?, i)))
             .map(|(uvs, i)| {
-                let density = uv_density(rt.triangles[i as usize].positions, *uvs);
+                let density = uv_per_world_area(rt.triangles[i as usize].positions, *uvs);
                 let [a, b, c] = uvs.map(|uv| uv.as_vec2());
                 GpuTriangleUvs {
                     uv01: [a.x, a.y, b.x, b.y],
