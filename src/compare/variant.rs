@@ -11,7 +11,7 @@ use std::str::FromStr;
 use std::sync::Arc;
 
 use crate::scene::{
-    Filter, ImageTexture, Interpolation, LightingHook, Pattern, Sampler, Scene, SceneError, Shape,
+    FilterPreset, ImageTexture, Interpolation, LightingHook, Pattern, Scene, SceneError, Shape,
     Traversal, MAX_DEPTH,
 };
 use crate::shading::Shading;
@@ -35,54 +35,7 @@ pub struct Variant {
     /// How every image texture is filtered, in place of its sampler's
     /// filters (its wrap modes stay).
     #[serde(default)]
-    pub filter: Option<TextureFilter>,
-}
-
-/// A texture filter as variants name it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum TextureFilter {
-    /// NEAREST, level 0 alone.
-    Nearest,
-    /// LINEAR, level 0 alone.
-    Bilinear,
-    /// LINEAR within and between mip levels (LINEAR_MIPMAP_LINEAR).
-    Trilinear,
-}
-
-impl TextureFilter {
-    pub fn name(self) -> &'static str {
-        match self {
-            TextureFilter::Nearest => "nearest",
-            TextureFilter::Bilinear => "bilinear",
-            TextureFilter::Trilinear => "trilinear",
-        }
-    }
-
-    pub fn from_name(name: &str) -> Option<Self> {
-        [
-            TextureFilter::Nearest,
-            TextureFilter::Bilinear,
-            TextureFilter::Trilinear,
-        ]
-        .into_iter()
-        .find(|f| f.name() == name)
-    }
-
-    /// `sampler` with this filter and its own wrap modes.
-    pub fn applied_to(self, sampler: Sampler) -> Sampler {
-        let (filter, mipmap) = match self {
-            TextureFilter::Nearest => (Filter::Nearest, None),
-            TextureFilter::Bilinear => (Filter::Linear, None),
-            TextureFilter::Trilinear => (Filter::Linear, Some(Filter::Linear)),
-        };
-        Sampler {
-            magnification: filter,
-            minification: filter,
-            mipmap,
-            ..sampler
-        }
-    }
+    pub filter: Option<FilterPreset>,
 }
 
 impl Variant {
@@ -274,7 +227,7 @@ impl FromStr for Variant {
                 }
                 "filter" => {
                     v.filter = Some(
-                        TextureFilter::from_name(value)
+                        FilterPreset::from_name(value)
                             .ok_or_else(|| bad("nearest, bilinear or trilinear"))?,
                     );
                 }
@@ -341,6 +294,7 @@ pub fn default_variants(scene: &Scene) -> Vec<Variant> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::{Filter, Sampler};
 
     #[test]
     fn variants_round_trip_through_their_names() {

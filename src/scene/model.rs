@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-pub use super::texture::{Filter, Sampler, Texture, Wrap};
+pub use super::texture::{Filter, FilterPreset, Sampler, Texture, Wrap};
 
 /// A whole scene, validated: every number finite, every material index valid,
 /// every mesh with at least one non-degenerate triangle.

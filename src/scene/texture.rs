@@ -71,8 +71,10 @@ impl Wrap {
 }
 
 /// The three filterings a TOML texture names (its `filter`), each a
-/// magnification, minification and mipmap filter together.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// magnification, minification and mipmap filter together; `compare`'s
+/// `filter=` variants too.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum FilterPreset {
     /// NEAREST both ways, no mipmaps.
     Nearest,
@@ -105,17 +107,26 @@ impl FilterPreset {
 
     /// A sampler wrapping both axes with `wrap`, filtering as this says.
     pub fn sampler(self, wrap: Wrap) -> Sampler {
+        self.applied_to(Sampler {
+            wrap_u: wrap,
+            wrap_v: wrap,
+            ..Sampler::GLTF_DEFAULT
+        })
+    }
+
+    /// `sampler` filtering as this says, its wrap modes kept (`compare`'s
+    /// `filter=` variants).
+    pub fn applied_to(self, sampler: Sampler) -> Sampler {
         let (filter, mipmap) = match self {
             FilterPreset::Nearest => (Filter::Nearest, None),
             FilterPreset::Bilinear => (Filter::Linear, None),
             FilterPreset::Trilinear => (Filter::Linear, Some(Filter::Linear)),
         };
         Sampler {
-            wrap_u: wrap,
-            wrap_v: wrap,
             magnification: filter,
             minification: filter,
             mipmap,
+            ..sampler
         }
     }
 }
