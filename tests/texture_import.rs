@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use glam::{DVec2, DVec3};
-use shadelab::scene::texture::image_file::MAX_TEXTURE_SIDE;
+use shadelab::scene::image_file::MAX_TEXTURE_SIDE;
 use shadelab::scene::texture::FilterPreset;
 use shadelab::scene::{
     load, load_within, Filter, ImageTexture, LoadLimits, Pattern, Sampler, Scene, SceneError,

@@ -80,11 +80,11 @@ use gltf::mesh::Mode;
 use super::defaults::{DEFAULT_FOV_Y_DEG, DEFAULT_MATERIAL};
 use super::error::SceneError;
 use super::footprint::{GeometrySize, LoadLimits};
+use super::image_file::{ImageFailure, ImageKey, TextureRequest, TextureStore};
 use super::model::{
     Camera, Filter, ImageSettings, Lighting, Material, Object, Pattern, PointLight, RenderSettings,
     Sampler, Scene, Shape, TriangleMesh, UvTransform, Wrap,
 };
-use super::texture::image_file::{ImageFailure, ImageKey, TextureRequest, TextureStore};
 
 /// A parsed glTF file with its buffers loaded (images are loaded by the
 /// materials that use them).

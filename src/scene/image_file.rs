@@ -35,7 +35,6 @@ use std::sync::Arc;
 
 use image::{DynamicImage, ImageDecoder, ImageFormat, ImageReader};
 
-// Paths from the crate root: this file is declared by `texture.rs`.
 use crate::scene::error::SceneError;
 use crate::scene::footprint::{format_bytes, texel_bytes, LoadLimits, TEXEL_COPIES};
 use crate::scene::model::{ImageTexture, UvTransform};

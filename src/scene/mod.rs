@@ -3,7 +3,8 @@
 //! This module owns everything between a file on disk and the plain data in
 //! [`model`]: the TOML scene format of `docs/interface.md`
 //! ([`toml_format`]), glTF 2.0 files as meshes or as whole scenes
-//! ([`gltf_import`]), the values both use for what a file leaves out
+//! ([`gltf_import`]), image files as textures within the memory limit
+//! ([`image_file`]), the values both use for what a file leaves out
 //! ([`defaults`]), the built-in default scene (`default.toml`), and the
 //! tessellation of the primitive shapes for the raster modes
 //! ([`mod@tessellate`]). It never renders and never prints: non-fatal findings
@@ -37,6 +38,7 @@ pub mod defaults;
 pub mod error;
 pub mod footprint;
 pub mod gltf_import;
+pub mod image_file;
 mod lighting_hook;
 pub mod model;
 pub mod tessellate;

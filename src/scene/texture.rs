@@ -1,5 +1,5 @@
 //! Image textures as the renderers are to sample them
-//! (docs/surface-colour.md, "Sampling"): linear RGB texels, a mip chain of
+//! (docs/lighting-model.md, "Image textures"): linear RGB texels, a mip chain of
 //! 2x2 box averages, and a sampler's wrap modes and filters. The f64
 //! sampling itself is the CPU reference's (`cpu::sample`).
 //!
@@ -7,10 +7,6 @@
 //! `texture` tables (`image_file`, docs/scene-format.md).
 
 use crate::srgb::{srgb16_to_linear, srgb8_to_linear};
-
-/// Image files (PNG, JPEG) decoded into textures, within the memory limit.
-#[path = "image_file.rs"]
-pub mod image_file;
 
 /// What happens to texture coordinates outside `[0, 1]`, per axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

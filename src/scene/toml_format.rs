@@ -65,13 +65,13 @@ use super::defaults::{CHECKER_COLORS, CHECKER_SCALE, DEFAULT_FOV_Y_DEG, DEFAULT_
 use super::error::SceneError;
 use super::footprint::LoadLimits;
 use super::gltf_import;
+use super::image_file::{
+    ImageFailure, ImageKey, TextureRequest, TextureStore, TEXTURE_FILTER, TEXTURE_SCALE,
+    TEXTURE_WRAP,
+};
 use super::model::{
     Camera, ImageSettings, Interpolation, Lighting, Material, Object, Pattern, PointLight,
     RenderSettings, Scene, Shape, Traversal, UvTransform, MAX_DEPTH, MAX_RESOLUTION,
-};
-use super::texture::image_file::{
-    ImageFailure, ImageKey, TextureRequest, TextureStore, TEXTURE_FILTER, TEXTURE_SCALE,
-    TEXTURE_WRAP,
 };
 use super::texture::{FilterPreset, Wrap};
 
