@@ -44,7 +44,7 @@ if [ $direct = 0 ] && ! command -v cargo-fuzz >/dev/null &&
 fi
 
 # Without cargo-fuzz: what cargo-fuzz 0.12 passes for `build -O -a
-# --strip-dead-code` on x86-64 Linux (src/project.rs there), by hand.
+# --strip-dead-code` on x86-64 Linux (its project module), by hand.
 # -Clink-dead-code is left out (as --strip-dead-code does): with it, pulp
 # 0.22.3 (under exr) fails to compile on nightly 1.97 (E0080 in its
 # CheckSameSize); it matters only for coverage reports.
