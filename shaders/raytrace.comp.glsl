@@ -75,10 +75,6 @@ struct Ray {
     vec3 dir;
     float weight;
     int depth;
-    // The ray's cone (an image's level of detail, TEXTURES): its width at
-    // the origin and its growth per unit of distance.
-    float cone_width;
-    float cone_spread;
 };
 
 uint local_counts[5];  // primary, shadow, reflected, refracted, pruned
@@ -1066,11 +1062,19 @@ vec3 local_shading(Surfel s, Surface m, vec3 d, bool lit) {
 // lane has a ray (the walks are packets); `live` says whether this one has.
 vec3 trace_sample(vec3 dir, bool live) {
     Ray waiting[STACK_SIZE];
+    // Each ray's cone (an image's level of detail): its width at the
+    // origin and its growth per unit of distance. Kept beside the rays and
+    // touched only with TEXTURES, so that a scene without images carries
+    // none of it (its pipeline compiled as fast as before them).
+    vec2 waiting_cones[STACK_SIZE];
     int top = 0;
-    // A primary cone widens by a pixel's height per unit of distance
-    // (level_of_detail::pixel_spread).
-    float pixel_spread = 2.0 / (frame.right_focal.w * float(frame.image.y));
-    Ray ray = Ray(vec3(0.0), dir, 1.0, 0, 0.0, pixel_spread);
+    Ray ray = Ray(vec3(0.0), dir, 1.0, 0);
+    vec2 cone = vec2(0.0);
+    if (TEXTURES) {
+        // A primary cone widens by a pixel's height per unit of distance
+        // (level_of_detail::pixel_spread).
+        cone.y = 2.0 / (frame.right_focal.w * float(frame.image.y));
+    }
     if (live) {
         count(0);
     }
@@ -1111,7 +1115,7 @@ vec3 trace_sample(vec3 dir, bool live) {
             }
             if (PATTERNS) {
                 if (hits) {
-                    surface.color *= hit_pattern(hit, s, ray.dir, ray.cone_width + ray.cone_spread * hit.t);
+                    surface.color *= hit_pattern(hit, s, ray.dir, cone.x + cone.y * hit.t);
                 }
             }
             local = local_shading(s, surface, ray.dir, hits);
@@ -1168,36 +1172,51 @@ vec3 trace_sample(vec3 dir, bool live) {
                 // The children's cones start as wide as this one at the hit;
                 // a mirror sphere spreads its reflection by 2 w / r more
                 // (its curvature), flat surfaces and refraction do not.
-                float cone_width = ray.cone_width + ray.cone_spread * hit.t;
-                float curvature = 0.0;
+                vec2 refracted_cone = vec2(0.0);
+                vec2 reflected_cone = vec2(0.0);
                 if (TEXTURES) {
+                    float width = cone.x + cone.y * hit.t;
+                    float curvature = 0.0;
                     if ((hit.shape & KIND_MASK) == KIND_SPHERE) {
-                        curvature = 2.0 * cone_width / sphere_geometry(int(hit.shape & ~KIND_MASK)).radius;
+                        curvature = 2.0 * width / sphere_geometry(int(hit.shape & ~KIND_MASK)).radius;
                     }
+                    refracted_cone = vec2(width, cone.y);
+                    reflected_cone = vec2(width, cone.y + curvature);
                 }
                 Ray reflected;
                 if (reflects) {
                     vec3 r = ray.dir - 2.0 * dot(ray.dir, N) * N;
-                    reflected = Ray(offset_origin(s.p, s.geometric, r), r, reflect_weight, ray.depth + 1,
-                                    cone_width, ray.cone_spread + curvature);
+                    reflected = Ray(offset_origin(s.p, s.geometric, r), r, reflect_weight, ray.depth + 1);
                     count(2);
                 }
                 if (refracts) {
                     if (reflects) {
+                        if (TEXTURES) {
+                            waiting_cones[top] = reflected_cone;
+                        }
                         waiting[top++] = reflected;
                     }
                     ray = Ray(offset_origin(s.p, s.geometric, refract_dir), refract_dir, refract_weight,
-                              ray.depth + 1, cone_width, ray.cone_spread);
+                              ray.depth + 1);
+                    if (TEXTURES) {
+                        cone = refracted_cone;
+                    }
                     count(3);
                     live = true;
                 } else if (reflects) {
                     ray = reflected;
+                    if (TEXTURES) {
+                        cone = reflected_cone;
+                    }
                     live = true;
                 }
             }
         }
         if (HAS_TRANSMISSION && !live && top > 0) {
             ray = waiting[--top];
+            if (TEXTURES) {
+                cone = waiting_cones[top];
+            }
             live = true;
         }
         // Without refraction no ray waits, so where nothing was hit the
