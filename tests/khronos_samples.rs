@@ -28,18 +28,6 @@ fn load(name: &str) -> Scene {
     scene
 }
 
-/// The mean of each channel over the pixels where `mask` holds.
-fn mean_where(image: &LinearImage, mask: impl Fn(usize) -> bool) -> DVec3 {
-    let (mut sum, mut n) = (DVec3::ZERO, 0.0);
-    for (i, p) in image.pixels.iter().enumerate() {
-        if mask(i) {
-            sum += to_dvec(*p);
-            n += 1.0;
-        }
-    }
-    sum / n
-}
-
 /// Per pixel of the object, its colour over the untextured (or uncoloured)
 /// render's: what the texture or the vertex colours multiplied in (exactly
 /// so for the ambient and diffuse terms, diluted where a highlight adds
@@ -83,7 +71,6 @@ fn render_everywhere(scene: &Scene, plain: &Scene) -> Vec<(Shading, Vec<DVec3>)>
                 on_object.iter().filter(|&&o| o).count() > 2000,
                 "{shading:?}: the box is too small to judge"
             );
-            let _ = mean_where(&image, |i| on_object[i]);
             (shading, tint(&image, &untinted, &on_object))
         })
         .collect()

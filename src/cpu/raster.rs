@@ -415,8 +415,9 @@ fn shade_sample(
         .as_ref()
         .filter(|_| per_sample)
         .map(|pattern| {
-            let uv = mix_extra(|e| e.uv.extend(0.0)).truncate();
-            pattern_color(pattern, uv, |image| raster_lambda(t, p, image))
+            pattern_color(pattern, uv_at_point(t, p), |image| {
+                raster_lambda(t, p, image)
+            })
         });
     let cell = patterned.and_then(|(_, cell)| cell);
     match mode {

@@ -2101,7 +2101,17 @@ mod tests {
         name: &str,
         patch: impl FnOnce(&mut serde_json::Value),
     ) -> Result<Loaded, String> {
-        let text = std::fs::read_to_string(fixture(name)).unwrap();
+        load_patched(&fixture(name), patch)
+    }
+
+    /// The glTF JSON at `path` with `patch` applied, written to a folder
+    /// of its own (its buffers and images must be data URIs), and what
+    /// loading it says.
+    fn load_patched(
+        path: &std::path::Path,
+        patch: impl FnOnce(&mut serde_json::Value),
+    ) -> Result<Loaded, String> {
+        let text = std::fs::read_to_string(path).unwrap();
         let mut doc: serde_json::Value = serde_json::from_str(&text).unwrap();
         patch(&mut doc);
         let dir = tempfile::tempdir().unwrap();
@@ -2232,13 +2242,7 @@ mod tests {
     /// The model's JSON with `patch` applied, written beside nothing (its
     /// buffer is a data URI), and what loading it says.
     fn load_patched_model(patch: impl FnOnce(&mut serde_json::Value)) -> Result<Loaded, String> {
-        let text = std::fs::read_to_string(vertex_colors_model()).unwrap();
-        let mut doc: serde_json::Value = serde_json::from_str(&text).unwrap();
-        patch(&mut doc);
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("patched.gltf");
-        std::fs::write(&path, doc.to_string()).unwrap();
-        meshes(&path, DMat4::IDENTITY).map_err(|e| e.to_string())
+        load_patched(&vertex_colors_model(), patch)
     }
 
     /// Accessor indices in the fixture: the cube's COLOR_0 (bytes, VEC4),
