@@ -37,6 +37,9 @@ void main() {
     uint face = uint(gl_VertexIndex);
     vec3 P = faces[face].center.xyz;
     vec3 N = faces[face].normal.xyz;
+    // A face seen from behind is lit as its back (docs/lighting-model.md,
+    // "Which side is lit").
+    N = dot(N, P) > 0.0 ? -N : N;
     out_color = shade(P, N, normalize(-P), SURFACE, frame.ambient_k.rgb, frame.ambient_k.w);
     gl_Position = draw.clip_from_relative * vec4(in_position, 1.0);
 }

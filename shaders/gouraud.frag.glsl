@@ -9,12 +9,17 @@
 #include "pattern.glsl"
 #endif
 
-layout(location = 0) in vec3 in_intensity;
+layout(location = 0) in vec3 in_front_intensity;
+// The back's, for a triangle seen from behind.
+layout(location = 4) in vec3 in_back_intensity;
+#define in_intensity (gl_FrontFacing ? in_front_intensity : in_back_intensity)
 #ifdef SCREEN_LINEAR
 layout(location = 1) in float in_w;
 #endif
 #ifdef PATTERN
-layout(location = 2) in vec3 in_specular;
+layout(location = 2) in vec3 in_front_specular;
+layout(location = 5) in vec3 in_back_specular;
+#define in_specular (gl_FrontFacing ? in_front_specular : in_back_specular)
 layout(location = 3) in vec2 in_uv;
 #endif
 layout(location = 0) out vec4 out_color;

@@ -21,6 +21,10 @@ layout(location = 2) in vec3 in_tint;
 #define SURFACE draw_surface()
 #endif
 layout(location = 0) out vec3 out_intensity;
+// The same for the triangle's back, lit with the normal negated; the
+// fragment stage takes the side it sees (docs/lighting-model.md, "Which
+// side is lit").
+layout(location = 4) out vec3 out_back_intensity;
 #ifdef SCREEN_LINEAR
 layout(location = 1) out float out_w;
 #endif
@@ -28,6 +32,7 @@ layout(location = 1) out float out_w;
 layout(location = 3) in vec2 in_uv;
 layout(location = 2) out vec3 out_specular;
 layout(location = 3) out vec2 out_uv;
+layout(location = 5) out vec3 out_back_specular;
 #endif
 
 void main() {
@@ -42,21 +47,29 @@ void main() {
     vec3 N = surface_normal(in_normal);
     vec3 intensity = shade(P, N, normalize(-P), unlit_specular, frame.ambient_k.rgb, frame.ambient_k.w);
     vec3 specular = shade(P, N, normalize(-P), black, frame.ambient_k.rgb, frame.ambient_k.w);
+    vec3 back_intensity = shade(P, -N, normalize(-P), unlit_specular, frame.ambient_k.rgb, frame.ambient_k.w);
+    vec3 back_specular = shade(P, -N, normalize(-P), black, frame.ambient_k.rgb, frame.ambient_k.w);
 #else
-    vec3 intensity = shade(P, surface_normal(in_normal), normalize(-P), SURFACE, frame.ambient_k.rgb, frame.ambient_k.w);
+    vec3 N = surface_normal(in_normal);
+    vec3 intensity = shade(P, N, normalize(-P), SURFACE, frame.ambient_k.rgb, frame.ambient_k.w);
+    vec3 back_intensity = shade(P, -N, normalize(-P), SURFACE, frame.ambient_k.rgb, frame.ambient_k.w);
 #endif
     gl_Position = draw.clip_from_relative * vec4(P, 1.0);
 #ifdef SCREEN_LINEAR
     out_intensity = intensity * gl_Position.w;
+    out_back_intensity = back_intensity * gl_Position.w;
     out_w = gl_Position.w;
 #ifdef PATTERN
     out_specular = specular * gl_Position.w;
+    out_back_specular = back_specular * gl_Position.w;
     out_uv = in_uv * gl_Position.w;
 #endif
 #else
     out_intensity = intensity;
+    out_back_intensity = back_intensity;
 #ifdef PATTERN
     out_specular = specular;
+    out_back_specular = back_specular;
     out_uv = in_uv;
 #endif
 #endif

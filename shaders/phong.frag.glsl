@@ -46,5 +46,8 @@ void main() {
     vec3 P = in_position;
     vec3 N = in_normal;
 #endif
+    // A triangle seen from behind is lit as its back: the normal negated
+    // (docs/lighting-model.md, "Which side is lit").
+    N = gl_FrontFacing ? N : -N;
     out_color = vec4(shade(P, surface_normal(N), normalize(-P), SURFACE, frame.ambient_k.rgb, frame.ambient_k.w), 1.0);
 }

@@ -362,6 +362,44 @@ float sphere_t(vec3 o, vec3 d, SphereGeometry s) {
     return t;
 }
 
+// A huge sphere (src/huge_sphere.rs): its first record as any sphere's,
+// then its anchor (the surface point nearest the eye), 1 / r and the
+// outward normal there.
+struct HugeSphere {
+    SphereGeometry sphere;
+    vec3 anchor;
+    float inv_radius;
+    vec3 normal;
+};
+
+HugeSphere huge_sphere(int j) {
+    int record = int(frame.grid.z) + 2 * j;
+    uvec4 anchor = sphere_quads[uint(record + 1) * SPHERE_QUADS];
+    uvec4 normal = sphere_quads[uint(record + 1) * SPHERE_QUADS + 1u];
+    return HugeSphere(sphere_geometry(record), uintBitsToFloat(anchor.xyz), uintBitsToFloat(anchor.w),
+                      uintBitsToFloat(normal.xyz));
+}
+
+// The anchored form (docs/raytracing.md, "Huge spheres"): with
+// g = o - anchor, `cr = g.(g/r + 2n)` is `c / r` with its r^2 terms
+// cancelled in the algebra rather than in f32; the near root `cr / q`
+// then keeps every digit, where `sphere_t`'s `f.f - r^2` keeps none.
+float huge_sphere_t(vec3 o, vec3 d, HugeSphere s) {
+    vec3 g = o - s.anchor;
+    float cr = dot(g, g * s.inv_radius + 2.0 * s.normal);
+    float b = -dot(g, d) * s.inv_radius - dot(s.normal, d);
+    float disc = b * b - cr * s.inv_radius;
+    float t = 0.0;
+    if (disc >= 0.0) {
+        float q = b + (b >= 0.0 ? 1.0 : -1.0) * sqrt(disc);
+        float t0 = cr / q;
+        float t1 = q * s.sphere.radius;
+        float nearer = min(t0, t1) > 0.0 ? min(t0, t1) : max(t0, t1);
+        t = q == 0.0 ? 0.0 : nearer;
+    }
+    return t;
+}
+
 float plane_t(vec3 o, vec3 d, PlaneGeometry p) {
     float denom = dot(d, p.normal);
     if (denom == 0.0) {
@@ -771,6 +809,27 @@ void walk_bvh(vec3 o, vec3 d, inout Hit best, bool any_hit) {
     }
 }
 
+// The huge spheres, tested one by one by both engines (never in a BVH or
+// an acceleration structure: they are few, and a box around one holds
+// everything).
+void consider_huge_spheres(vec3 o, vec3 d, inout Hit best) {
+    for (int j = 0; j < HUGE_SPHERE_COUNT; ++j) {
+        HugeSphere s = huge_sphere(j);
+        uint record = frame.grid.z + 2u * uint(j);
+        consider_object(huge_sphere_t(o, d, s), KIND_SPHERE | record, s.sphere.center, s.sphere.radius,
+                        s.sphere.material, s.sphere.object, best);
+    }
+}
+
+bool huge_sphere_blocks(vec3 o, vec3 d, float t_max) {
+    bool blocked = false;
+    for (int j = 0; j < HUGE_SPHERE_COUNT; ++j) {
+        float t = huge_sphere_t(o, d, huge_sphere(j));
+        blocked = blocked || (t > 0.0 && t < t_max);
+    }
+    return blocked;
+}
+
 #ifndef RAY_QUERY
 // Every primitive against the ray: the nearest hit, ties to the lower
 // object, then the lower triangle. Call in uniform control flow; a lane
@@ -781,6 +840,7 @@ Hit nearest(vec3 o, vec3 d, bool traces) {
         SphereGeometry g = listed_spheres[i];
         consider_object(sphere_t(o, d, g), KIND_SPHERE | uint(i), g.center, g.radius, g.material, g.object, best);
     }
+    consider_huge_spheres(o, d, best);
     for (int i = 0; i < PLANE_COUNT; ++i) {
         PlaneGeometry g = listed_planes[i];
         consider_object(plane_t(o, d, g), KIND_PLANE | uint(i), g.normal, 0.0, g.material, g.object, best);
@@ -811,6 +871,7 @@ bool occluded(vec3 o, vec3 d, float t_max) {
         float t = sphere_t(o, d, listed_spheres[i]);
         blocked = blocked || (t > 0.0 && t < t_max);
     }
+    blocked = blocked || huge_sphere_blocks(o, d, t_max);
     for (int i = 0; i < PLANE_COUNT; ++i) {
         float t = plane_t(o, d, listed_planes[i]);
         blocked = blocked || (t > 0.0 && t < t_max);
@@ -962,11 +1023,17 @@ vec3 hit_tint(Hit hit) {
     return vec3(1.0);
 }
 
-// Pushes a secondary ray's origin off the surface, to the side it leaves to,
-// by an amount that grows with the hit's distance from the eye.
-vec3 offset_origin(vec3 p, vec3 geometric, vec3 dir) {
-    vec3 a = abs(p);
-    float eps = 1.0e-4 * max(1.0, max(a.x, max(a.y, a.z)));
+// 1e-4 of the larger of the hit's and its ray's origin's largest
+// coordinate: what the hit's rounding grows with (`offset_epsilon` in
+// src/cpu/raytrace.rs).
+float offset_epsilon(vec3 p, vec3 o) {
+    vec3 a = max(abs(p), abs(o));
+    return 1.0e-4 * max(a.x, max(a.y, a.z));
+}
+
+// Pushes a secondary ray's origin off the surface, to the side it leaves to.
+vec3 offset_origin(vec3 p, vec3 o, vec3 geometric, vec3 dir) {
+    float eps = offset_epsilon(p, o);
     float side = dot(geometric, dir) >= 0.0 ? 1.0 : -1.0;
     return p + side * eps * geometric;
 }
@@ -1021,9 +1088,12 @@ Surface surface_of(MaterialRecord m) {
 // The local model at a hit, shadow rays included. Call in uniform control
 // flow (shadow rays walk the BVH as packets); a lane whose `lit` is false
 // casts none and gets the ambient term.
-vec3 local_shading(Surfel s, Surface m, vec3 d, bool lit) {
+vec3 local_shading(Surfel s, Surface m, vec3 origin, vec3 d, bool lit) {
     vec3 intensity = ambient_term(m, frame.ambient_k.rgb);
-    vec3 N = s.normal;
+    // The side the ray arrives on is lit (`facing_normal` in
+    // src/cpu/raytrace.rs): seen from behind its geometric normal, the
+    // surface's back, with the shading normal negated.
+    vec3 N = dot(s.geometric, d) > 0.0 ? -s.normal : s.normal;
     lit = lit && N != vec3(0.0);
     for (int j = 0; j < LIGHT_COUNT; ++j) {
         vec3 L = vec3(0.0, 0.0, 1.0);
@@ -1031,14 +1101,13 @@ vec3 local_shading(Surfel s, Surface m, vec3 d, bool lit) {
         float n_dot_l = 0.0;
         bool faces = lit && light_faces(j, s.p, N, L, dist, n_dot_l);
         if (SHADOWS) {
-            vec3 o = offset_origin(s.p, s.geometric, L);
+            vec3 o = offset_origin(s.p, origin, s.geometric, L);
             vec3 to_light = lights[j].position.xyz - o;
             float reach = length(to_light);
             // Stop short of the light by the offset epsilon at the light, as
             // the ray starts off the surface: a light lying on a surface would
             // otherwise be hidden by it at random (assets/hard/grazing-light.toml).
-            vec3 at = abs(lights[j].position.xyz);
-            float light_eps = 1.0e-4 * max(1.0, max(at.x, max(at.y, at.z)));
+            float light_eps = offset_epsilon(lights[j].position.xyz, o);
             bool casts = faces && reach > 0.0;
             vec3 dir = casts ? to_light / reach : vec3(0.0, 0.0, 1.0);
             if (faces) {
@@ -1118,7 +1187,7 @@ vec3 trace_sample(vec3 dir, bool live) {
                     surface.color *= hit_pattern(hit, s, ray.dir, cone.x + cone.y * hit.t);
                 }
             }
-            local = local_shading(s, surface, ray.dir, hits);
+            local = local_shading(s, surface, ray.origin, ray.dir, hits);
         }
         live = false;
         if (hits) {
@@ -1150,13 +1219,16 @@ vec3 trace_sample(vec3 dir, bool live) {
                         vec3 n = entering ? N : -N;
                         float eta = entering ? 1.0 / ior : ior;
                         float cos_i = -dot(n, ray.dir);
-                        float k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+                        // sin^2(i) from the part along the surface, not
+                        // 1 - cos^2(i): the twin in src/cpu/raytrace.rs.
+                        vec3 along = ray.dir + cos_i * n;
+                        float k = 1.0 - eta * eta * dot(along, along);
                         if (k < 0.0) {
                             reflects = true;  // total internal reflection
                             reflect_weight = ray.weight * (kr + kt);
                         } else {
                             refracts = true;
-                            refract_dir = normalize(eta * ray.dir + (eta * cos_i - sqrt(k)) * n);
+                            refract_dir = normalize(eta * along - sqrt(k) * n);
                             refract_weight = ray.weight * kt;
                         }
                     }
@@ -1186,7 +1258,7 @@ vec3 trace_sample(vec3 dir, bool live) {
                 Ray reflected;
                 if (reflects) {
                     vec3 r = ray.dir - 2.0 * dot(ray.dir, N) * N;
-                    reflected = Ray(offset_origin(s.p, s.geometric, r), r, reflect_weight, ray.depth + 1);
+                    reflected = Ray(offset_origin(s.p, ray.origin, s.geometric, r), r, reflect_weight, ray.depth + 1);
                     count(2);
                 }
                 if (refracts) {
@@ -1196,7 +1268,7 @@ vec3 trace_sample(vec3 dir, bool live) {
                         }
                         waiting[top++] = reflected;
                     }
-                    ray = Ray(offset_origin(s.p, s.geometric, refract_dir), refract_dir, refract_weight,
+                    ray = Ray(offset_origin(s.p, ray.origin, s.geometric, refract_dir), refract_dir, refract_weight,
                               ray.depth + 1);
                     if (TEXTURES) {
                         cone = refracted_cone;

@@ -91,6 +91,7 @@ pub mod compare;
 pub mod cpu;
 pub mod error;
 pub mod gpu;
+pub mod huge_sphere;
 pub mod junit;
 pub mod level_of_detail;
 pub mod linear_image;

@@ -83,6 +83,7 @@ pub fn render_gpu_to(
     count_rays: bool,
     target: ColorTarget,
 ) -> Result<Rendered, Error> {
+    refuse_beyond_f32(scene)?;
     let (image, timings, ray_stats, traversal) = match shading.raster_mode() {
         Some(mode) => {
             let out = raster::render_to(context, scene, mode, target)?;
@@ -110,6 +111,25 @@ pub fn render_gpu_to(
     })
 }
 
+/// What the loader refuses (`camera::narrow_view_refusal`,
+/// `huge_sphere::refusal`), checked again at the size and scene a render
+/// gets: `--height` can narrow a pixel's angle, and a glTF scene or a
+/// built scene never passed the TOML loader.
+fn refuse_beyond_f32(scene: &Scene) -> Result<(), Error> {
+    let narrow = crate::camera::narrow_view_refusal(scene.camera.fov_y_deg, scene.image.height);
+    let sphere = scene.objects.iter().enumerate().find_map(|(i, o)| match o.shape {
+        crate::scene::Shape::Sphere { center, radius, .. } => {
+            crate::huge_sphere::refusal(scene.camera.position, center, radius)
+                .map(|why| format!("object {} (sphere): {why}", i + 1))
+        }
+        _ => None,
+    });
+    match narrow.or(sphere) {
+        Some(why) => Err(Error::Usage(why)),
+        None => Ok(()),
+    }
+}
+
 /// What the CPU reference knows about each pixel besides its colour.
 pub struct Coverage {
     /// `scene.objects` index per pixel (`None`: background).
@@ -134,6 +154,7 @@ pub fn render_cpu(scene: &Scene, shading: Shading) -> Result<(Rendered, Coverage
             raster::MAX_PIXELS
         )));
     }
+    refuse_beyond_f32(scene)?;
     let Some(mode) = shading.raster_mode() else {
         return Ok(raytrace_cpu(scene));
     };

@@ -12,6 +12,7 @@ use glam::{DMat3, DVec2, DVec3, Vec3A};
 use obvhs::bvh2::Bvh2;
 
 use crate::scene::{plane_axes, Lighting, Material, PointLight, RenderSettings, Scene, Shape};
+use crate::huge_sphere::{sphere_form, SphereAnchor, SphereForm};
 
 #[derive(Debug, Clone, Copy)]
 pub struct RtSphere {
@@ -19,6 +20,16 @@ pub struct RtSphere {
     pub radius: f64,
     pub material: u32,
     pub object: u32,
+}
+
+/// A sphere the plain test cannot hold in `f32` (`huge_sphere`): tested
+/// from its anchor, the point of its surface nearest the eye.
+#[derive(Debug, Clone, Copy)]
+pub struct RtHugeSphere {
+    /// Its centre relative to the eye, its radius, material and object, as
+    /// any sphere's: what its normal and texture coordinates come from.
+    pub sphere: RtSphere,
+    pub anchor: SphereAnchor,
 }
 
 /// A finite square: points `center + a u + b v` with `|a|, |b| <= half_size`.
@@ -90,7 +101,11 @@ impl RtTriangle {
 
 /// Every position is relative to the eye (`scene.camera.position`).
 pub struct RtScene {
+    /// The spheres of the plain test.
     pub spheres: Vec<RtSphere>,
+    /// The spheres of the anchored test (`huge_sphere::sphere_form`), kept
+    /// apart so that a scene without one pays nothing for them.
+    pub huge_spheres: Vec<RtHugeSphere>,
     pub planes: Vec<RtPlane>,
     pub boxes: Vec<RtBox>,
     pub triangles: Vec<RtTriangle>,
@@ -119,6 +134,7 @@ impl RtScene {
         let eye = scene.camera.position;
         let mut rt = RtScene {
             spheres: Vec::new(),
+            huge_spheres: Vec::new(),
             planes: Vec::new(),
             boxes: Vec::new(),
             triangles: Vec::new(),
@@ -166,12 +182,20 @@ impl RtScene {
         for (index, object) in scene.objects.iter().enumerate() {
             let (material, object_index) = (object.material as u32, index as u32);
             match &object.shape {
-                Shape::Sphere { center, radius, .. } => rt.spheres.push(RtSphere {
-                    center: *center - eye,
-                    radius: *radius,
-                    material,
-                    object: object_index,
-                }),
+                Shape::Sphere { center, radius, .. } => {
+                    let sphere = RtSphere {
+                        center: *center - eye,
+                        radius: *radius,
+                        material,
+                        object: object_index,
+                    };
+                    match sphere_form(eye, *center, *radius) {
+                        SphereForm::Plain => rt.spheres.push(sphere),
+                        SphereForm::Anchored(anchor) => {
+                            rt.huge_spheres.push(RtHugeSphere { sphere, anchor })
+                        }
+                    }
+                }
                 Shape::Plane {
                     center,
                     normal,
@@ -229,6 +253,16 @@ impl RtScene {
     }
 
     /// Whether any material transmits light (refraction rays can exist).
+    /// The radius of the sphere a hit is on (0 for other primitives).
+    pub fn sphere_radius(&self, primitive: crate::cpu::intersect::Primitive) -> f64 {
+        use crate::cpu::intersect::Primitive;
+        match primitive {
+            Primitive::Sphere(i) => self.spheres[i as usize].radius,
+            Primitive::HugeSphere(i) => self.huge_spheres[i as usize].sphere.radius,
+            _ => 0.0,
+        }
+    }
+
     pub fn has_transmission(&self) -> bool {
         self.materials.iter().any(|m| m.kt > 0.0)
     }

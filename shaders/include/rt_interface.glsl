@@ -52,6 +52,9 @@ layout(constant_id = 18) const bool TEXTURES = false;
 // Where every image has one sampler: its bits (texture.glsl).
 layout(constant_id = 19) const bool SAMPLER_FIXED = false;
 layout(constant_id = 20) const uint FIXED_SAMPLER = 0u;
+// Spheres tested from their anchor (src/huge_sphere.rs): two records each
+// in `sphere_quads`, from `frame.grid.z` on; never in a BVH.
+layout(constant_id = 21) const int HUGE_SPHERE_COUNT = 0;
 
 layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     vec4 ambient_k;       // rgb: Ia, w: k
@@ -60,7 +63,7 @@ layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     vec4 up_aspect;       // xyz: camera up, w: width / height
     vec4 forward_cutoff;  // xyz: camera forward, w: the cut-off weight
     uvec4 image;          // x: width, y: height, z: samples, w: maximum depth
-    uvec4 grid;           // x, y: the sample grid kx, ky; w: the BVH's root link
+    uvec4 grid;           // x, y: the sample grid kx, ky; z: the first huge sphere's record; w: the BVH's root link
     // x, y, z: the BVH leaf index of its first sphere, plane and box (its
     // triangles start at 0; a leaf's kind is the range its first index is in)
     uvec4 leaf_bases;

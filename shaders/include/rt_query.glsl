@@ -89,6 +89,9 @@ Hit nearest(vec3 o, vec3 d, bool traces) {
         }
         best = QUERY_COMMITTED(q, best);
     }
+    if (traces) {
+        consider_huge_spheres(o, d, best);
+    }
     if ((best.shape & KIND_MASK) == KIND_SPHERE) {
         best.normal = (o + best.t * d - best.normal) / best.radius;
     }
@@ -110,6 +113,7 @@ bool occluded(vec3 o, vec3 d, float t_max) {
             }
         }
         blocked = blocked || rayQueryGetIntersectionTypeEXT(q, true) == gl_RayQueryCommittedIntersectionTriangleEXT;
+        blocked = blocked || huge_sphere_blocks(o, d, t_max);
     }
     return blocked;
 }

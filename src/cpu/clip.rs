@@ -3,9 +3,13 @@
 //!
 //! The projection (`camera.rs`) puts `z = near` and `w = distance along the
 //! view direction`, so Vulkan's `0 <= z <= w` reduces to `w >= near`: only
-//! the near plane clips. The side planes need no clipping, because
-//! rasterization is bounded by the image (Vulkan implementations use a guard
-//! band for the same reason); there is no far plane.
+//! the near plane clips what is seen. There is no far plane. The side
+//! planes of a guard band `GUARD_BAND` times the view's width (Vulkan
+//! implementations keep one for the same reason) clip too, which changes
+//! no sample: they only keep window coordinates within a few image widths,
+//! where a huge triangle near the eye (a facet of a planet of radius 1e20,
+//! cut by a near plane 1e-3 away) would otherwise reach 1e21 pixels and
+//! leave its edge functions no digits.
 
 use glam::{DVec2, DVec3, DVec4};
 
@@ -18,6 +22,10 @@ pub struct ClipVertex {
     pub normal: DVec3,
     /// Gouraud intensity (unused in the other modes).
     pub intensity: DVec3,
+    /// Gouraud: the intensity of the back, lit with the normal negated,
+    /// for a triangle seen from behind (`docs/lighting-model.md`, "Which
+    /// side is lit").
+    pub back_intensity: DVec3,
     /// What only a surface with vertex colours or a pattern carries, boxed
     /// so that the others' vertices stay small: the reference holds three
     /// per triangle.
@@ -36,6 +44,8 @@ pub struct Extras {
     /// Gouraud under a pattern: the specular part of the intensity, apart
     /// from the rest (`intensity`), which the pattern multiplies per pixel.
     pub specular: DVec3,
+    /// The same for the back.
+    pub back_specular: DVec3,
     /// Texture coordinates (zero without a pattern).
     pub uv: DVec2,
 }
@@ -47,10 +57,12 @@ impl ClipVertex {
             position: self.position.lerp(other.position, t),
             normal: self.normal.lerp(other.normal, t),
             intensity: self.intensity.lerp(other.intensity, t),
+            back_intensity: self.back_intensity.lerp(other.back_intensity, t),
             extra: match (&self.extra, &other.extra) {
                 (Some(a), Some(b)) => Some(Box::new(Extras {
                     color: a.color.lerp(b.color, t),
                     specular: a.specular.lerp(b.specular, t),
+                    back_specular: a.back_specular.lerp(b.back_specular, t),
                     uv: a.uv.lerp(b.uv, t),
                 })),
                 _ => None,
@@ -61,25 +73,50 @@ impl ClipVertex {
 }
 
 /// The polygon (0, 3 or 4 vertices) of `tri` on the visible side of
-/// `w >= near`. New vertices interpolate every attribute linearly in clip
-/// space (Sutherland-Hodgman), which is exact for perspective-correct
-/// attributes.
+/// `w >= near`, then within the guard band. New vertices interpolate every
+/// attribute linearly in clip space (Sutherland-Hodgman), which is exact
+/// for perspective-correct attributes.
 pub fn clip_near(tri: [ClipVertex; 3], near: f64) -> Vec<ClipVertex> {
-    let inside = |v: &ClipVertex| v.clip.w >= near;
-    if tri.iter().all(inside) {
-        return tri.to_vec();
-    }
-    let mut out = Vec::with_capacity(4);
-    for i in 0..3 {
-        let (a, b) = (&tri[i], &tri[(i + 1) % 3]);
-        if inside(a) {
-            out.push(a.clone());
+    let mut polygon = clip_against(tri.to_vec(), |c| c.w - near);
+    // Exactly on the near plane despite rounding.
+    for v in &mut polygon {
+        if v.clip.w < near {
+            v.clip.w = near;
         }
-        if inside(a) != inside(b) {
-            let t = (near - a.clip.w) / (b.clip.w - a.clip.w);
-            let mut v = a.lerp(b, t);
-            v.clip.w = near; // exactly on the plane despite rounding
-            out.push(v);
+    }
+    for (axis, sign) in [(0, 1.0), (0, -1.0), (1, 1.0), (1, -1.0)] {
+        polygon = clip_against(polygon, |c| GUARD_BAND * c.w - sign * c[axis]);
+    }
+    polygon
+}
+
+/// Half the guard band's width in normalised device coordinates: window
+/// coordinates stay within 32 image sizes of the image.
+pub const GUARD_BAND: f64 = 64.0;
+
+/// The part of a convex polygon where `distance(clip) >= 0`.
+fn clip_against(polygon: Vec<ClipVertex>, distance: impl Fn(DVec4) -> f64) -> Vec<ClipVertex> {
+    let d: Vec<f64> = polygon.iter().map(|v| distance(v.clip)).collect();
+    if d.iter().all(|&x| x >= 0.0) {
+        return polygon;
+    }
+    let n = polygon.len();
+    let mut out = Vec::with_capacity(n + 1);
+    for i in 0..n {
+        let j = (i + 1) % n;
+        if d[i] >= 0.0 {
+            out.push(polygon[i].clone());
+        }
+        if (d[i] >= 0.0) != (d[j] >= 0.0) {
+            // From the end nearer the plane, so that t <= 1/2: from the far
+            // end t would round to 1 and the far end's rounding (a ring
+            // vertex of a planet 1e18 away) would swamp the near one.
+            let (from, to, d_from, d_to) = if d[i].abs() <= d[j].abs() {
+                (i, j, d[i], d[j])
+            } else {
+                (j, i, d[j], d[i])
+            };
+            out.push(polygon[from].lerp(&polygon[to], d_from / (d_from - d_to)));
         }
     }
     out
@@ -95,6 +132,7 @@ mod tests {
             position: DVec3::splat(tag),
             normal: DVec3::Z,
             intensity: DVec3::splat(tag),
+            back_intensity: DVec3::splat(tag),
             extra: None,
             weight: 1.0,
         }

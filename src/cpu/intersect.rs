@@ -9,7 +9,7 @@ use std::ops::ControlFlow;
 
 use glam::{DVec2, DVec3};
 
-use crate::rt_scene::{widened_box, RtBox, RtPlane, RtScene, RtSphere, RtTriangle};
+use crate::rt_scene::{widened_box, RtBox, RtHugeSphere, RtPlane, RtScene, RtSphere, RtTriangle};
 
 /// A ray `origin + t dir`, `dir` a unit vector.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -22,6 +22,8 @@ pub struct Ray {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Primitive {
     Sphere(u32),
+    /// An index into `RtScene::huge_spheres`.
+    HugeSphere(u32),
     Plane(u32),
     /// The box's index, and the face: `2 * axis + (0 for -, 1 for +)`.
     Box {
@@ -71,10 +73,32 @@ pub fn sphere(ray: &Ray, s: &RtSphere) -> Option<f64> {
         return None;
     }
     let q = b + sign(b) * disc.sqrt();
-    let t0 = (f.dot(f) - r2) / q;
-    let t1 = q;
+    nearer_positive((f.dot(f) - r2) / q, q)
+}
+
+/// The anchored form (`crate::huge_sphere`), for a sphere large where the
+/// rays are: with `g = o - anchor`, `cr = g·(g/r + 2n)` is `c / r` with
+/// its `r²` terms cancelled in the algebra, `b = -(g·d)/r - n·d` is the
+/// plain form's `b / r`, and the roots are `t0 = cr / q` and `t1 = q r`
+/// for `q = b + sign(b) sqrt(b² - cr/r)`.
+pub fn huge_sphere(ray: &Ray, s: &RtHugeSphere) -> Option<f64> {
+    let (anchor, n, r) = (s.anchor.point, s.anchor.normal, s.sphere.radius);
+    let inv_r = 1.0 / r;
+    let g = ray.origin - anchor;
+    let cr = g.dot(g * inv_r + 2.0 * n);
+    let b = -g.dot(ray.dir) * inv_r - n.dot(ray.dir);
+    let disc = b * b - cr * inv_r;
+    if disc < 0.0 {
+        return None;
+    }
+    let q = b + sign(b) * disc.sqrt();
+    nearer_positive(cr / q, q * r)
+}
+
+/// The smaller positive of two roots. NaN (q = 0: a ray grazing from its
+/// own tangent point) fails both.
+fn nearer_positive(t0: f64, t1: f64) -> Option<f64> {
     let (lo, hi) = if t0 < t1 { (t0, t1) } else { (t1, t0) };
-    // NaN (q = 0: a ray grazing from its own tangent point) fails both.
     if lo > 0.0 {
         Some(lo)
     } else if hi > 0.0 {
@@ -364,6 +388,23 @@ impl<'a> Accel<'a> {
                 }
             }
         }
+        for (i, huge) in s.huge_spheres.iter().enumerate() {
+            let sp = &huge.sphere;
+            if let Some(t) = huge_sphere(ray, huge) {
+                if better(t, sp.object, 0, best.as_ref()) {
+                    let n = (ray.origin + t * ray.dir - sp.center) / sp.radius;
+                    best = Some(Hit {
+                        t,
+                        object: sp.object,
+                        material: sp.material,
+                        primitive: Primitive::HugeSphere(i as u32),
+                        normal: n,
+                        geometric_normal: n,
+                        barycentrics: DVec2::ZERO,
+                    });
+                }
+            }
+        }
         for (i, pl) in s.planes.iter().enumerate() {
             if let Some(t) = plane(ray, pl) {
                 if better(t, pl.object, 0, best.as_ref()) {
@@ -430,6 +471,9 @@ impl<'a> Accel<'a> {
         if s.spheres
             .iter()
             .any(|sp| sphere(ray, sp).is_some_and(within))
+            || s.huge_spheres
+                .iter()
+                .any(|sp| huge_sphere(ray, sp).is_some_and(within))
             || s.planes.iter().any(|pl| plane(ray, pl).is_some_and(within))
             || s.boxes
                 .iter()

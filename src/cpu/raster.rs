@@ -65,6 +65,12 @@ struct Edges {
     top_left: [bool; 3],
     /// `edge(window[0], window[1], window[2])`, twice the signed area.
     window_area: f64,
+    /// Whether the triangle is seen from its front, as Vulkan decides it
+    /// for `FrontFace::COUNTER_CLOCKWISE`: its snapped area, with the
+    /// spec's sign `a = -edge / 2` in framebuffer coordinates (y down), is
+    /// positive. The winding that makes `(b - a) x (c - a)` point at the
+    /// eye.
+    front: bool,
     /// Lengths of the unsnapped edges `window[i] -> window[i + 1]`.
     lengths: [f64; 3],
 }
@@ -87,6 +93,7 @@ impl Edges {
             snapped,
             top_left: [0, 1, 2].map(|i| is_top_left(snapped[i], snapped[(i + 1) % 3])),
             window_area: edge(window[0], window[1], window[2]),
+            front: snapped_area < 0.0,
             lengths: [0, 1, 2].map(|i| (window[(i + 1) % 3] - window[i]).length()),
         })
     }
@@ -112,6 +119,13 @@ struct Triangle {
     /// Pixel bounds (inclusive), clamped to the image.
     min: (u32, u32),
     max: (u32, u32),
+}
+
+impl Triangle {
+    /// Seen from its front (`Edges::front`); else the back is lit.
+    fn front_facing(&self) -> bool {
+        self.edges.front
+    }
 }
 
 fn window_of(view: &View, clip: DVec4) -> DVec2 {
@@ -170,7 +184,9 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
                 let rel = *p - view.eye;
                 let tint = tint_at(i);
                 let normal = n.normalize_or_zero();
-                let shade_with = |surface| {
+                // The front lit with the normal, the back with it negated
+                // (`docs/lighting-model.md`, "Which side is lit").
+                let shade_side = |surface, normal| {
                     shade(
                         &scene.lighting,
                         &scene.lights,
@@ -180,24 +196,32 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
                         view.eye,
                     )
                 };
-                let (intensity, specular) = match (mode, pattern) {
+                let gouraud = |normal: DVec3| match (mode, pattern) {
                     // Gouraud runs the formula at the vertex, with the
                     // vertex's own colour.
                     (RasterMode::Gouraud, None) => {
-                        (shade_with(Surface { material, tint }), DVec3::ZERO)
+                        (shade_side(Surface { material, tint }, normal), DVec3::ZERO)
                     }
                     (RasterMode::Gouraud, Some(_)) => (
-                        shade_with(Surface {
-                            material: &unlit_specular,
-                            tint,
-                        }),
-                        shade_with(Surface {
-                            material,
-                            tint: DVec3::ZERO,
-                        }),
+                        shade_side(
+                            Surface {
+                                material: &unlit_specular,
+                                tint,
+                            },
+                            normal,
+                        ),
+                        shade_side(
+                            Surface {
+                                material,
+                                tint: DVec3::ZERO,
+                            },
+                            normal,
+                        ),
                     ),
                     _ => (DVec3::ZERO, DVec3::ZERO),
                 };
+                let (intensity, specular) = gouraud(normal);
+                let (back_intensity, back_specular) = gouraud(-normal);
                 let clip = clip_from_rel * rel.extend(1.0);
                 // Screen-linear interpolation as the shaders make it
                 // (shaders/include/screen_linear.glsl): attributes times w,
@@ -212,10 +236,12 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
                     position: rel * weight,
                     normal: *n * weight,
                     intensity: intensity * weight,
+                    back_intensity: back_intensity * weight,
                     extra: (!mesh.colors.is_empty() || pattern.is_some()).then(|| {
                         Box::new(Extras {
                             color: tint * weight,
                             specular: specular * weight,
+                            back_specular: back_specular * weight,
                             uv: uv_at(i) * weight,
                         })
                     }),
@@ -229,7 +255,12 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
             let [a, b, c] = tri.map(|i| vertices[i as usize].clone());
             let flat_color = if mode == RasterMode::Flat {
                 let [pa, pb, pc] = tri.map(|i| mesh.positions[i as usize]);
-                let normal = (pb - pa).cross(pc - pa).normalize_or_zero();
+                let centroid = (pa + pb + pc) / 3.0;
+                let mut normal = (pb - pa).cross(pc - pa).normalize_or_zero();
+                // A face seen from behind is lit as its back.
+                if normal.dot(view.eye - centroid) < 0.0 {
+                    normal = -normal;
+                }
                 // Flat runs the formula at the centroid, whose colour is
                 // the mean of the corners'.
                 let [ta, tb, tc] = tri.map(|i| tint_at(i as usize));
@@ -245,7 +276,7 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
                     &scene.lighting,
                     &scene.lights,
                     Surface { material, tint },
-                    (pa + pb + pc) / 3.0,
+                    centroid,
                     normal,
                     view.eye,
                 )
@@ -427,16 +458,24 @@ fn shade_sample(
             cell: None,
         },
         RasterMode::Gouraud => Sample {
-            color: match patterned {
-                None => mix(|v| v.intensity),
-                Some((texel, _)) => texel * mix(|v| v.intensity) + mix_extra(|e| e.specular),
+            color: match (patterned, t.front_facing()) {
+                (None, true) => mix(|v| v.intensity),
+                (None, false) => mix(|v| v.back_intensity),
+                (Some((texel, _)), true) => {
+                    texel * mix(|v| v.intensity) + mix_extra(|e| e.specular)
+                }
+                (Some((texel, _)), false) => {
+                    texel * mix(|v| v.back_intensity) + mix_extra(|e| e.back_specular)
+                }
             },
             vanishing_normal: false,
             cell,
         },
         RasterMode::Phong => {
             let position = mix(|v| v.position) + view.eye;
-            let interpolated = mix(|v| v.normal);
+            // Seen from behind, the back: the normal negated.
+            let side = if t.front_facing() { 1.0 } else { -1.0 };
+            let interpolated = side * mix(|v| v.normal);
             let normal = interpolated.normalize_or_zero();
             // Not interpolated where there are none: weights that sum to 1
             // only up to rounding would move an uncoloured surface's colour.
@@ -472,6 +511,39 @@ struct Sample {
     vanishing_normal: bool,
     /// The pattern cell the sample lies in, if its surface has a pattern.
     cell: Option<i64>,
+}
+
+/// A step between neighbouring pixels of a Gouraud image, inside one
+/// triangle, that only extreme perspective makes: 0.1 (25 8-bit steps).
+const STEEP_STEP: f32 = 0.1;
+
+/// Gouraud: marks every pixel whose value differs from a 4-neighbour's by
+/// more than `STEEP_STEP`. Its intensities are linear over each triangle in
+/// 3D, so such a step inside a triangle means the interpolation runs over a
+/// huge range of depth there: the horizon of a planet's facets, whose
+/// corners are 1e18 away. The GPU interpolates `1 / w` in f32, and its
+/// rounding moves such a pixel as a silhouette's sub-pixel rounding does
+/// (planet-1e20.toml: 1.8e-3 at a pixel the steps of 0.2 surround, 3e-5 on
+/// the rest of its floor), so the pixel is judged as an edge.
+fn mark_steep_intensities(image: &LinearImage, near_edge: &mut [bool]) {
+    let (width, height) = (image.width as usize, image.height as usize);
+    let step = |a: [f32; 3], b: [f32; 3]| (0..3).any(|k| (a[k] - b[k]).abs() > STEEP_STEP);
+    for y in 0..height {
+        for x in 0..width {
+            let here = image.pixels[y * width + x];
+            let steep = (x + 1 < width && step(here, image.pixels[y * width + x + 1]))
+                || (y + 1 < height && step(here, image.pixels[(y + 1) * width + x]));
+            if steep {
+                near_edge[y * width + x] = true;
+                if x + 1 < width {
+                    near_edge[y * width + x + 1] = true;
+                }
+                if y + 1 < height {
+                    near_edge[(y + 1) * width + x] = true;
+                }
+            }
+        }
+    }
 }
 
 /// Marks every pixel whose 3x3 neighbourhood holds another pattern cell
@@ -597,6 +669,9 @@ pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
         cells.extend(band.cells);
     }
     mark_cell_edges(width as usize, height as usize, &cells, &mut near_edge);
+    if mode == RasterMode::Gouraud {
+        mark_steep_intensities(&image, &mut near_edge);
+    }
     CpuRender {
         image,
         object_ids,
@@ -615,6 +690,7 @@ mod tests {
             position: DVec3::ZERO,
             normal: DVec3::Z,
             intensity: DVec3::ZERO,
+            back_intensity: DVec3::ZERO,
             extra: None,
             weight: 1.0,
         };

@@ -117,21 +117,39 @@ pub fn sample_offsets(n: u32) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// `eps = 1e-4 * max(1, |p|_max)`: the offset of a secondary ray's origin.
-pub fn offset_epsilon(p: DVec3) -> f64 {
-    1e-4 * p.abs().max_element().max(1.0)
+/// `eps = 1e-4 * max(|p|_max, |o|_max)`: the offset of a secondary ray's
+/// origin from `p`, found by a ray from `o`. The hit's rounding grows with
+/// both (`p = o + t d`, and each test subtracts `o`), and with nothing
+/// else: a scene a millionth of a unit across gets offsets a millionth as
+/// large (`assets/hard/mesh-scale-1e-6.toml`).
+pub fn offset_epsilon(p: DVec3, o: DVec3) -> f64 {
+    1e-4 * p.abs().max_element().max(o.abs().max_element())
 }
 
-/// The origin of a secondary ray leaving `p` in direction `dir`: pushed by
-/// `eps` along the geometric normal to the side `dir` goes (`Ng·dir = 0`
-/// counts as the front side).
-pub fn offset_origin(p: DVec3, geometric_normal: DVec3, dir: DVec3) -> DVec3 {
+/// The normal the local model lights a hit with: the side the ray arrives
+/// on. Seen from behind its geometric normal (`Ng·d > 0`: the inside of a
+/// sphere or a box, the underside of a plane, the back of a triangle) a
+/// surface is lit as its back, with the shading normal negated
+/// (`docs/lighting-model.md`, "Which side is lit"). Reflection and
+/// refraction keep the outward normal, which says whether a ray enters.
+pub fn facing_normal(normal: DVec3, geometric_normal: DVec3, d: DVec3) -> DVec3 {
+    if geometric_normal.dot(d) > 0.0 {
+        -normal
+    } else {
+        normal
+    }
+}
+
+/// The origin of a secondary ray leaving `p` (found by a ray from `o`) in
+/// direction `dir`: pushed by `eps` along the geometric normal to the side
+/// `dir` goes (`Ng·dir = 0` counts as the front side).
+pub fn offset_origin(p: DVec3, o: DVec3, geometric_normal: DVec3, dir: DVec3) -> DVec3 {
     let s = if geometric_normal.dot(dir) < 0.0 {
         -1.0
     } else {
         1.0
     };
-    p + s * offset_epsilon(p) * geometric_normal
+    p + s * offset_epsilon(p, o) * geometric_normal
 }
 
 /// One pixel's result.
@@ -254,12 +272,12 @@ impl<'a> Tracer<'a> {
                 &scene.lights,
                 surface,
                 p,
-                n,
+                facing_normal(n, ng, d),
                 -d,
                 |j, light| {
                     let visible = !settings.shadows || {
                         stats.shadow += 1;
-                        let o = offset_origin(p, ng, light.position - p);
+                        let o = offset_origin(p, origin, ng, light.position - p);
                         let to_light = light.position - o;
                         let distance = to_light.length();
                         let shadow = Ray {
@@ -270,7 +288,7 @@ impl<'a> Tracer<'a> {
                         // the light, as the ray starts off the surface: a
                         // light on a surface would otherwise be hidden by
                         // that surface at random (assets/hard/grazing-light.toml).
-                        let reach = distance - offset_epsilon(light.position);
+                        let reach = distance - offset_epsilon(light.position, o);
                         !self.accel.any(&shadow, reach)
                     };
                     signature.light(j, visible);
@@ -295,11 +313,16 @@ impl<'a> Tracer<'a> {
                     (-n, material.ior)
                 };
                 let cos_i = -normal.dot(d);
-                let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+                // sin²(i) from the direction's part along the surface, not as
+                // 1 - cos²(i), which near normal incidence is a rounding
+                // error that an index of 1e3 multiplies by 1e6
+                // (assets/hard/glass-ior-1e3.toml).
+                let along = d + cos_i * normal;
+                let k = 1.0 - eta * eta * along.length_squared();
                 if k < 0.0 {
                     reflected_weight = Some(pending.weight * (kr + kt));
                 } else {
-                    let dir = (eta * d + (eta * cos_i - k.sqrt()) * normal).normalize();
+                    let dir = (eta * along - k.sqrt() * normal).normalize();
                     refracted = Some((dir, pending.weight * kt));
                 }
             }
@@ -320,14 +343,14 @@ impl<'a> Tracer<'a> {
                 // more (its curvature); planes, boxes and triangles are
                 // flat, and refraction keeps the spread.
                 let curvature = match (kind, hit.primitive) {
-                    (RayKind::Reflected, Primitive::Sphere(i)) => {
-                        2.0 * cone_width / scene.spheres[i as usize].radius
+                    (RayKind::Reflected, Primitive::Sphere(_) | Primitive::HugeSphere(_)) => {
+                        2.0 * cone_width / scene.sphere_radius(hit.primitive)
                     }
                     _ => 0.0,
                 };
                 stack.push(Pending {
                     ray: Ray {
-                        origin: offset_origin(p, ng, dir),
+                        origin: offset_origin(p, origin, ng, dir),
                         dir,
                     },
                     weight,

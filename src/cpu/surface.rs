@@ -117,7 +117,7 @@ pub fn hit_tint(
         return (tint, None);
     };
     let uv = match hit.primitive {
-        Primitive::Sphere(_) => sphere_uv(hit.normal),
+        Primitive::Sphere(_) | Primitive::HugeSphere(_) => sphere_uv(hit.normal),
         Primitive::Plane(i) => {
             let pl = &rt.planes[i as usize];
             plane_uv(p - pl.center, pl.u, pl.v, 2.0 * pl.half_size)
@@ -154,8 +154,8 @@ fn surface_density(rt: &RtScene, hit: &Hit, image: &ImageTexture) -> f64 {
             let uvs = rt.triangle_uvs.get(k as usize).copied().unwrap_or_default();
             triangle_density(image, rt.triangles[k as usize].positions, uvs)
         }
-        Primitive::Sphere(i) => {
-            let r = rt.spheres[i as usize].radius;
+        Primitive::Sphere(_) | Primitive::HugeSphere(_) => {
+            let r = rt.sphere_radius(hit.primitive);
             let sin_theta = (1.0 - hit.normal.y * hit.normal.y).max(0.0).sqrt();
             texels / (2.0 * PI * PI * r * r * sin_theta)
         }

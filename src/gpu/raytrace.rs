@@ -195,6 +195,7 @@ fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSp
         ),
         sampler_fixed: u32::from(fixed_sampler.is_some()),
         fixed_sampler: fixed_sampler.unwrap_or(0),
+        huge_sphere_count: rt.huge_spheres.len() as i32,
     }
 }
 
@@ -274,7 +275,12 @@ pub fn render_with(
         up_aspect: v4(view.up, view.aspect as f32),
         forward_cutoff: v4(view.forward, rt.render.cutoff as f32),
         image: [width, height, rt.render.samples, rt.render.depth],
-        grid: [kx, ky, 0, r.bvh.walk_root().unwrap_or(0)],
+        grid: [
+            kx,
+            ky,
+            rt.spheres.len() as u32,
+            r.bvh.walk_root().unwrap_or(0),
+        ],
         leaf_bases: [
             r.bvh.bases.spheres,
             r.bvh.bases.planes,

@@ -141,6 +141,7 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (18, "TEXTURES"),
     (19, "SAMPLER_FIXED"),
     (20, "FIXED_SAMPLER"),
+    (21, "HUGE_SPHERE_COUNT"),
 ];
 
 #[repr(C)]
@@ -153,7 +154,8 @@ pub struct TraceUniforms {
     pub forward_cutoff: [f32; 4],
     /// width, height, samples, maximum depth.
     pub image: [u32; 4],
-    /// The sample grid kx, ky; unused; the BVH's root link (`GpuBvhNode`).
+    /// The sample grid kx, ky; the first huge sphere's record
+    /// (`rt_records::sphere_records`); the BVH's root link (`GpuBvhNode`).
     pub grid: [u32; 4],
     /// Where the BVH's spheres, planes and boxes start in its leaf index
     /// space (`rt_bvh::LeafBases`); unused.
@@ -361,6 +363,7 @@ pub struct TraceSpecialization {
     pub textures: u32,
     pub sampler_fixed: u32,
     pub fixed_sampler: u32,
+    pub huge_sphere_count: i32,
 }
 
 impl TraceSpecialization {

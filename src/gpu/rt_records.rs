@@ -78,6 +78,29 @@ pub(super) fn in_order<T: Copy>(list: &[T], order: &[u32]) -> Vec<T> {
     }
 }
 
+/// The plain spheres (in leaf order where the BVH holds them), then two
+/// records for each huge sphere (`rt_scene::RtHugeSphere`): the first as
+/// any sphere's (centre, radius, material, object: what its normal,
+/// texture coordinates and tie rule read), the second its anchor and
+/// `1 / r`, and the outward normal there as float bits. The huge ones
+/// start at `RtScene::spheres.len()` (`TraceUniforms::grid[2]`).
+fn sphere_records(rt: &RtScene, order: &[u32]) -> Vec<GpuSphere> {
+    let plain = |s: &crate::rt_scene::RtSphere| GpuSphere {
+        center_radius: v4(s.center, s.radius as f32),
+        material_object: ids(s.material, s.object),
+    };
+    let mut records: Vec<GpuSphere> = in_order(&rt.spheres, order).iter().map(plain).collect();
+    for huge in &rt.huge_spheres {
+        records.push(plain(&huge.sphere));
+        let [x, y, z] = v3(huge.anchor.normal);
+        records.push(GpuSphere {
+            center_radius: v4(huge.anchor.point, (1.0 / huge.sphere.radius) as f32),
+            material_object: [x.to_bits(), y.to_bits(), z.to_bits(), 0],
+        });
+    }
+    records
+}
+
 pub fn records(rt: &RtScene) -> Result<SceneRecords, GpuError> {
     let bvh = gpu_bvh(rt, BvhKinds::of(rt))?;
     let textures = TextureTable::new(&rt.materials);
@@ -88,13 +111,7 @@ pub fn records(rt: &RtScene) -> Result<SceneRecords, GpuError> {
         &rt.bvh.primitive_indices[..]
     };
     Ok(SceneRecords {
-        spheres: in_order(&rt.spheres, &bvh.sphere_order)
-            .iter()
-            .map(|s| GpuSphere {
-                center_radius: v4(s.center, s.radius as f32),
-                material_object: ids(s.material, s.object),
-            })
-            .collect(),
+        spheres: sphere_records(rt, &bvh.sphere_order),
         planes: in_order(&rt.planes, &bvh.plane_order)
             .iter()
             .map(|p| GpuPlane {

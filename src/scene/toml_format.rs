@@ -764,6 +764,15 @@ pub fn parse_within(
         }
     }
 
+    // A view too narrow for f32 at this height (camera::MIN_PIXEL_ANGLE).
+    if let Some(why) = crate::camera::narrow_view_refusal(camera.fov_y_deg, image.height) {
+        let at = cam
+            .fov_y
+            .as_ref()
+            .map_or_else(|| cx.line(&cam.position), |f| cx.line(f));
+        return Err(SceneError::invalid(label, at, why));
+    }
+
     // lighting
     let mut lighting = Lighting::default();
     if let Some(l) = &raw.lighting {
@@ -855,6 +864,7 @@ pub fn parse_within(
     // objects
     let mut objects = Vec::new();
     for (i, obj) in raw.objects.iter().enumerate() {
+        let before = objects.len();
         convert_object(
             &cx,
             base_dir,
@@ -866,6 +876,15 @@ pub fn parse_within(
             &mut warnings,
             &mut textures,
         )?;
+        // A sphere that f32 cannot trace from this eye (huge_sphere).
+        if let (Some(Shape::Sphere { center, radius, .. }), Some(r)) = (
+            objects.get(before).map(|o: &Object| o.shape.clone()),
+            &obj.get_ref().radius,
+        ) {
+            if let Some(why) = crate::huge_sphere::refusal(camera.position, center, radius) {
+                return Err(cx.err(r, format!("object {} (sphere): {why}", i + 1)));
+            }
+        }
     }
 
     // render
