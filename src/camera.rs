@@ -111,7 +111,10 @@ pub fn pixel_angle(fov_y_deg: f64, height: u32) -> f64 {
 pub fn narrow_view_refusal(fov_y_deg: f64, height: u32) -> Option<String> {
     let angle = pixel_angle(fov_y_deg, height);
     (angle < MIN_PIXEL_ANGLE).then(|| {
-        let smallest = 2.0 * (MIN_PIXEL_ANGLE * f64::from(height) * 0.5).atan().to_degrees();
+        let smallest = 2.0
+            * (MIN_PIXEL_ANGLE * f64::from(height) * 0.5)
+                .atan()
+                .to_degrees();
         format!(
             "`fov_y` {fov_y_deg} over {height} rows gives each pixel {angle:.2e} radians, under \
              the {MIN_PIXEL_ANGLE:e} that 32-bit float positions and ray directions can place \
@@ -159,10 +162,12 @@ fn nearest_surface_distance(scene: &Scene, eye: DVec3) -> f64 {
                 }
             }
             Shape::Mesh(mesh) => {
-                let (lo, hi) = mesh.positions.iter().fold(
-                    (DVec3::INFINITY, DVec3::NEG_INFINITY),
-                    |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-                );
+                let (lo, hi) = mesh
+                    .positions
+                    .iter()
+                    .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+                        (lo.min(*p), hi.max(*p))
+                    });
                 (lo - eye).max(eye - hi).max(DVec3::ZERO).length()
             }
         };

@@ -117,13 +117,17 @@ pub fn render_gpu_to(
 /// built scene never passed the TOML loader.
 fn refuse_beyond_f32(scene: &Scene) -> Result<(), Error> {
     let narrow = crate::camera::narrow_view_refusal(scene.camera.fov_y_deg, scene.image.height);
-    let sphere = scene.objects.iter().enumerate().find_map(|(i, o)| match o.shape {
-        crate::scene::Shape::Sphere { center, radius, .. } => {
-            crate::huge_sphere::refusal(scene.camera.position, center, radius)
-                .map(|why| format!("object {} (sphere): {why}", i + 1))
-        }
-        _ => None,
-    });
+    let sphere = scene
+        .objects
+        .iter()
+        .enumerate()
+        .find_map(|(i, o)| match o.shape {
+            crate::scene::Shape::Sphere { center, radius, .. } => {
+                crate::huge_sphere::refusal(scene.camera.position, center, radius)
+                    .map(|why| format!("object {} (sphere): {why}", i + 1))
+            }
+            _ => None,
+        });
     match narrow.or(sphere) {
         Some(why) => Err(Error::Usage(why)),
         None => Ok(()),

@@ -11,8 +11,8 @@
 use glam::{DMat3, DVec2, DVec3, Vec3A};
 use obvhs::bvh2::Bvh2;
 
-use crate::scene::{plane_axes, Lighting, Material, PointLight, RenderSettings, Scene, Shape};
 use crate::huge_sphere::{sphere_form, SphereAnchor, SphereForm};
+use crate::scene::{plane_axes, Lighting, Material, PointLight, RenderSettings, Scene, Shape};
 
 #[derive(Debug, Clone, Copy)]
 pub struct RtSphere {

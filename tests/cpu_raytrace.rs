@@ -201,14 +201,16 @@ fn total_internal_reflection_hands_kt_to_the_reflected_ray() {
     assert!(value.is_finite());
     assert_eq!((stats.reflected, stats.refracted, stats.pruned), (1, 0, 0));
     // By hand: the top hit, then the reflected ray (weight kr + kt) from
-    // the origin offset downward by eps, to the bottom face.
+    // the origin offset downward by eps, to the bottom face. Both faces
+    // are seen from inside, so each is lit as its back: the top with -Y,
+    // the bottom with +Y (docs/lighting-model.md, "Which side is lit").
     let p1 = DVec3::new(0.5 * theta.tan(), 0.5, 0.0);
     let r = DVec3::new(theta.sin(), -theta.cos(), 0.0);
-    let o2 = p1 - offset_epsilon(p1) * DVec3::Y;
+    let o2 = p1 - offset_epsilon(p1, DVec3::ZERO) * DVec3::Y;
     let p2 = o2 + (o2.y + 0.5) / theta.cos() * r;
     assert!((p2.y + 0.5).abs() < 1e-15);
     let expected =
-        formula(&s, &m, p1, DVec3::Y, d) + (m.kr + m.kt) * formula(&s, &m, p2, -DVec3::Y, r);
+        formula(&s, &m, p1, -DVec3::Y, d) + (m.kr + m.kt) * formula(&s, &m, p2, DVec3::Y, r);
     assert!(
         max_abs_diff(value, expected) < 1e-12,
         "{value} vs {expected}"
@@ -293,7 +295,7 @@ fn a_mirror_sphere_shows_the_floor_at_the_mirrored_point() {
             let n = p + eye;
             let r = d - 2.0 * d.dot(n) * n;
             assert!(r.y < 0.0);
-            let o = p + offset_epsilon(p) * n;
+            let o = p + offset_epsilon(p, DVec3::ZERO) * n;
             let q = o + (-1.5 - eye.y - o.y) / r.y * r;
             // The floor point is lit: its segment to the light misses the
             // sphere.
