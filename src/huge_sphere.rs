@@ -187,11 +187,11 @@ mod tests {
     #[test]
     fn an_eye_at_the_centre_is_a_radius_below_the_surface() {
         let (h, n) = altitude(DVec3::ZERO, DVec3::ZERO, 1e30);
-        assert_eq!(h, -1e30);
+        assert!((h + 1e30).abs() < 1e15, "{h}");
         assert_eq!(n, DVec3::Y);
         assert!(matches!(
             sphere_form(DVec3::ZERO, DVec3::ZERO, 1e30),
-            SphereForm::Anchored(a) if a.point == DVec3::new(0.0, 1e30, 0.0)
+            SphereForm::Anchored(a) if (a.point - DVec3::new(0.0, 1e30, 0.0)).length() < 1e15
         ));
     }
 

@@ -138,21 +138,20 @@ fn one_flipped_normal_is_caught() {
         "one vertex normal flipped",
     );
 
-    // Flat reads the geometric normal: flip one facing triangle's winding.
+    // Flat reads the geometric normal. (Flipping a triangle's winding no
+    // longer shows: a face seen from behind is lit as its back, which is
+    // the flipped face lit as its front; docs/lighting-model.md, "Which
+    // side is lit".) Tilt the facets around the facing vertex instead, by
+    // moving it outward by 0.05 (the sphere's radius is 0.8).
     let mut reference = scene.clone();
-    let tri = mesh
-        .triangles
-        .iter()
-        .position(|t| t.contains(&(facing as u32)))
-        .unwrap();
     if let Shape::Mesh(m) = &mut reference.objects[red].shape {
-        m.triangles[tri].swap(1, 2);
+        m.positions[facing] += 0.05 * m.normals[facing];
     }
     assert_caught(
         &scene,
         &reference,
         &[Shading::Flat],
-        "one face normal flipped",
+        "the facets around one vertex tilted",
     );
 }
 

@@ -190,7 +190,12 @@ fn slab_scene() -> Scene {
 
 #[test]
 fn total_internal_reflection_hands_kt_to_the_reflected_ray() {
-    let s = slab_scene();
+    // Shadows off: each face is seen from inside and lit as its back, by
+    // the light on the slab's far side, whose shadow ray would cross the
+    // slab; without shadows the lights reach both hits and the sum below
+    // checks every term.
+    let mut s = slab_scene();
+    s.render.shadows = false;
     let m = s.materials[0].clone();
     let critical = (1.0f64 / 1.5).asin();
     // Beyond the critical angle: from the centre up to the top face at 60
@@ -215,8 +220,21 @@ fn total_internal_reflection_hands_kt_to_the_reflected_ray() {
         max_abs_diff(value, expected) < 1e-12,
         "{value} vs {expected}"
     );
-    // Each face sees one light: the bottom one is lit from below.
+    assert_eq!(stats.shadow, 0);
+    // With shadows: each face faces one light (the top, seen from inside,
+    // the light below; the bottom the one above), casts one shadow ray
+    // toward it through the slab, and is shadowed by the slab's other
+    // face: the ambient terms alone.
+    let mut shadowed = s.clone();
+    shadowed.render.shadows = true;
+    let (value, stats) = traced(&shadowed, DVec3::ZERO, d);
     assert_eq!(stats.shadow, 2);
+    let ambient = s.lighting.ambient * m.ka * m.color;
+    let expected = ambient + (m.kr + m.kt) * ambient;
+    assert!(
+        max_abs_diff(value, expected) < 1e-12,
+        "{value} vs {expected}"
+    );
     // Just beyond and just below the critical angle.
     for (degrees, refracts) in [(0.01, false), (-0.01, true)] {
         let theta = critical + f64::to_radians(degrees);

@@ -293,16 +293,29 @@ fn back_faces_are_drawn_where_they_can_show() {
         material: 0,
     });
     let mut cut_open = scene(160, 120, 60.0);
-    // The near plane sits at 1e-5 of the scene's extent from the eye: a box
-    // whose face passes within that of the eye is cut open there.
+    // The near plane sits at 1e-5 of the scene's extent from the eye, or
+    // at 1e-3 of the nearest surface's distance where that is known
+    // (camera.rs): a mesh whose bounds hold the eye says nothing of it. One
+    // closed mesh of two boxes, one in front whose face passes 1e-6 from
+    // the eye and one behind it: the near plane cuts the front box open.
     cut_open.camera.position = DVec3::new(0.0, 0.0, 1.0 + 1e-6);
     cut_open.camera.look_at = DVec3::new(0.0, 0.0, -1.0);
-    cut_open.objects.push(Object {
-        shape: Shape::Box {
-            center: DVec3::ZERO,
+    let boxes = [DVec3::ZERO, DVec3::new(0.0, 0.0, 4.0)].map(|center| {
+        tessellate(&Shape::Box {
+            center,
             half_extents: DVec3::splat(1.0),
             rotation: glam::DMat3::IDENTITY,
-        },
+        })
+    });
+    let mut two_boxes = boxes[0].clone();
+    let offset = two_boxes.positions.len() as u32;
+    two_boxes.positions.extend(&boxes[1].positions);
+    two_boxes.normals.extend(&boxes[1].normals);
+    two_boxes
+        .triangles
+        .extend(boxes[1].triangles.iter().map(|t| t.map(|i| i + offset)));
+    cut_open.objects.push(Object {
+        shape: Shape::Mesh(two_boxes),
         material: 0,
     });
     for (name, s) in [

@@ -215,6 +215,10 @@ fn specialization_constants_match_by_id_and_name() {
             "FIXED_SAMPLER",
             offset_of!(TraceSpecialization, fixed_sampler),
         ),
+        (
+            "HUGE_SPHERE_COUNT",
+            offset_of!(TraceSpecialization, huge_sphere_count),
+        ),
     ];
     assert_eq!(fields.len(), rt_layout::SPEC_CONSTANTS.len());
     for (name, offset) in fields {

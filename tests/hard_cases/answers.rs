@@ -135,10 +135,15 @@ fn a_mirror_corridor_is_traced_to_depth_64() {
 /// command line asks for.
 #[test]
 fn what_f32_cannot_render_is_refused_with_its_line() {
-    for (name, line) in [("fov-0.001.toml", 24), ("tiny-sphere-1e-6.toml", 26)] {
+    for name in ["fov-0.001.toml", "tiny-sphere-1e-6.toml"] {
         let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
             .join("assets/hard")
             .join(name);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let line = 1 + text
+            .lines()
+            .position(|l| l.starts_with("fov_y"))
+            .expect("the scene sets fov_y");
         let error = scene::load(&path).expect_err(name).to_string();
         for part in [&format!("line {line}:"), "`fov_y`", "8e-6", "32-bit float"] {
             assert!(error.contains(part), "{name}: `{part}` not in: {error}");
