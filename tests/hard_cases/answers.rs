@@ -66,7 +66,10 @@ fn a_light_inside_a_closed_surface_lights_nothing_outside() {
                 &render(&context, &with_engine(&lit, engine), Shading::Raytrace),
                 &render(&context, &with_engine(&dark, engine), Shading::Raytrace),
             );
-            assert!(worst < 1e-6, "{name} {engine:?}: the enclosed light shows by {worst:e}");
+            assert!(
+                worst < 1e-6,
+                "{name} {engine:?}: the enclosed light shows by {worst:e}"
+            );
         }
         let (a, _) = shadelab::render::render_cpu(&lit, Shading::Raytrace).unwrap();
         let (b, _) = shadelab::render::render_cpu(&dark, Shading::Raytrace).unwrap();
