@@ -98,7 +98,7 @@ impl View {
 /// with `fov_y = 0.01` over 120 rows (1.5e-6 per pixel) is off by up to
 /// 0.03 in flat and 0.02 in Phong shading, with 4e-6 still 3.6e-3 off in
 /// Phong; 5.8e-6 and 8e-6 pass `check` in every mode
-/// (`assets/hard/fov-0.001.toml` is refused by this rule).
+/// (`assets/hard/refused/fov-0.001.toml` is refused by this rule).
 pub const MIN_PIXEL_ANGLE: f64 = 8e-6;
 
 /// The angle one of `height` rows spans at the centre of the image.

@@ -147,7 +147,7 @@ fn a_mirror_corridor_is_traced_to_depth_64() {
 fn what_f32_cannot_render_is_refused_with_its_line() {
     for name in ["fov-0.001.toml", "tiny-sphere-1e-6.toml"] {
         let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-            .join("assets/hard")
+            .join("assets/hard/refused")
             .join(name);
         let text = std::fs::read_to_string(&path).unwrap();
         let line = 1 + text
