@@ -263,10 +263,11 @@ fn the_8_bit_png_path_gives_the_float_paths_png_within_one_step() {
 /// Back faces are culled only where they cannot show (`raster_cull`).
 /// Where they can, they are drawn, and the GPU image matches the CPU
 /// reference, which never culls: a plane seen from below, the inside of a
-/// sphere around the eye, and a box the near plane cuts open. (Every scene
-/// in assets/ and assets/hard/ sees its planes from the front and its
-/// closed objects from outside, so `check` on them cannot tell a renderer
-/// that culls everything from one that culls right.)
+/// sphere around the eye, and a box the near plane cuts open. (Most scenes
+/// of assets/ see their planes from the front and their closed objects
+/// from outside, where `check` cannot tell a renderer that culls
+/// everything from one that culls right; of assets/hard/, smallpt-box and
+/// sky-sphere-1e30 see spheres from inside.)
 #[test]
 fn back_faces_are_drawn_where_they_can_show() {
     use shadelab::check::{check, CheckThresholds};
