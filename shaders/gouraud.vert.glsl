@@ -47,12 +47,19 @@ void main() {
     vec3 N = surface_normal(in_normal);
     vec3 intensity = shade(P, N, normalize(-P), unlit_specular, frame.ambient_k.rgb, frame.ambient_k.w);
     vec3 specular = shade(P, N, normalize(-P), black, frame.ambient_k.rgb, frame.ambient_k.w);
-    vec3 back_intensity = shade(P, -N, normalize(-P), unlit_specular, frame.ambient_k.rgb, frame.ambient_k.w);
-    vec3 back_specular = shade(P, -N, normalize(-P), black, frame.ambient_k.rgb, frame.ambient_k.w);
+    vec3 back_intensity = intensity;
+    vec3 back_specular = specular;
+    if (BACK_FACES) {
+        back_intensity = shade(P, -N, normalize(-P), unlit_specular, frame.ambient_k.rgb, frame.ambient_k.w);
+        back_specular = shade(P, -N, normalize(-P), black, frame.ambient_k.rgb, frame.ambient_k.w);
+    }
 #else
     vec3 N = surface_normal(in_normal);
     vec3 intensity = shade(P, N, normalize(-P), SURFACE, frame.ambient_k.rgb, frame.ambient_k.w);
-    vec3 back_intensity = shade(P, -N, normalize(-P), SURFACE, frame.ambient_k.rgb, frame.ambient_k.w);
+    vec3 back_intensity = intensity;
+    if (BACK_FACES) {
+        back_intensity = shade(P, -N, normalize(-P), SURFACE, frame.ambient_k.rgb, frame.ambient_k.w);
+    }
 #endif
     gl_Position = draw.clip_from_relative * vec4(P, 1.0);
 #ifdef SCREEN_LINEAR

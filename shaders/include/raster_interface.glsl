@@ -11,6 +11,10 @@
 // host): constants 0 to 2 and the lights, shared with the ray tracer.
 #include "lights.glsl"
 
+// Whether some draw may show its back (src/gpu/raster_cull.rs): where none
+// can, Gouraud lights no vertex's back.
+layout(constant_id = 5) const bool BACK_FACES = true;
+
 layout(std140, set = 0, binding = 1) uniform FrameUniforms {
     vec4 ambient_k;  // rgb: Ia, w: the constant k of Il / (d + k)
 } frame;

@@ -388,7 +388,7 @@ pub fn render_to(
     check_image_size(context, width, height)?;
     let view = View::new(scene, width, height);
     let geometry = build_geometry(scene, &view, mode == RasterMode::Flat);
-    let spec = specialization(scene);
+    let spec = geometry.with_back_faces(specialization(scene));
     let prepare_ms = ms_since(started);
 
     let pipeline_started = Instant::now();

@@ -53,6 +53,7 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (2, "USE_ATTENUATION"),
     (3, "SAMPLER_FIXED"),
     (4, "FIXED_SAMPLER"),
+    (5, "BACK_FACES"),
 ];
 
 #[repr(C)]
@@ -152,15 +153,18 @@ pub struct Specialization {
     pub use_attenuation: u32,
     pub sampler_fixed: u32,
     pub fixed_sampler: u32,
+    /// Whether some draw may show its back (`raster_cull`): then Gouraud's
+    /// vertex stage lights each vertex's back too.
+    pub back_faces: u32,
 }
 
 impl Specialization {
-    pub fn map_entries() -> [vk::SpecializationMapEntry; 5] {
+    pub fn map_entries() -> [vk::SpecializationMapEntry; 6] {
         let entry = |index: usize| vk::SpecializationMapEntry {
             constant_id: u32::from(SPEC_CONSTANTS[index].0),
             offset: index as u32 * 4,
             size: 4,
         };
-        [entry(0), entry(1), entry(2), entry(3), entry(4)]
+        [entry(0), entry(1), entry(2), entry(3), entry(4), entry(5)]
     }
 }

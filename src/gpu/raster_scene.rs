@@ -222,6 +222,19 @@ pub fn specialization(scene: &Scene) -> Specialization {
         use_attenuation: u32::from(scene.lighting.attenuation),
         sampler_fixed: u32::from(fixed_sampler.is_some()),
         fixed_sampler: fixed_sampler.unwrap_or(0),
+        // Until the draws are known (`with_back_faces`): on.
+        back_faces: 1,
+    }
+}
+
+impl RasterGeometry {
+    /// `spec` with `BACK_FACES` off where every draw culls its back faces
+    /// (closed objects seen from outside): Gouraud then lights no backs.
+    pub fn with_back_faces(&self, spec: Specialization) -> Specialization {
+        Specialization {
+            back_faces: u32::from(self.draws.iter().any(|d| !d.cull_back)),
+            ..spec
+        }
     }
 }
 
