@@ -253,16 +253,7 @@ fn gpu_and_cpu_trace_the_same_tree_at_every_depth() {
         let limits = CheckThresholds::for_shading(Shading::Raytrace);
         let o = check(&context, &s, &s, Shading::Raytrace, &limits).unwrap();
         assert!(o.passed(), "depth {depth}: {:?}", o.judgement.failures);
-        let gpu_stats = shadelab::render::render_gpu_to(
-            &context,
-            &s,
-            Shading::Raytrace,
-            true,
-            shadelab::gpu::raster::ColorTarget::Float32,
-        )
-        .unwrap()
-        .ray_stats
-        .unwrap();
+        let gpu_stats = gpu_ray_stats(&context, &s);
         let (cpu, _) = shadelab::render::render_cpu(&s, Shading::Raytrace).unwrap();
         let cpu_stats = cpu.ray_stats.unwrap();
         for (kind, g, c) in [

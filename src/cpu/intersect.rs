@@ -372,36 +372,30 @@ impl<'a> Accel<'a> {
     pub fn nearest(&self, ray: &Ray) -> Option<Hit> {
         let s = self.scene;
         let mut best: Option<Hit> = None;
+        // Either kind of sphere, hit at `t`: the same normal and record.
+        let sphere_hit = |t: f64, sp: &RtSphere, primitive| {
+            let n = (ray.origin + t * ray.dir - sp.center) / sp.radius;
+            Hit {
+                t,
+                object: sp.object,
+                material: sp.material,
+                primitive,
+                normal: n,
+                geometric_normal: n,
+                barycentrics: DVec2::ZERO,
+            }
+        };
         for (i, sp) in s.spheres.iter().enumerate() {
             if let Some(t) = sphere(ray, sp) {
                 if better(t, sp.object, 0, best.as_ref()) {
-                    let n = (ray.origin + t * ray.dir - sp.center) / sp.radius;
-                    best = Some(Hit {
-                        t,
-                        object: sp.object,
-                        material: sp.material,
-                        primitive: Primitive::Sphere(i as u32),
-                        normal: n,
-                        geometric_normal: n,
-                        barycentrics: DVec2::ZERO,
-                    });
+                    best = Some(sphere_hit(t, sp, Primitive::Sphere(i as u32)));
                 }
             }
         }
         for (i, huge) in s.huge_spheres.iter().enumerate() {
-            let sp = &huge.sphere;
             if let Some(t) = huge_sphere(ray, huge) {
-                if better(t, sp.object, 0, best.as_ref()) {
-                    let n = (ray.origin + t * ray.dir - sp.center) / sp.radius;
-                    best = Some(Hit {
-                        t,
-                        object: sp.object,
-                        material: sp.material,
-                        primitive: Primitive::HugeSphere(i as u32),
-                        normal: n,
-                        geometric_normal: n,
-                        barycentrics: DVec2::ZERO,
-                    });
+                if better(t, huge.sphere.object, 0, best.as_ref()) {
+                    best = Some(sphere_hit(t, &huge.sphere, Primitive::HugeSphere(i as u32)));
                 }
             }
         }

@@ -63,6 +63,20 @@ pub fn with_engine(scene: &Scene, engine: Traversal) -> Scene {
     s
 }
 
+/// The GPU ray tracer's ray counts for `scene` (its counting variant).
+pub fn gpu_ray_stats(context: &Arc<GpuContext>, scene: &Scene) -> shadelab::rt_scene::RayStats {
+    shadelab::render::render_gpu_to(
+        context,
+        scene,
+        Shading::Raytrace,
+        true,
+        shadelab::gpu::raster::ColorTarget::Float32,
+    )
+    .unwrap_or_else(|e| panic!("render failed: {e}"))
+    .ray_stats
+    .expect("the counting variant counts")
+}
+
 pub fn render(context: &Arc<GpuContext>, scene: &Scene, shading: Shading) -> LinearImage {
     match shadelab::render::render_gpu(context, scene, shading) {
         Ok(r) => r.image,

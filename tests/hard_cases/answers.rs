@@ -121,16 +121,7 @@ fn a_mirror_corridor_is_traced_to_depth_64() {
     let s = hard("mirror-corridor-64.toml");
     assert_eq!(s.render.depth, 64);
     let context = gpu();
-    let gpu_stats = shadelab::render::render_gpu_to(
-        &context,
-        &s,
-        Shading::Raytrace,
-        true,
-        shadelab::gpu::raster::ColorTarget::Float32,
-    )
-    .unwrap()
-    .ray_stats
-    .unwrap();
+    let gpu_stats = gpu_ray_stats(&context, &s);
     let (cpu, _) = shadelab::render::render_cpu(&s, Shading::Raytrace).unwrap();
     let cpu_stats = cpu.ray_stats.unwrap();
     assert_eq!(cpu_stats.max_depth_reached, 64);
