@@ -380,7 +380,7 @@ HugeSphere huge_sphere(int j) {
                       uintBitsToFloat(normal.xyz));
 }
 
-// The anchored form (docs/raytracing.md, "Huge spheres"): with
+// The anchored form (docs/raytracing.md, "Huge sphere"): with
 // g = o - anchor, `cr = g.(g/r + 2n)` is `c / r` with its r^2 terms
 // cancelled in the algebra rather than in f32; the near root `cr / q`
 // then keeps every digit, where `sphere_t`'s `f.f - r^2` keeps none.
