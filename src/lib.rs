@@ -42,7 +42,7 @@
 //!
 //! The rest support these: [`camera`] (the view every renderer shares),
 //! [`shading`] (the modes), [`rt_scene`] (the scene as both ray tracers see
-//! it), [`cache`] (the folder of compiled modules and Mesa's shader cache), [`linear_image`], [`srgb`], [`junit`], [`markup`] and [`error`].
+//! it), [`huge_sphere`] (how they test spheres large where the eye is), [`cache`] (the folder of compiled modules and Mesa's shader cache), [`linear_image`], [`srgb`], [`junit`], [`markup`] and [`error`].
 //!
 //! The lighting model every renderer follows, GPU and CPU alike, is specified
 //! in `docs/lighting-model.md` in this repository; `cpu::lighting` and
