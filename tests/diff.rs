@@ -422,3 +422,70 @@ fn an_exr_against_a_png_says_the_formats_differ() {
     assert_eq!(same.code, 0);
     assert!(!same.stdout.contains("note:"), "{}", same.stdout);
 }
+
+/// The share and the count of pixels over the per-pixel threshold
+/// (pixelmatch's gate), off by default: the known pair has 2 of its 8
+/// pixels off by more than 0.01 (by 0.5 and 0.25), so a limit of 1 pixel
+/// or 20% fails and 2 pixels or 25% passes; with `--pixel-threshold 0.3`
+/// one pixel is over.
+#[test]
+fn the_share_and_count_of_pixels_over_a_threshold_can_be_gated() {
+    let dir = tempfile::tempdir().unwrap();
+    let (expected, actual) = known_pair();
+    write_pair(dir.path(), &expected, &actual, "exr");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "diff",
+            "expected.exr",
+            "actual.exr",
+            "--flip-mean",
+            "1",
+            "--p99-abs",
+            "1",
+        ];
+        args.extend_from_slice(extra);
+        shadelab(dir.path(), &args)
+    };
+    // Off by default: no row for either.
+    let plain = run(&[]);
+    assert_eq!(plain.code, 0, "{}", plain.stderr);
+    assert!(!plain.stdout.contains("count_over"), "{}", plain.stdout);
+    let failed = run(&["--threshold", "count_over=1"]);
+    assert_eq!(failed.code, 1, "{}", failed.stderr);
+    assert!(
+        failed.stderr.contains("count_over 2 exceeds the limit 1"),
+        "{}",
+        failed.stderr
+    );
+    assert_eq!(run(&["--threshold", "count_over=2"]).code, 0);
+    let failed = run(&["--threshold", "fraction_over=0.2"]);
+    assert_eq!(failed.code, 1, "{}", failed.stderr);
+    assert!(
+        failed
+            .stderr
+            .contains("fraction_over 0.250000 exceeds the limit 0.2"),
+        "{}",
+        failed.stderr
+    );
+    assert_eq!(
+        run(&["--threshold", "fraction_over=0.25,count_over=2"]).code,
+        0
+    );
+    let one = run(&[
+        "--threshold",
+        "count_over=0",
+        "--pixel-threshold",
+        "0.3",
+        "--json",
+    ]);
+    assert_eq!(one.code, 1, "{}", one.stderr);
+    let j = json(&one);
+    assert_eq!(j["thresholds"]["count_over"], 0.0);
+    let verdicts = j["verdicts"].as_array().unwrap();
+    let count = verdicts
+        .iter()
+        .find(|v| v["figure"] == "count_over")
+        .unwrap();
+    assert_eq!(count["value"], 1.0);
+    assert_eq!(run(&["--threshold", "count_over=-1"]).code, 2);
+}

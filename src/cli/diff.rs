@@ -22,8 +22,9 @@ pub struct DiffArgs {
     /// The image to check against it (.png or .exr).
     actual: PathBuf,
     /// Thresholds: `FIGURE=X[,FIGURE=X...]` for flip_mean, max_abs,
-    /// p99_abs, rmse (ceilings) or psnr (a floor, dB), or a bare X for
-    /// flip_mean. May be repeated; the flags below win over it.
+    /// p99_abs, rmse, fraction_over, count_over (ceilings) or psnr (a
+    /// floor, dB), or a bare X for flip_mean. May be repeated; the flags
+    /// below win over it.
     #[arg(long, value_name = "[FIGURE=]X,...")]
     threshold: Vec<String>,
     /// Limit on the mean FLIP error [default: 0.02].
@@ -94,9 +95,11 @@ fn thresholds(args: &DiffArgs) -> Result<Thresholds, Failure> {
             "max_abs" => t.max_abs = value,
             "p99_abs" => t.p99_abs = value,
             "rmse" => t.rmse = Some(value),
+            "fraction_over" => t.fraction_over = Some(value),
+            "count_over" => t.count_over = Some(value),
             other => {
                 return Err(Failure::usage(format!(
-                    "--threshold {entry}: unknown figure {other:?}; expected flip_mean, max_abs, p99_abs, rmse or psnr"
+                    "--threshold {entry}: unknown figure {other:?}; expected flip_mean, max_abs, p99_abs, rmse, fraction_over, count_over or psnr"
                 )))
             }
         }
@@ -218,11 +221,7 @@ fn print_report(args: &DiffArgs, c: &Comparison, verdicts: &[Verdict], edge_thre
         println!(
             "{:<12} {:>12} {:>10}  {}",
             v.figure,
-            if v.figure == "psnr" {
-                metrics::format_psnr(v.value)
-            } else {
-                format_figure(v.value)
-            },
+            v.formatted_value(),
             v.limit,
             if v.pass { "PASS" } else { "FAIL" }
         );

@@ -158,6 +158,14 @@ pub struct Thresholds {
     /// (infinite PSNR) pass any; a non-finite difference (NaN) fails.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub psnr: Option<f64>,
+    /// Limit on the share of pixels whose error exceeds the per-pixel
+    /// threshold (`ErrorStats::fraction_over`: pixelmatch's measure); none
+    /// by default.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fraction_over: Option<f64>,
+    /// The same as a number of pixels; none by default.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub count_over: Option<f64>,
 }
 
 impl Default for Thresholds {
@@ -168,6 +176,8 @@ impl Default for Thresholds {
             p99_abs: 0.05,
             rmse: None,
             psnr: None,
+            fraction_over: None,
+            count_over: None,
         }
     }
 }
@@ -179,6 +189,18 @@ pub struct Verdict {
     pub value: f64,
     pub limit: f64,
     pub pass: bool,
+}
+
+impl Verdict {
+    /// The value for people: dB for `psnr`, a whole number for
+    /// `count_over`, else `format_figure`.
+    pub fn formatted_value(&self) -> String {
+        match self.figure {
+            "psnr" => format_psnr(self.value),
+            "count_over" => format!("{:.0}", self.value),
+            _ => format_figure(self.value),
+        }
+    }
 }
 
 impl Thresholds {
@@ -197,6 +219,18 @@ impl Thresholds {
         ];
         if let Some(limit) = self.rmse {
             all.push(verdict("rmse", comparison.stats.rmse, limit));
+        }
+        if let Some(limit) = self.fraction_over {
+            all.push(verdict(
+                "fraction_over",
+                comparison.stats.fraction_over,
+                limit,
+            ));
+        }
+        if let Some(limit) = self.count_over {
+            let stats = &comparison.stats;
+            let count = (stats.fraction_over * stats.pixels as f64).round();
+            all.push(verdict("count_over", count, limit));
         }
         if let Some(limit) = self.psnr {
             // A floor, not a ceiling: NaN and -inf (a non-finite
@@ -219,11 +253,12 @@ impl Thresholds {
             .iter()
             .filter(|v| !v.pass)
             .map(|v| {
-                let (verb, value) = if v.figure == "psnr" {
-                    ("is under", format_psnr(v.value))
+                let verb = if v.figure == "psnr" {
+                    "is under"
                 } else {
-                    ("exceeds", format_figure(v.value))
+                    "exceeds"
                 };
+                let value = v.formatted_value();
                 format!("{} {value} {verb} the limit {}", v.figure, v.limit)
             })
             .collect()
@@ -330,8 +365,7 @@ mod tests {
             flip_mean: 1.0,
             max_abs: 0.25,
             p99_abs: 0.0,
-            rmse: None,
-            psnr: None,
+            ..Thresholds::default()
         };
         let failed = strict.check(&c);
         assert_eq!(failed.len(), 1, "{failed:?}");
