@@ -489,3 +489,106 @@ fn the_share_and_count_of_pixels_over_a_threshold_can_be_gated() {
     assert_eq!(count["value"], 1.0);
     assert_eq!(run(&["--threshold", "count_over=-1"]).code, 2);
 }
+
+/// Two folders: images matched by name, each judged with the limits of a
+/// single diff; one on one side only fails too (missing) or cannot be
+/// judged (extra: an error in JUnit). Exit 1 when any does not pass.
+#[test]
+fn two_folders_are_compared_image_by_image_with_junit() {
+    let dir = tempfile::tempdir().unwrap();
+    let (expected, actual) = known_pair();
+    let (reference, run_dir) = (dir.path().join("reference"), dir.path().join("run"));
+    std::fs::create_dir_all(&reference).unwrap();
+    std::fs::create_dir_all(&run_dir).unwrap();
+    for (name, r, a) in [
+        ("same.exr", &expected, &expected),
+        ("changed.exr", &expected, &actual),
+    ] {
+        write_image(r, &reference.join(name)).unwrap();
+        write_image(a, &run_dir.join(name)).unwrap();
+    }
+    write_image(&expected, &reference.join("gone.exr")).unwrap();
+    write_image(&expected, &run_dir.join("new.exr")).unwrap();
+    std::fs::write(run_dir.join("notes.txt"), "not an image").unwrap();
+    let run = shadelab(
+        dir.path(),
+        &[
+            "diff",
+            "reference",
+            "run",
+            "--junit",
+            "report.xml",
+            "--json",
+        ],
+    );
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    let j = json(&run);
+    assert_eq!(j["pass"], false);
+    let status = |name: &str| {
+        j["cases"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["name"] == name)
+            .map(|c| c["status"].as_str().unwrap().to_string())
+    };
+    assert_eq!(status("same.exr").as_deref(), Some("pass"));
+    assert_eq!(status("changed.exr").as_deref(), Some("fail"));
+    assert_eq!(status("gone.exr").as_deref(), Some("missing"));
+    assert_eq!(status("new.exr").as_deref(), Some("extra"));
+    assert_eq!(status("notes.txt"), None);
+    let xml = std::fs::read_to_string(dir.path().join("report.xml")).unwrap();
+    assert!(
+        xml.contains("tests=\"4\" failures=\"2\" errors=\"1\""),
+        "{xml}"
+    );
+    // The same limits as a single diff: loose enough, everything present
+    // and within them passes.
+    std::fs::remove_file(reference.join("gone.exr")).unwrap();
+    std::fs::remove_file(run_dir.join("new.exr")).unwrap();
+    let run = shadelab(
+        dir.path(),
+        &[
+            "diff",
+            "reference",
+            "run",
+            "--max-abs",
+            "1",
+            "--p99-abs",
+            "1",
+            "--flip-mean",
+            "1",
+        ],
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(
+        run.stdout.contains("2 of 2 images passed"),
+        "{}",
+        run.stdout
+    );
+    // One pair with --junit: one case, failed.
+    let one = shadelab(
+        dir.path(),
+        &[
+            "diff",
+            "reference/changed.exr",
+            "run/changed.exr",
+            "--junit",
+            "one.xml",
+        ],
+    );
+    assert_eq!(one.code, 1, "{}", one.stderr);
+    let xml = std::fs::read_to_string(dir.path().join("one.xml")).unwrap();
+    assert!(xml.contains("tests=\"1\" failures=\"1\""), "{xml}");
+    // A folder against a file, a heat map for a folder, empty folders.
+    let mixed = shadelab(dir.path(), &["diff", "reference", "run/same.exr"]);
+    assert_eq!(mixed.code, 2, "{}", mixed.stderr);
+    let heat = shadelab(
+        dir.path(),
+        &["diff", "reference", "run", "--heatmap", "h.png"],
+    );
+    assert_eq!(heat.code, 2, "{}", heat.stderr);
+    std::fs::create_dir_all(dir.path().join("e1")).unwrap();
+    std::fs::create_dir_all(dir.path().join("e2")).unwrap();
+    assert_eq!(shadelab(dir.path(), &["diff", "e1", "e2"]).code, 2);
+}

@@ -17,10 +17,14 @@ const EDGE_THRESHOLD: f64 = 0.1;
 
 #[derive(Args)]
 pub struct DiffArgs {
-    /// The reference image (.png or .exr).
-    expected: PathBuf,
-    /// The image to check against it (.png or .exr).
-    actual: PathBuf,
+    /// The reference image (.png or .exr), or a folder of them.
+    pub(super) expected: PathBuf,
+    /// The image to check against it (.png or .exr), or a folder of them,
+    /// matched to the reference folder's by name.
+    pub(super) actual: PathBuf,
+    /// Also write a JUnit XML report here: one case per image.
+    #[arg(long, value_name = "FILE.xml")]
+    pub(super) junit: Option<PathBuf>,
     /// Thresholds: `FIGURE=X[,FIGURE=X...]` for flip_mean, max_abs,
     /// p99_abs, rmse, fraction_over, count_over (ceilings) or psnr (a
     /// floor, dB), or a bare X for flip_mean. May be repeated; the flags
@@ -45,10 +49,10 @@ pub struct DiffArgs {
     edge_threshold: f64,
     /// Write the FLIP error map, magma-coloured, to this image (.png or .exr).
     #[arg(long, value_name = "FILE.png")]
-    heatmap: Option<PathBuf>,
+    pub(super) heatmap: Option<PathBuf>,
     /// Print one JSON object with every figure on stdout.
     #[arg(long)]
-    json: bool,
+    pub(super) json: bool,
     // Accepted where a script passes them to every command, and unused:
     // `diff` renders nothing (hidden from its help).
     #[arg(long, hide = true, value_name = "NAME|INDEX")]
@@ -116,35 +120,105 @@ fn thresholds(args: &DiffArgs) -> Result<Thresholds, Failure> {
     Ok(t)
 }
 
+/// How two images are judged: the limits, the per-pixel threshold and the
+/// step that marks an edge, from the command line.
+pub(super) struct Judging {
+    pub thresholds: Thresholds,
+    pub settings: Settings,
+    pub edge_threshold: f64,
+}
+
+/// One pair of images compared: every figure, each thresholded one's
+/// verdict, the failed ones, and a note where the formats differ.
+pub(super) struct PairOutcome {
+    pub comparison: Comparison,
+    pub verdicts: Vec<Verdict>,
+    pub failures: Vec<String>,
+    pub note: Option<String>,
+}
+
+/// Reads both images and compares them as `judging` says.
+pub(super) fn compare_files(
+    expected: &Path,
+    actual: &Path,
+    judging: &Judging,
+) -> Result<PairOutcome, Failure> {
+    let expected_image = output::read_image(expected)?;
+    let actual_image = output::read_image(actual)?;
+    let mask = metrics::gradient_mask(&expected_image, judging.edge_threshold);
+    let comparison = metrics::compare_with(
+        &expected_image,
+        &actual_image,
+        Some(&mask),
+        &judging.settings,
+    )
+    .map_err(|e| {
+        Failure::usage(format!(
+            "cannot compare {} with {}: {e}",
+            expected.display(),
+            actual.display()
+        ))
+    })?;
+    Ok(PairOutcome {
+        verdicts: judging.thresholds.verdicts(&comparison),
+        failures: judging.thresholds.check(&comparison),
+        note: formats_differ(expected, actual),
+        comparison,
+    })
+}
+
 pub fn run(args: DiffArgs) -> Result<(), Failure> {
-    let thresholds = thresholds(&args)?;
-    let settings = Settings {
-        pixel_threshold: check_limit("--pixel-threshold", args.pixel_threshold)?,
-        ..Settings::default()
+    let judging = Judging {
+        thresholds: thresholds(&args)?,
+        settings: Settings {
+            pixel_threshold: check_limit("--pixel-threshold", args.pixel_threshold)?,
+            ..Settings::default()
+        },
+        edge_threshold: check_limit("--edge-threshold", args.edge_threshold)?,
     };
-    let edge_threshold = check_limit("--edge-threshold", args.edge_threshold)?;
+    if let Some(path) = &args.junit {
+        output::prepare_output_path(path)?;
+    }
+    match (args.expected.is_dir(), args.actual.is_dir()) {
+        (true, true) => return super::diff_folders::run(&args, &judging),
+        (false, false) => {}
+        _ => {
+            return Err(Failure::usage(format!(
+                "{} and {} must both be image files or both folders",
+                args.expected.display(),
+                args.actual.display()
+            )))
+        }
+    }
     // Check the heat map's name before reading anything.
     if let Some(path) = &args.heatmap {
         ImageFormat::from_path(path)?;
         output::prepare_output_path(path)?;
     }
-    let expected = output::read_image(&args.expected)?;
-    let actual = output::read_image(&args.actual)?;
-    let mask = metrics::gradient_mask(&expected, edge_threshold);
-    let comparison =
-        metrics::compare_with(&expected, &actual, Some(&mask), &settings).map_err(|e| {
-            Failure::usage(format!(
-                "cannot compare {} with {}: {e}",
-                args.expected.display(),
-                args.actual.display()
-            ))
-        })?;
+    let started = std::time::Instant::now();
+    let PairOutcome {
+        comparison,
+        verdicts,
+        failures,
+        note: formats_note,
+    } = compare_files(&args.expected, &args.actual, &judging)?;
     if let Some(path) = &args.heatmap {
         output::write_image(&metrics::flip_heatmap(&comparison.flip), path)?;
     }
-    let verdicts = thresholds.verdicts(&comparison);
-    let failures = thresholds.check(&comparison);
-    let formats_note = formats_differ(&args.expected, &args.actual);
+    let (thresholds, settings, edge_threshold) = (
+        &judging.thresholds,
+        &judging.settings,
+        judging.edge_threshold,
+    );
+    if let Some(path) = &args.junit {
+        let case = super::diff_folders::junit_case(
+            &args.actual.display().to_string(),
+            &failures,
+            started.elapsed().as_secs_f64(),
+        );
+        std::fs::write(path, shadelab::junit::render("shadelab diff", &[case]))
+            .map_err(|e| Failure::usage(format!("cannot write {}: {e}", path.display())))?;
+    }
 
     if args.json {
         let mut value = serde_json::to_value(&comparison).expect("figures serialise");

@@ -6,6 +6,7 @@ mod check;
 mod check_report;
 mod compare;
 mod diff;
+mod diff_folders;
 mod info;
 mod render;
 mod time_to_image;
