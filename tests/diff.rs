@@ -566,6 +566,31 @@ fn two_folders_are_compared_image_by_image_with_junit() {
         "{}",
         run.stdout
     );
+    // An image on one side only fails the folder, with every pair passing.
+    for (side, name) in [(&reference, "gone.exr"), (&run_dir, "new.exr")] {
+        write_image(&expected, &side.join(name)).unwrap();
+        let run = shadelab(
+            dir.path(),
+            &[
+                "diff",
+                "reference",
+                "run",
+                "--max-abs",
+                "1",
+                "--p99-abs",
+                "1",
+                "--flip-mean",
+                "1",
+            ],
+        );
+        assert_eq!(run.code, 1, "{name}: {}", run.stdout);
+        assert!(
+            run.stdout.contains("2 of 3 images passed"),
+            "{}",
+            run.stdout
+        );
+        std::fs::remove_file(side.join(name)).unwrap();
+    }
     // One pair with --junit: one case, failed.
     let one = shadelab(
         dir.path(),
