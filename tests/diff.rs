@@ -546,20 +546,13 @@ fn two_folders_are_compared_image_by_image_with_junit() {
     // and within them passes.
     std::fs::remove_file(reference.join("gone.exr")).unwrap();
     std::fs::remove_file(run_dir.join("new.exr")).unwrap();
-    let run = shadelab(
-        dir.path(),
-        &[
-            "diff",
-            "reference",
-            "run",
-            "--max-abs",
-            "1",
-            "--p99-abs",
-            "1",
-            "--flip-mean",
-            "1",
-        ],
-    );
+    let loose = || {
+        let limits = ["--max-abs", "1", "--p99-abs", "1", "--flip-mean", "1"];
+        let mut args = vec!["diff", "reference", "run"];
+        args.extend(limits);
+        shadelab(dir.path(), &args)
+    };
+    let run = loose();
     assert_eq!(run.code, 0, "{}", run.stderr);
     assert!(
         run.stdout.contains("2 of 2 images passed"),
@@ -569,20 +562,7 @@ fn two_folders_are_compared_image_by_image_with_junit() {
     // An image on one side only fails the folder, with every pair passing.
     for (side, name) in [(&reference, "gone.exr"), (&run_dir, "new.exr")] {
         write_image(&expected, &side.join(name)).unwrap();
-        let run = shadelab(
-            dir.path(),
-            &[
-                "diff",
-                "reference",
-                "run",
-                "--max-abs",
-                "1",
-                "--p99-abs",
-                "1",
-                "--flip-mean",
-                "1",
-            ],
-        );
+        let run = loose();
         assert_eq!(run.code, 1, "{name}: {}", run.stdout);
         assert!(
             run.stdout.contains("2 of 3 images passed"),

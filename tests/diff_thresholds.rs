@@ -180,7 +180,12 @@ fn rmse_and_psnr_thresholds_flip_the_verdict_either_side_of_the_figure() {
         &["diff", "e.exr", "a.exr", "--threshold", "ssim=0.9"],
     );
     assert_eq!(bad.code, 2);
-    assert!(bad.stderr.contains("rmse or psnr"), "{}", bad.stderr);
+    assert!(
+        bad.stderr
+            .contains("rmse, fraction_over, count_over or psnr"),
+        "{}",
+        bad.stderr
+    );
 }
 
 /// A NaN against a number is no match: PSNR reads `-inf (non-finite
