@@ -35,8 +35,8 @@ impl View {
         let forward = (cam.look_at - cam.position).normalize();
         let right = forward.cross(cam.up).normalize();
         let up = right.cross(forward);
-        let far = farthest_scene_distance(scene, cam.position).max(1e-6);
-        let nearest = nearest_surface_distance(scene, cam.position);
+        let (far, nearest) = scene_distances(scene, cam.position);
+        let far = far.max(1e-6);
         Self {
             eye: cam.position,
             right,
@@ -124,18 +124,21 @@ pub fn narrow_view_refusal(fov_y_deg: f64, height: u32) -> Option<String> {
     })
 }
 
-/// The distance from `eye` to the nearest surface whose distance is known
-/// cheaply and is not zero: a sphere's from either side (its exact
-/// altitude, `huge_sphere::altitude`), a plane's square's, a box's from
-/// outside or inside, a mesh's bounding box's from outside (a mesh around
-/// the eye says nothing). Infinite where none does.
-fn nearest_surface_distance(scene: &Scene, eye: DVec3) -> f64 {
-    let mut nearest = f64::INFINITY;
+/// From `eye`: an upper bound on the distance to any point of the scene,
+/// and the distance to the nearest surface whose distance is known cheaply
+/// and is not zero (infinite where none is): a sphere's from either side
+/// (its exact altitude, `huge_sphere::altitude`), a plane's square's, a
+/// box's from outside or inside, a mesh's bounding box's from outside (a
+/// mesh around the eye says nothing). One pass over each mesh's vertices
+/// gives both.
+fn scene_distances(scene: &Scene, eye: DVec3) -> (f64, f64) {
+    let (mut far, mut nearest) = (0.0f64, f64::INFINITY);
     for object in &scene.objects {
-        let distance = match &object.shape {
-            Shape::Sphere { center, radius, .. } => {
-                crate::huge_sphere::altitude(eye, *center, *radius).0.abs()
-            }
+        let (reach, distance) = match &object.shape {
+            Shape::Sphere { center, radius, .. } => (
+                (*center - eye).length() + radius,
+                crate::huge_sphere::altitude(eye, *center, *radius).0.abs(),
+            ),
             Shape::Plane {
                 center,
                 normal,
@@ -147,7 +150,10 @@ fn nearest_surface_distance(scene: &Scene, eye: DVec3) -> f64 {
                 let half = size * 0.5;
                 let (a, b) = (rel.dot(u), rel.dot(v));
                 let beyond = DVec3::new((a.abs() - half).max(0.0), (b.abs() - half).max(0.0), 0.0);
-                (beyond.length_squared() + rel.dot(*normal).powi(2)).sqrt()
+                (
+                    rel.length() + half * 2f64.sqrt(),
+                    (beyond.length_squared() + rel.dot(*normal).powi(2)).sqrt(),
+                )
             }
             Shape::Box {
                 center,
@@ -155,50 +161,26 @@ fn nearest_surface_distance(scene: &Scene, eye: DVec3) -> f64 {
                 rotation,
             } => {
                 let local = (rotation.transpose() * (eye - *center)).abs() - *half_extents;
-                if local.max_element() < 0.0 {
+                let distance = if local.max_element() < 0.0 {
                     -local.max_element()
                 } else {
                     local.max(DVec3::ZERO).length()
-                }
+                };
+                ((*center - eye).length() + half_extents.length(), distance)
             }
             Shape::Mesh(mesh) => {
-                let (lo, hi) = mesh
-                    .positions
-                    .iter()
-                    .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
-                        (lo.min(*p), hi.max(*p))
-                    });
-                (lo - eye).max(eye - hi).max(DVec3::ZERO).length()
+                let (mut reach, mut lo, mut hi) = (0.0f64, DVec3::INFINITY, DVec3::NEG_INFINITY);
+                for p in &mesh.positions {
+                    reach = reach.max((*p - eye).length());
+                    (lo, hi) = (lo.min(*p), hi.max(*p));
+                }
+                (reach, (lo - eye).max(eye - hi).max(DVec3::ZERO).length())
             }
         };
+        far = far.max(reach);
         if distance > 0.0 {
             nearest = nearest.min(distance);
         }
     }
-    nearest
-}
-
-/// An upper bound on the distance from `eye` to any point of the scene.
-fn farthest_scene_distance(scene: &Scene, eye: DVec3) -> f64 {
-    let mut far: f64 = 0.0;
-    for object in &scene.objects {
-        let reach = match &object.shape {
-            Shape::Sphere { center, radius, .. } => (*center - eye).length() + radius,
-            Shape::Plane { center, size, .. } => {
-                (*center - eye).length() + size * 0.5 * 2f64.sqrt()
-            }
-            Shape::Box {
-                center,
-                half_extents,
-                ..
-            } => (*center - eye).length() + half_extents.length(),
-            Shape::Mesh(mesh) => mesh
-                .positions
-                .iter()
-                .map(|p| (*p - eye).length())
-                .fold(0.0, f64::max),
-        };
-        far = far.max(reach);
-    }
-    far
+    (far, nearest)
 }

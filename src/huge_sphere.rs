@@ -82,16 +82,23 @@ pub enum SphereForm {
 /// terms costs nothing; the height is then that difference over
 /// `|e - c| + r`, which cancels nothing.
 pub fn altitude(eye: DVec3, centre: DVec3, radius: f64) -> (f64, DVec3) {
-    let mut terms: Vec<f64> = Vec::with_capacity(16);
+    // On the stack: the camera's near plane takes every sphere's altitude
+    // on every render.
+    let mut terms = [0.0f64; 14];
     let mut offset = DVec3::ZERO;
     for axis in 0..3 {
         let (hi, lo) = two_difference(eye[axis], centre[axis]);
         offset[axis] = hi;
         let (square, square_error) = two_product(hi, hi);
-        terms.extend([square, square_error, 2.0 * hi * lo, lo * lo]);
+        terms[4 * axis..4 * axis + 4].copy_from_slice(&[
+            square,
+            square_error,
+            2.0 * hi * lo,
+            lo * lo,
+        ]);
     }
     let (r2, r2_error) = two_product(radius, radius);
-    terms.extend([-r2, -r2_error]);
+    terms[12..].copy_from_slice(&[-r2, -r2_error]);
     let difference = compensated_sum(&mut terms);
     let distance = offset.length();
     let height = difference / (distance + radius);
