@@ -2,6 +2,7 @@
 
 mod args;
 mod bench;
+mod cases;
 mod check;
 mod check_report;
 mod compare;
@@ -9,6 +10,7 @@ mod diff;
 mod diff_folders;
 mod info;
 mod render;
+mod render_batch;
 mod time_to_image;
 mod warm;
 

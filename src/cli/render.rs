@@ -1,4 +1,5 @@
-//! `shadelab render`: one scene, one mode, one image file.
+//! `shadelab render`: one scene, one mode, one image file; more scenes or
+//! modes, or `--out-dir`, make a batch (`render_batch.rs`).
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -19,16 +20,18 @@ use super::Failure;
 
 #[derive(Args)]
 pub struct RenderArgs {
-    /// Scene file (.toml, .gltf or .glb); the built-in default scene if left out.
-    scene: Option<PathBuf>,
-    /// Shading mode.
-    #[arg(long, default_value = "phong")]
-    shading: Shading,
+    /// Scene files (.toml, .gltf or .glb); the built-in default scene if
+    /// left out. More than one makes a batch (see --out-dir).
+    #[arg(value_name = "SCENE")]
+    pub(super) scenes: Vec<PathBuf>,
+    /// Shading mode, or modes comma-separated (a batch: each scene in each).
+    #[arg(long, value_delimiter = ',', default_value = "phong")]
+    pub(super) shading: Vec<Shading>,
     /// Renderer: the Vulkan pipelines (gpu), the CPU reference (cpu), or
     /// whichever should give the image first (auto: a short CPU pilot set
     /// against the GPU's fixed costs; the choice is printed).
     #[arg(long, default_value = "gpu", value_parser = ["gpu", "cpu", "auto"])]
-    backend: String,
+    pub(super) backend: String,
     #[command(flatten)]
     size: ImageSize,
     #[command(flatten)]
@@ -49,14 +52,23 @@ pub struct RenderArgs {
     /// Output image: .png (8-bit sRGB) or .exr (linear 32-bit float).
     /// Default: <scene name>-<mode>.png in the current folder.
     #[arg(long, short)]
-    out: Option<PathBuf>,
-    /// Print one JSON object describing the render on stdout.
+    pub(super) out: Option<PathBuf>,
+    /// A batch: the folder the images go into, named by --name (created if
+    /// missing). Implied (the current folder) by more than one scene or mode.
+    #[arg(long, value_name = "DIR")]
+    pub(super) out_dir: Option<PathBuf>,
+    /// A batch: each image's file name, from {scene} (the scene file's
+    /// name without its extension) and {mode}; .png or .exr.
+    #[arg(long, value_name = "PATTERN", default_value = "{scene}-{mode}.png")]
+    pub(super) name: String,
+    /// Print one JSON object describing the render on stdout (a batch: one
+    /// object with a case per image).
     #[arg(long)]
-    json: bool,
+    pub(super) json: bool,
     /// Ray tracing: print the rays traced, by kind (a table, or "stats" in
     /// the --json object).
     #[arg(long)]
-    stats: bool,
+    pub(super) stats: bool,
     #[command(flatten)]
     pub machine: super::args::MachineArgs,
 }
@@ -77,9 +89,33 @@ pub fn load_scene(path: Option<&Path>, memory: &MemoryLimit) -> Result<(Scene, S
     }
 }
 
+impl RenderArgs {
+    /// The modes asked for, each once, in the order first given.
+    pub(super) fn modes(&self) -> Vec<Shading> {
+        let mut modes = Vec::new();
+        for &shading in &self.shading {
+            if !modes.contains(&shading) {
+                modes.push(shading);
+            }
+        }
+        modes
+    }
+
+    /// More than one image, or `--out-dir`: a batch.
+    fn is_batch(&self) -> bool {
+        self.scenes.len() > 1 || self.modes().len() > 1 || self.out_dir.is_some()
+    }
+}
+
 /// Applies the command-line overrides to the scene, checking their ranges as
-/// the scene loader checks the file's.
-fn apply_overrides(scene: &mut Scene, args: &RenderArgs) -> Result<(), Failure> {
+/// the scene loader checks the file's; warns once (`warn`) of ray-tracing
+/// flags that no mode in `modes` uses.
+pub(super) fn apply_overrides(
+    scene: &mut Scene,
+    args: &RenderArgs,
+    modes: &[Shading],
+    warn: bool,
+) -> Result<(), Failure> {
     args.size.apply(scene)?;
     if args.lighting.lighting.is_some() && args.backend == "cpu" {
         return Err(Failure::usage(
@@ -109,14 +145,15 @@ fn apply_overrides(scene: &mut Scene, args: &RenderArgs) -> Result<(), Failure> 
         scene.render.shadows = false;
     }
     // Said once the flags are known to be valid: a bad one is the answer.
-    if args.shading != Shading::Raytrace {
+    if warn && !modes.contains(&Shading::Raytrace) {
         let given = ray_trace_options_given(args);
         if !given.is_empty() {
+            let listed: Vec<String> = modes.iter().map(|m| m.to_string()).collect();
             eprintln!(
                 "shadelab: warning: {} {} for the ray tracer; --shading {} ignores {}",
                 given.join(", "),
                 if given.len() == 1 { "is" } else { "are" },
-                args.shading,
+                listed.join(","),
                 if given.len() == 1 { "it" } else { "them" },
             );
         }
@@ -127,22 +164,23 @@ fn apply_overrides(scene: &mut Scene, args: &RenderArgs) -> Result<(), Failure> 
 /// What the image was made with, overrides applied: `--json`'s
 /// `settings` and the PNG's `shadelab:settings` text. The ray tracer's
 /// settings only where it ran.
-fn effective_settings(
-    args: &RenderArgs,
+pub(super) fn effective_settings(
+    scene_path: Option<&Path>,
+    shading: Shading,
     scene: &Scene,
     backend: Backend,
     rendered: &shadelab::render::Rendered,
     device: &str,
     driver: Option<&str>,
 ) -> serde_json::Value {
-    let ray_traced = args.shading == Shading::Raytrace;
+    let ray_traced = shading == Shading::Raytrace;
     let r = &scene.render;
     serde_json::json!({
-        "scene": args.scene.as_ref().map_or_else(
+        "scene": scene_path.map_or_else(
             || "built-in default scene".to_string(),
             |p| p.display().to_string(),
         ),
-        "shading": args.shading,
+        "shading": shading,
         "backend": backend.name(),
         "width": rendered.image.width,
         "height": rendered.image.height,
@@ -156,6 +194,33 @@ fn effective_settings(
         "driver": driver,
         "shadelab": env!("CARGO_PKG_VERSION"),
     })
+}
+
+/// The raster modes' colour target for an output `format`.
+pub(super) fn color_target(scene: &Scene, format: shadelab::output::ImageFormat) -> ColorTarget {
+    // A PNG holds 8-bit sRGB: the raster modes render straight into it.
+    // A lighting hook is the user's code, and may return NaN: the float
+    // target keeps it to be counted, where the 8-bit one turns it into a
+    // colour on the way in.
+    if scene.lighting_hook.is_some() {
+        ColorTarget::Float32
+    } else {
+        ColorTarget::for_output(format)
+    }
+}
+
+/// What a rendered PNG says of itself: the scene's name, the device, the
+/// settings as a line and as JSON.
+pub(super) fn image_metadata(
+    stem: &str,
+    device: &str,
+    settings: &serde_json::Value,
+) -> shadelab::output::ImageMetadata {
+    shadelab::output::ImageMetadata::software()
+        .with("Title", stem)
+        .with("Source", device)
+        .with("Comment", settings_line(settings))
+        .with("shadelab:settings", settings.to_string())
 }
 
 /// The settings as one line for people: `key=value`, the unset left out.
@@ -217,10 +282,10 @@ impl OpeningDevice {
 }
 
 /// `--out`, or `<scene name>-<mode>.png` in the current folder.
-fn output_path(args: &RenderArgs, stem: &str) -> PathBuf {
+fn output_path(args: &RenderArgs, stem: &str, shading: Shading) -> PathBuf {
     args.out
         .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("{stem}-{}.png", args.shading)))
+        .unwrap_or_else(|| PathBuf::from(format!("{stem}-{shading}.png")))
 }
 
 /// A scene ready to render: overrides applied, the backend chosen, the
@@ -237,24 +302,29 @@ struct Loaded {
 /// The scene with the overrides applied, its name, the backend (chosen
 /// here for `auto`) and the memory estimate held to the limit; the output's
 /// name checked too, all before any rendering work.
-fn load_and_check(args: &RenderArgs, memory: &MemoryLimit) -> Result<Loaded, Failure> {
-    let (mut scene, stem) = load_scene(args.scene.as_deref(), memory)?;
-    apply_overrides(&mut scene, args)?;
+fn load_and_check(
+    args: &RenderArgs,
+    path: Option<&Path>,
+    shading: Shading,
+    memory: &MemoryLimit,
+) -> Result<Loaded, Failure> {
+    let (mut scene, stem) = load_scene(path, memory)?;
+    apply_overrides(&mut scene, args, &[shading], true)?;
     // The output's name and folder, before any rendering: its folder is
     // created, and a folder that cannot be written fails now, not after
     // the render.
-    let out = output_path(args, &stem);
+    let out = output_path(args, &stem, shading);
     shadelab::output::ImageFormat::from_path(&out)?;
     shadelab::output::prepare_output_path(&out)?;
-    let choice = (args.backend == "auto").then(|| backend_choice::choose(&scene, args.shading));
+    let choice = (args.backend == "auto").then(|| backend_choice::choose(&scene, shading));
     let backend = match (&choice, args.backend.as_str()) {
         (Some(choice), _) => choice.backend,
         (None, "cpu") => Backend::Cpu,
         (None, _) => Backend::Gpu,
     };
     let estimate = match backend {
-        Backend::Cpu => memory.check(&stem, &scene, &[], &[args.shading])?,
-        Backend::Gpu => memory.check(&stem, &scene, &[args.shading], &[])?,
+        Backend::Cpu => memory.check(&stem, &scene, &[], &[shading])?,
+        Backend::Gpu => memory.check(&stem, &scene, &[shading], &[])?,
     };
     Ok(Loaded {
         scene,
@@ -266,11 +336,16 @@ fn load_and_check(args: &RenderArgs, memory: &MemoryLimit) -> Result<Loaded, Fai
 }
 
 pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
+    if args.is_batch() {
+        return super::render_batch::run(&args, options, memory);
+    }
     let command_started = Instant::now();
+    let path = args.scenes.first().map(PathBuf::as_path);
+    let shading = args.modes()[0];
     // `auto` chooses once the scene is loaded; `gpu` opens the device
     // meanwhile.
     let opening = (args.backend == "gpu").then(|| OpeningDevice::start(options));
-    let loaded = load_and_check(&args, memory);
+    let loaded = load_and_check(&args, path, shading, memory);
     let Loaded {
         scene,
         stem,
@@ -292,17 +367,9 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
     for warning in &scene.warnings {
         eprintln!("shadelab: warning: {warning}");
     }
-    let out = output_path(&args, &stem);
+    let out = output_path(&args, &stem, shading);
     let format = shadelab::output::ImageFormat::from_path(&out)?;
-    // A PNG holds 8-bit sRGB: the raster modes render straight into it.
-    // A lighting hook is the user's code, and may return NaN: the float
-    // target keeps it to be counted, where the 8-bit one turns it into a
-    // colour on the way in.
-    let target = if scene.lighting_hook.is_some() {
-        ColorTarget::Float32
-    } else {
-        ColorTarget::for_output(format)
-    };
+    let target = color_target(&scene, format);
     let mut device_ms = None;
     let mut context = None;
     if backend == Backend::Gpu {
@@ -316,7 +383,7 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
             Err(e) if choice.as_ref().is_some_and(|c| !c.needs_gpu) => {
                 eprintln!("shadelab: warning: --backend auto: no GPU ({e}); rendering on the CPU reference");
                 backend = Backend::Cpu;
-                estimate = memory.check(&stem, &scene, &[], &[args.shading])?;
+                estimate = memory.check(&stem, &scene, &[], &[shading])?;
                 if let Some(choice) = &mut choice {
                     choice.backend = Backend::Cpu;
                     choice.why = format!("no GPU to open ({e})");
@@ -332,26 +399,23 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
     }
     let (rendered, device, driver) = if let Some(context) = context {
         let rendered =
-            shadelab::render::render_gpu_to(&context, &scene, args.shading, args.stats, target)?;
+            shadelab::render::render_gpu_to(&context, &scene, shading, args.stats, target)?;
         let info = &context.info;
         (rendered, info.name.clone(), Some(info.driver.clone()))
     } else {
-        let (rendered, _) = shadelab::render::render_cpu(&scene, args.shading)?;
+        let (rendered, _) = shadelab::render::render_cpu(&scene, shading)?;
         (rendered, "CPU reference (f64)".to_string(), None)
     };
     let settings = effective_settings(
-        &args,
+        path,
+        shading,
         &scene,
         backend,
         &rendered,
         &device,
         driver.as_deref(),
     );
-    let metadata = shadelab::output::ImageMetadata::software()
-        .with("Title", stem.as_str())
-        .with("Source", device.as_str())
-        .with("Comment", settings_line(&settings))
-        .with("shadelab:settings", settings.to_string());
+    let metadata = image_metadata(&stem, &device, &settings);
     let encode_started = Instant::now();
     shadelab::output::write_image_with(&rendered.image, &out, &metadata)?;
     let non_finite = rendered.image.non_finite_pixels();
@@ -371,14 +435,14 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
     if args.json {
         let value = serde_json::json!({
             "output": out,
-            "shading": args.shading,
+            "shading": shading,
             "backend": backend.name(),
             "backend_choice": choice,
             "width": rendered.image.width,
             "height": rendered.image.height,
             "device": device,
             "driver": driver,
-            "color_target": (backend == Backend::Gpu && args.shading.raster_mode().is_some())
+            "color_target": (backend == Backend::Gpu && shading.raster_mode().is_some())
                 .then(|| target.name()),
             "traversal": rendered.traversal.map(|t| t.name()),
             "timings_ms": rendered.timings,
@@ -407,12 +471,12 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
             out.display(),
             rendered.image.width,
             rendered.image.height,
-            args.shading,
+            shading,
             rendered.timings.total_ms,
             device
         );
         if args.stats {
-            print_stats(rendered.ray_stats.as_ref(), &rendered.timings, args.shading);
+            print_stats(rendered.ray_stats.as_ref(), &rendered.timings, shading);
         }
     }
     if non_finite > 0 {
@@ -441,7 +505,7 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
 
 /// The ray statistics as a two-column table (`docs/raytracing.md`,
 /// "Counting"). A raster render has none.
-fn print_stats(stats: Option<&RayStats>, timings: &Timings, shading: Shading) {
+pub(super) fn print_stats(stats: Option<&RayStats>, timings: &Timings, shading: Shading) {
     let Some(s) = stats else {
         println!("stats: none ({shading} casts no rays)");
         return;

@@ -76,8 +76,17 @@ impl OneShot {
 
 impl Drop for OneShot {
     fn drop(&mut self) {
+        // vkDeviceWaitIdle uses every queue: another thread's submission
+        // on this device must wait (the validation layer's threading check
+        // caught two batch cases idling and submitting at once).
+        let _queue = self
+            .context
+            .queue_lock
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
         // SAFETY: submissions are waited for before this object is dropped;
-        // after an error the device is idled first so nothing is in flight.
+        // after an error the device is idled first so nothing is in flight;
+        // `_queue` serialises the idling with other threads' submissions.
         unsafe {
             let _ = self.context.device.device_wait_idle();
             if self.fence != vk::Fence::null() {

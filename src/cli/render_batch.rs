@@ -1,0 +1,446 @@
+//! `shadelab render` with many scenes or modes (or `--out-dir`): each scene
+//! in each mode, on one device whose built pipelines every case shares, the
+//! images named by `--name` in `--out-dir`. A case that fails is reported
+//! and the others go on; the exit status is the first failed case's.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+use shadelab::backend_choice::{self, Backend, Choice};
+use shadelab::gpu::{GpuContext, GpuOptions};
+use shadelab::memory::MemoryLimit;
+use shadelab::output::ImageFormat;
+use shadelab::scene::Scene;
+use shadelab::shading::Shading;
+
+use super::cases::{case_workers, in_order};
+use super::render::{
+    apply_overrides, color_target, effective_settings, image_metadata, load_scene, print_stats,
+    RenderArgs,
+};
+use super::Failure;
+
+/// One scene of the batch: loaded with the overrides applied, or why not.
+struct PlannedScene {
+    path: Option<PathBuf>,
+    /// The `{scene}` of the file names: the file's stem, made unique.
+    name: String,
+    scene: Result<Scene, Failure>,
+}
+
+/// One image to make: which scene, which mode, where, on which backend.
+struct PlannedCase {
+    scene: usize,
+    shading: Shading,
+    out: PathBuf,
+    /// The backend, or why the case cannot run (over the memory limit).
+    backend: Result<Backend, Failure>,
+    choice: Option<Choice>,
+    /// The memory estimate (0 where the case cannot run).
+    estimate: u64,
+}
+
+/// What one case came to: the JSON object, the line for people, the ray
+/// statistics to print, and the failure if it failed.
+struct CaseDone {
+    value: serde_json::Value,
+    line: Option<String>,
+    stats: Option<(shadelab::render::Rendered, Shading)>,
+    failure: Option<Failure>,
+}
+
+/// The file name `pattern` gives for a scene and a mode.
+fn file_name(pattern: &str, scene: &str, shading: Shading) -> String {
+    pattern
+        .replace("{scene}", scene)
+        .replace("{mode}", &shading.to_string())
+}
+
+/// Refuses a `--name` pattern that would give two cases one file, names a
+/// placeholder other than `{scene}` and `{mode}`, or is not a .png/.exr
+/// file name in the folder itself.
+fn check_pattern(pattern: &str, scenes: usize, modes: usize) -> Result<(), Failure> {
+    let bad = |why: &str| Err(Failure::usage(format!("--name {pattern:?} {why}")));
+    let stripped = pattern.replace("{scene}", "").replace("{mode}", "");
+    if stripped.contains(['{', '}']) {
+        return bad("has a placeholder other than {scene} and {mode}");
+    }
+    if pattern.contains(['/', '\\']) {
+        return bad("must be a file name, not a path (the folder is --out-dir)");
+    }
+    if scenes > 1 && !pattern.contains("{scene}") {
+        return bad("needs {scene}: there is more than one scene");
+    }
+    if modes > 1 && !pattern.contains("{mode}") {
+        return bad("needs {mode}: there is more than one mode");
+    }
+    ImageFormat::from_path(Path::new(&file_name(pattern, "scene", Shading::Phong)))?;
+    Ok(())
+}
+
+fn plan_scenes(args: &RenderArgs, modes: &[Shading], memory: &MemoryLimit) -> Vec<PlannedScene> {
+    let paths: Vec<Option<PathBuf>> = if args.scenes.is_empty() {
+        vec![None]
+    } else {
+        args.scenes.iter().cloned().map(Some).collect()
+    };
+    let mut planned: Vec<PlannedScene> = Vec::new();
+    for path in paths {
+        let loaded = load_scene(path.as_deref(), memory).and_then(|(mut scene, stem)| {
+            apply_overrides(&mut scene, args, modes, false)?;
+            Ok((scene, stem))
+        });
+        let (scene, mut name) = match loaded {
+            Ok((scene, stem)) => (Ok(scene), stem),
+            Err(failure) => {
+                let stem = path.as_ref().and_then(|p| p.file_stem()).map_or_else(
+                    || "default".to_string(),
+                    |s| s.to_string_lossy().into_owned(),
+                );
+                (Err(failure), stem)
+            }
+        };
+        if planned.iter().any(|p| p.name == name) {
+            name = format!("{name}-{}", planned.len() + 1);
+        }
+        planned.push(PlannedScene { path, name, scene });
+    }
+    planned
+}
+
+/// The backend each case renders on: `--backend`, or for `auto` the
+/// choice made for that scene and mode; the memory estimate held to the
+/// limit.
+fn plan_case(
+    args: &RenderArgs,
+    scene: &PlannedScene,
+    shading: Shading,
+    memory: &MemoryLimit,
+) -> (Result<(Backend, u64), Failure>, Option<Choice>) {
+    let loaded = match &scene.scene {
+        Ok(loaded) => loaded,
+        Err(failure) => return (Err(failure.clone()), None),
+    };
+    let choice = (args.backend == "auto").then(|| backend_choice::choose(loaded, shading));
+    let backend = match (&choice, args.backend.as_str()) {
+        (Some(choice), _) => choice.backend,
+        (None, "cpu") => Backend::Cpu,
+        (None, _) => Backend::Gpu,
+    };
+    let (gpu_modes, cpu_modes): (&[Shading], &[Shading]) = match backend {
+        Backend::Gpu => (&[shading], &[]),
+        Backend::Cpu => (&[], &[shading]),
+    };
+    let estimate = memory.check(&scene.name, loaded, gpu_modes, cpu_modes);
+    (
+        estimate.map(|e| (backend, e)).map_err(Failure::from),
+        choice,
+    )
+}
+
+pub fn run(args: &RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
+    let started = Instant::now();
+    let modes = args.modes();
+    let scene_count = args.scenes.len().max(1);
+    if let Some(out) = &args.out {
+        return Err(Failure::usage(format!(
+            "--out {} names one image, and this is a batch of {} ({} scene(s) x {} mode(s)): give --out-dir DIR (and --name PATTERN) instead",
+            out.display(),
+            scene_count * modes.len(),
+            scene_count,
+            modes.len()
+        )));
+    }
+    check_pattern(&args.name, scene_count, modes.len())?;
+    // The flags that apply to every scene, checked once on the default
+    // scene: a bad value is a usage error, not an error in every case.
+    apply_overrides(&mut shadelab::scene::default_scene(), args, &modes, true)?;
+    let out_dir = args.out_dir.clone().unwrap_or_else(|| PathBuf::from("."));
+    shadelab::output::prepare_output_folder(&out_dir)?;
+
+    let scenes = plan_scenes(args, &modes, memory);
+    let mut cases = Vec::new();
+    for (i, scene) in scenes.iter().enumerate() {
+        for &shading in &modes {
+            let (planned, choice) = plan_case(args, scene, shading, memory);
+            let out = out_dir.join(file_name(&args.name, &scene.name, shading));
+            cases.push(PlannedCase {
+                scene: i,
+                shading,
+                out,
+                estimate: planned.as_ref().map_or(0, |&(_, e)| e),
+                backend: planned.map(|(b, _)| b),
+                choice,
+            });
+        }
+    }
+    for scene in &scenes {
+        if let Ok(loaded) = &scene.scene {
+            for warning in &loaded.warnings {
+                eprintln!("shadelab: warning: {}: {warning}", scene.name);
+            }
+        }
+    }
+
+    // One device for the batch, opened only if a case renders on it.
+    let wants_gpu = cases.iter().any(|c| matches!(c.backend, Ok(Backend::Gpu)));
+    let (context, no_device) = if wants_gpu {
+        match GpuContext::new(options) {
+            Ok(context) => (Some(context), None),
+            Err(e) => (None, Some(Failure::from(e))),
+        }
+    } else {
+        (None, None)
+    };
+    if let Some(no_device) = &no_device {
+        // `auto` renders on the CPU where there is no GPU, as for one image.
+        for case in &mut cases {
+            if let Some(choice) = case.choice.as_mut().filter(|c| !c.needs_gpu) {
+                if matches!(case.backend, Ok(Backend::Gpu)) {
+                    choice.backend = Backend::Cpu;
+                    choice.why = format!("no GPU to open ({})", no_device.message);
+                    case.backend = Ok(Backend::Cpu);
+                }
+            }
+        }
+    }
+
+    let largest = cases.iter().map(|c| c.estimate).max().unwrap_or(0);
+    let workers = case_workers(cases.len(), largest, memory);
+    let jobs: Vec<usize> = (0..cases.len()).collect();
+    let run_case = |context: &Option<Arc<GpuContext>>, k: usize| {
+        let case = &cases[k];
+        let scene = &scenes[case.scene];
+        render_case(args, scene, case, context.as_ref(), no_device.as_ref())
+    };
+    let mut failures: Vec<(String, Failure)> = Vec::new();
+    let mut values = Vec::new();
+    let report = |k: usize, done: CaseDone| {
+        let case = &cases[k];
+        let label = format!("{}/{}", scenes[case.scene].name, case.shading);
+        if !args.json {
+            if let Some(line) = &done.line {
+                println!("{line}");
+            }
+            if let Some((rendered, shading)) = &done.stats {
+                print_stats(rendered.ray_stats.as_ref(), &rendered.timings, *shading);
+            }
+            if let Some(failure) = &done.failure {
+                eprintln!("shadelab: error: {label}: {}", failure.message);
+            }
+        }
+        if let Some(failure) = done.failure {
+            failures.push((label, failure));
+        }
+        values.push(done.value);
+        Ok(())
+    };
+    let shared = context.clone();
+    in_order(
+        &context,
+        || Some(shared.clone()),
+        &jobs,
+        workers,
+        run_case,
+        report,
+    )?;
+
+    let failed = failures.len();
+    if args.json {
+        let value = serde_json::json!({
+            "out_dir": out_dir,
+            "cases": values,
+            "rendered": cases.len() - failed,
+            "failed": failed,
+            // Every case on the one device shares what it built: a scene
+            // rendered twice in a mode builds one pipeline.
+            "pipelines_built": context.as_ref().map(|c| c.pipelines_kept()),
+            "wall_ms": shadelab::gpu::ms_since(started),
+        });
+        println!("{value}");
+    } else {
+        println!(
+            "rendered {} of {} images into {} in {:.0} ms{}",
+            cases.len() - failed,
+            cases.len(),
+            out_dir.display(),
+            shadelab::gpu::ms_since(started),
+            if failed > 0 {
+                format!("; {failed} failed")
+            } else {
+                String::new()
+            }
+        );
+    }
+    match failures.into_iter().next() {
+        None => Ok(()),
+        Some((label, first)) => Err(Failure {
+            code: first.code,
+            message: format!(
+                "{failed} of {} images failed, the first {label}: {}",
+                cases.len(),
+                first.message
+            ),
+        }),
+    }
+}
+
+/// Renders one case and writes its image; every failure becomes the case's.
+fn render_case(
+    args: &RenderArgs,
+    scene: &PlannedScene,
+    case: &PlannedCase,
+    context: Option<&Arc<GpuContext>>,
+    no_device: Option<&Failure>,
+) -> CaseDone {
+    let mut value = serde_json::json!({
+        "scene": scene.path.as_ref().map_or_else(
+            || "built-in default scene".to_string(),
+            |p| p.display().to_string(),
+        ),
+        "name": scene.name,
+        "shading": case.shading,
+        "output": case.out,
+    });
+    match write_case(args, scene, case, context, no_device) {
+        Ok(done) => {
+            let object = value.as_object_mut().expect("an object");
+            object.extend(done.value.as_object().expect("an object").clone());
+            object.insert(
+                "status".into(),
+                if done.failure.is_some() {
+                    "failed"
+                } else {
+                    "ok"
+                }
+                .into(),
+            );
+            if let Some(failure) = &done.failure {
+                object.insert("error".into(), failure.message.clone().into());
+            }
+            CaseDone { value, ..done }
+        }
+        Err(failure) => {
+            value["status"] = "failed".into();
+            value["error"] = failure.message.clone().into();
+            CaseDone {
+                value,
+                line: None,
+                stats: None,
+                failure: Some(failure),
+            }
+        }
+    }
+}
+
+fn write_case(
+    args: &RenderArgs,
+    planned: &PlannedScene,
+    case: &PlannedCase,
+    context: Option<&Arc<GpuContext>>,
+    no_device: Option<&Failure>,
+) -> Result<CaseDone, Failure> {
+    let scene = planned.scene.as_ref().map_err(Clone::clone)?;
+    let backend = case.backend.clone()?;
+    let format = ImageFormat::from_path(&case.out)?;
+    let (rendered, device, driver) = match (backend, context) {
+        (Backend::Gpu, Some(context)) => {
+            let target = color_target(scene, format);
+            let rendered =
+                shadelab::render::render_gpu_to(context, scene, case.shading, args.stats, target)?;
+            let info = &context.info;
+            (rendered, info.name.clone(), Some(info.driver.clone()))
+        }
+        (Backend::Gpu, None) => {
+            return Err(no_device
+                .cloned()
+                .unwrap_or_else(|| Failure::usage("no device".into())))
+        }
+        (Backend::Cpu, _) => {
+            let (rendered, _) = shadelab::render::render_cpu(scene, case.shading)?;
+            (rendered, "CPU reference (f64)".to_string(), None)
+        }
+    };
+    let settings = effective_settings(
+        planned.path.as_deref(),
+        case.shading,
+        scene,
+        backend,
+        &rendered,
+        &device,
+        driver.as_deref(),
+    );
+    let metadata = image_metadata(&planned.name, &device, &settings);
+    shadelab::output::write_image_with(&rendered.image, &case.out, &metadata)?;
+    let non_finite = rendered.image.non_finite_pixels();
+    let mut value = serde_json::json!({
+        "backend": backend.name(),
+        "backend_choice": case.choice,
+        "width": rendered.image.width,
+        "height": rendered.image.height,
+        "device": device,
+        "driver": driver,
+        "traversal": rendered.traversal.map(|t| t.name()),
+        "timings_ms": rendered.timings,
+        "non_finite_pixels": non_finite,
+        "settings": settings,
+    });
+    if args.stats {
+        value["stats"] =
+            serde_json::to_value(rendered.ray_stats).expect("ray statistics serialise to JSON");
+    }
+    let auto = case
+        .choice
+        .as_ref()
+        .map(|c| format!("; backend auto: {}", c.why))
+        .unwrap_or_default();
+    let line = format!(
+        "wrote {} ({}x{}, {}, {:.1} ms on {device}{auto})",
+        case.out.display(),
+        rendered.image.width,
+        rendered.image.height,
+        case.shading,
+        rendered.timings.total_ms,
+    );
+    let failure = (non_finite > 0).then(|| Failure {
+        code: 1,
+        message: format!(
+            "{non_finite} of {} pixels are not finite (NaN or infinity){}",
+            rendered.image.pixels.len(),
+            if scene.lighting_hook.is_some() {
+                " (the lighting hook returned them)"
+            } else {
+                ""
+            }
+        ),
+    });
+    Ok(CaseDone {
+        value,
+        line: Some(line),
+        stats: args.stats.then_some((rendered, case.shading)),
+        failure,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn patterns_that_would_overwrite_or_misname_are_refused() {
+        assert!(check_pattern("{scene}-{mode}.png", 3, 4).is_ok());
+        assert!(check_pattern("{mode}.exr", 1, 4).is_ok());
+        assert!(check_pattern("{scene}.png", 3, 1).is_ok());
+        let message = |p: &str, s, m| check_pattern(p, s, m).err().map(|f| f.message);
+        assert!(message("{scene}.png", 1, 2).is_some_and(|m| m.contains("needs {mode}")));
+        assert!(message("{mode}.png", 2, 1).is_some_and(|m| m.contains("needs {scene}")));
+        assert!(message("{scene}-{shading}.png", 1, 1).is_some_and(|m| m.contains("placeholder")));
+        assert!(message("a/{scene}.png", 1, 1).is_some_and(|m| m.contains("not a path")));
+        assert!(message("{scene}.jpg", 1, 1).is_some());
+        assert_eq!(
+            file_name("{scene}_{mode}.exr", "room", Shading::Gouraud),
+            "room_gouraud.exr"
+        );
+    }
+}
