@@ -297,6 +297,18 @@ fn stale_temporary_pid(name: &str) -> Option<u32> {
     pid.parse().ok()
 }
 
+/// The text of a PNG's `tEXt` chunk named `keyword` (where `render`
+/// writes its settings), or `None` where there is none or `bytes` is not a
+/// PNG.
+pub fn png_text(bytes: &[u8], keyword: &str) -> Option<String> {
+    let reader = png::Decoder::new(Cursor::new(bytes)).read_info().ok()?;
+    let info = reader.info();
+    info.uncompressed_latin1_text
+        .iter()
+        .find(|c| c.keyword == keyword)
+        .map(|c| c.text.clone())
+}
+
 /// Reads a PNG (decoded from sRGB to linear) or an EXR (linear as stored).
 pub fn read_image(path: &Path) -> Result<LinearImage, OutputError> {
     let read_err = |message: String| OutputError::Read {

@@ -597,3 +597,40 @@ fn two_folders_are_compared_image_by_image_with_junit() {
     std::fs::create_dir_all(dir.path().join("e2")).unwrap();
     assert_eq!(shadelab(dir.path(), &["diff", "e1", "e2"]).code, 2);
 }
+
+/// The presets by purpose: one pixel of 400 off by 0.02 (two 8-bit steps
+/// at mid grey) is within the GPU-against-reference limits (the 99th
+/// percentile ignores it, max_abs allows an edge pixel anything) and over
+/// the stored-reference ones (no pixel off by more than 0.01); a flag on
+/// top of the preset wins.
+#[test]
+fn the_stored_reference_preset_fails_what_the_default_lets_through() {
+    let dir = tempfile::tempdir().unwrap();
+    let expected = LinearImage::new(20, 20, [0.25; 3]);
+    let mut actual = expected.clone();
+    actual.set(7, 9, [0.27, 0.25, 0.25]);
+    write_pair(dir.path(), &expected, &actual, "exr");
+    let run = |extra: &[&str]| {
+        let mut args = vec!["diff", "expected.exr", "actual.exr", "--json"];
+        args.extend_from_slice(extra);
+        shadelab(dir.path(), &args)
+    };
+    let loose = run(&[]);
+    assert_eq!(loose.code, 0, "{}", loose.stderr);
+    assert_eq!(json(&loose)["preset"], "gpu-vs-reference");
+    let tight = run(&["--preset", "stored-reference"]);
+    assert_eq!(tight.code, 1, "{}", tight.stdout);
+    let j = json(&tight);
+    assert_eq!(j["preset"], "stored-reference");
+    assert_eq!(j["thresholds"]["max_abs"], 0.01);
+    assert!(
+        tight
+            .stderr
+            .contains("max_abs 0.020000 exceeds the limit 0.01"),
+        "{}",
+        tight.stderr
+    );
+    let eased = run(&["--preset", "stored-reference", "--max-abs", "0.03"]);
+    assert_eq!(eased.code, 0, "{}", eased.stderr);
+    assert_eq!(run(&["--preset", "exact"]).code, 2);
+}

@@ -60,6 +60,7 @@ fn every_synopsis_lists_exactly_its_commands_flags() {
         ("docs/cli.md", "info"),
         ("docs/cli.md", "warm"),
         ("docs/check.md", "check"),
+        ("docs/golden.md", "golden"),
         ("docs/compare.md", "compare"),
     ] {
         let help = help_flags(command);

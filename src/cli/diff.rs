@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
+use shadelab::linear_image::LinearImage;
 use shadelab::metrics::{
     self, format_figure, Comparison, ErrorStats, Settings, Thresholds, Verdict,
 };
@@ -13,7 +14,7 @@ use super::Failure;
 
 /// The `--edge-threshold` default: a step of 0.1 in linear intensity between
 /// neighbours counts as an edge (see `metrics::edges::gradient_mask`).
-const EDGE_THRESHOLD: f64 = 0.1;
+pub(super) const EDGE_THRESHOLD: f64 = 0.1;
 
 #[derive(Args)]
 pub struct DiffArgs {
@@ -25,6 +26,12 @@ pub struct DiffArgs {
     /// Also write a JUnit XML report here: one case per image.
     #[arg(long, value_name = "FILE.xml")]
     pub(super) junit: Option<PathBuf>,
+    /// The limits to start from, named by purpose: a GPU render against a
+    /// reference renderer's (loose: rounding and edge pixels pass), or a
+    /// render against a stored render of the same renderer (one 8-bit step
+    /// per pixel at most). --threshold and the flags below change them.
+    #[arg(long, value_enum, default_value = "gpu-vs-reference")]
+    preset: Preset,
     /// Thresholds: `FIGURE=X[,FIGURE=X...]` for flip_mean, max_abs,
     /// p99_abs, rmse, fraction_over, count_over (ceilings) or psnr (a
     /// floor, dB), or a bare X for flip_mean. May be repeated; the flags
@@ -71,11 +78,49 @@ fn check_limit(name: &str, value: f64) -> Result<f64, Failure> {
     }
 }
 
-/// The thresholds from `--threshold` and the per-figure flags, on top of the
-/// defaults.
-fn thresholds(args: &DiffArgs) -> Result<Thresholds, Failure> {
-    let mut t = Thresholds::default();
-    for entry in args.threshold.iter().flat_map(|e| e.split(',')) {
+/// Limits named by what they compare (`--preset`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub(super) enum Preset {
+    /// A GPU render against a reference renderer's image of the same
+    /// scene: `Thresholds::default()`.
+    GpuVsReference,
+    /// A render against a stored render of the same renderer and driver,
+    /// which repeats bit for bit: no pixel off by more than 0.01, a bit
+    /// over the largest one 8-bit sRGB step (0.0089, at the top of the
+    /// range), so a last-bit change that tips a pixel over one step
+    /// passes and anything of two steps fails.
+    StoredReference,
+}
+
+impl Preset {
+    pub fn thresholds(self) -> Thresholds {
+        match self {
+            Preset::GpuVsReference => Thresholds::default(),
+            Preset::StoredReference => Thresholds {
+                max_abs: 0.01,
+                p99_abs: 0.01,
+                ..Thresholds::default()
+            },
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Preset::GpuVsReference => "gpu-vs-reference",
+            Preset::StoredReference => "stored-reference",
+        }
+    }
+}
+
+/// `--threshold`'s entries (`FIGURE=X,...` or a bare X for flip_mean) on
+/// top of `base`.
+pub(super) fn parse_thresholds(
+    base: Thresholds,
+    entries: &[String],
+) -> Result<Thresholds, Failure> {
+    let mut t = base;
+    for entry in entries.iter().flat_map(|e| e.split(',')) {
         let (figure, text) = entry.split_once('=').unwrap_or(("flip_mean", entry));
         let value = text.trim().parse::<f64>().map_err(|_| {
             Failure::usage(format!(
@@ -108,6 +153,12 @@ fn thresholds(args: &DiffArgs) -> Result<Thresholds, Failure> {
             }
         }
     }
+    Ok(t)
+}
+
+/// The thresholds from the preset, `--threshold` and the per-figure flags.
+fn thresholds(args: &DiffArgs) -> Result<Thresholds, Failure> {
+    let mut t = parse_thresholds(args.preset.thresholds(), &args.threshold)?;
     if let Some(v) = args.flip_mean {
         t.flip_mean = check_limit("--flip-mean", v)?;
     }
@@ -145,24 +196,31 @@ pub(super) fn compare_files(
 ) -> Result<PairOutcome, Failure> {
     let expected_image = output::read_image(expected)?;
     let actual_image = output::read_image(actual)?;
-    let mask = metrics::gradient_mask(&expected_image, judging.edge_threshold);
-    let comparison = metrics::compare_with(
-        &expected_image,
-        &actual_image,
-        Some(&mask),
-        &judging.settings,
-    )
-    .map_err(|e| {
+    let mut outcome = compare_images(&expected_image, &actual_image, judging).map_err(|e| {
         Failure::usage(format!(
             "cannot compare {} with {}: {e}",
             expected.display(),
             actual.display()
         ))
     })?;
+    outcome.note = formats_differ(expected, actual);
+    Ok(outcome)
+}
+
+/// Compares two images as `judging` says; the error is why they cannot
+/// be compared (sizes that differ).
+pub(super) fn compare_images(
+    expected: &LinearImage,
+    actual: &LinearImage,
+    judging: &Judging,
+) -> Result<PairOutcome, String> {
+    let mask = metrics::gradient_mask(expected, judging.edge_threshold);
+    let comparison = metrics::compare_with(expected, actual, Some(&mask), &judging.settings)
+        .map_err(|e| e.to_string())?;
     Ok(PairOutcome {
         verdicts: judging.thresholds.verdicts(&comparison),
         failures: judging.thresholds.check(&comparison),
-        note: formats_differ(expected, actual),
+        note: None,
         comparison,
     })
 }
@@ -228,6 +286,7 @@ pub fn run(args: DiffArgs) -> Result<(), Failure> {
             "pass": failures.is_empty(),
             "failures": failures,
             "verdicts": verdicts,
+            "preset": args.preset,
             "thresholds": thresholds,
             "settings": settings,
             "edge_threshold": edge_threshold,

@@ -8,6 +8,8 @@ mod check_report;
 mod compare;
 mod diff;
 mod diff_folders;
+mod golden;
+mod golden_report;
 mod info;
 mod render;
 mod render_batch;
@@ -42,6 +44,10 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Render on the GPU and with the CPU reference, and compare.
     Check(check::CheckArgs),
+    /// Render scenes and compare each with its stored reference image
+    /// (image regression tests): --create makes missing references,
+    /// --bless accepts changed ones.
+    Golden(golden::GoldenArgs),
     /// One scene in many shader variants: speed against error.
     Compare(compare::CompareArgs),
     /// Compare two images (PNG or EXR): error figures, FLIP, an optional heat
@@ -152,6 +158,7 @@ pub fn run() -> ExitCode {
         Command::Bench(a) => a.machine.clone(),
         Command::Check(a) => a.machine.clone(),
         Command::Compare(a) => a.machine.clone(),
+        Command::Golden(a) => a.machine.clone(),
         Command::Info(a) => a.machine.clone(),
         Command::Warm(a) => a.machine.clone(),
         Command::Diff(_) => args::MachineArgs::default(),
@@ -174,6 +181,7 @@ pub fn run() -> ExitCode {
         Command::Check(args) => check::run(args, &gpu_options, &memory),
         Command::Compare(args) => compare::run_command(args, &gpu_options, &memory),
         Command::Diff(args) => diff::run(args),
+        Command::Golden(args) => golden::run(args, &gpu_options, &memory),
         Command::Info(args) => info::run(args, &gpu_options),
         Command::Warm(args) => warm::run(args, &gpu_options, &memory),
     };

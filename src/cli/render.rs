@@ -33,22 +33,22 @@ pub struct RenderArgs {
     #[arg(long, default_value = "gpu", value_parser = ["gpu", "cpu", "auto"])]
     pub(super) backend: String,
     #[command(flatten)]
-    size: ImageSize,
+    pub(super) size: ImageSize,
     #[command(flatten)]
-    lighting: LightingArg,
+    pub(super) lighting: LightingArg,
     #[command(flatten)]
-    traversal: TraversalArg,
+    pub(super) traversal: TraversalArg,
     #[command(flatten)]
-    depth: DepthArg,
+    pub(super) depth: DepthArg,
     /// Ray tracing: adaptive depth cut-off on the ray weight.
     #[arg(long)]
-    cutoff: Option<f64>,
+    pub(super) cutoff: Option<f64>,
     /// Ray tracing: samples per pixel.
     #[arg(long)]
-    samples: Option<u32>,
+    pub(super) samples: Option<u32>,
     /// Ray tracing: no shadow rays.
     #[arg(long)]
-    no_shadows: bool,
+    pub(super) no_shadows: bool,
     /// Output image: .png (8-bit sRGB) or .exr (linear 32-bit float).
     /// Default: <scene name>-<mode>.png in the current folder.
     #[arg(long, short)]

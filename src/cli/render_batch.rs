@@ -33,7 +33,8 @@ struct PlannedScene {
 struct PlannedCase {
     scene: usize,
     shading: Shading,
-    out: PathBuf,
+    /// Its file's name, from `--name`.
+    file_name: String,
     /// The backend, or why the case cannot run (over the memory limit).
     backend: Result<Backend, Failure>,
     choice: Option<Choice>,
@@ -139,6 +140,231 @@ fn plan_case(
     )
 }
 
+/// A batch planned: its scenes loaded, its cases' backends chosen, the
+/// device opened if a case needs it.
+pub(super) struct Batch {
+    scenes: Vec<PlannedScene>,
+    cases: Vec<PlannedCase>,
+    context: Option<Arc<GpuContext>>,
+    no_device: Option<Failure>,
+    workers: usize,
+}
+
+/// One case as the code that handles its image sees it.
+pub(super) struct CaseView<'a> {
+    /// The scene's name in file names (`{scene}`).
+    pub name: &'a str,
+    pub path: Option<&'a Path>,
+    pub shading: Shading,
+    /// The file name `--name` gives it.
+    pub file_name: &'a str,
+    pub backend_choice: Option<&'a Choice>,
+}
+
+/// A case's image as rendered, and what it says of itself.
+pub(super) struct Made {
+    pub rendered: shadelab::render::Rendered,
+    pub backend: Backend,
+    pub device: String,
+    pub driver: Option<String>,
+    /// `render --json`'s `settings`, also in the PNG.
+    pub settings: serde_json::Value,
+    pub metadata: shadelab::output::ImageMetadata,
+    pub lighting_hook: bool,
+}
+
+impl Batch {
+    /// Loads the scenes, chooses each case's backend, opens the device if
+    /// a case needs it. A scene that does not load fails its own cases.
+    pub fn plan(
+        args: &RenderArgs,
+        options: &GpuOptions,
+        memory: &MemoryLimit,
+    ) -> Result<Batch, Failure> {
+        let modes = args.modes();
+        let scene_count = args.scenes.len().max(1);
+        check_pattern(&args.name, scene_count, modes.len())?;
+        // The flags that apply to every scene, checked once on the default
+        // scene: a bad value is a usage error, not an error in every case.
+        apply_overrides(&mut shadelab::scene::default_scene(), args, &modes, true)?;
+        let scenes = plan_scenes(args, &modes, memory);
+        let mut cases = Vec::new();
+        for (i, scene) in scenes.iter().enumerate() {
+            for &shading in &modes {
+                let (planned, choice) = plan_case(args, scene, shading, memory);
+                cases.push(PlannedCase {
+                    scene: i,
+                    shading,
+                    file_name: file_name(&args.name, &scene.name, shading),
+                    estimate: planned.as_ref().map_or(0, |&(_, e)| e),
+                    backend: planned.map(|(b, _)| b),
+                    choice,
+                });
+            }
+        }
+        for scene in &scenes {
+            if let Ok(loaded) = &scene.scene {
+                for warning in &loaded.warnings {
+                    eprintln!("shadelab: warning: {}: {warning}", scene.name);
+                }
+            }
+        }
+        // One device for the batch, opened only if a case renders on it.
+        let wants_gpu = cases.iter().any(|c| matches!(c.backend, Ok(Backend::Gpu)));
+        let (context, no_device) = if wants_gpu {
+            match GpuContext::new(options) {
+                Ok(context) => (Some(context), None),
+                Err(e) => (None, Some(Failure::from(e))),
+            }
+        } else {
+            (None, None)
+        };
+        if let Some(no_device) = &no_device {
+            // `auto` renders on the CPU where there is no GPU, as for one image.
+            for case in &mut cases {
+                if let Some(choice) = case.choice.as_mut().filter(|c| !c.needs_gpu) {
+                    if matches!(case.backend, Ok(Backend::Gpu)) {
+                        choice.backend = Backend::Cpu;
+                        choice.why = format!("no GPU to open ({})", no_device.message);
+                        case.backend = Ok(Backend::Cpu);
+                    }
+                }
+            }
+        }
+        let largest = cases.iter().map(|c| c.estimate).max().unwrap_or(0);
+        let workers = case_workers(cases.len(), largest, memory);
+        Ok(Batch {
+            scenes,
+            cases,
+            context,
+            no_device,
+            workers,
+        })
+    }
+
+    pub fn len(&self) -> usize {
+        self.cases.len()
+    }
+
+    /// The device every GPU case renders on, where one was opened.
+    pub fn context(&self) -> Option<&Arc<GpuContext>> {
+        self.context.as_ref()
+    }
+
+    fn view(&self, k: usize) -> CaseView<'_> {
+        let case = &self.cases[k];
+        let scene = &self.scenes[case.scene];
+        CaseView {
+            name: &scene.name,
+            path: scene.path.as_deref(),
+            shading: case.shading,
+            file_name: &case.file_name,
+            backend_choice: case.choice.as_ref(),
+        }
+    }
+
+    /// Renders every case, two at a time where that fits, and hands each
+    /// image (or why there is none) to `handle` on the worker, then its
+    /// result to `report` in the cases' order.
+    pub fn run<T: Send>(
+        &self,
+        args: &RenderArgs,
+        handle: impl Fn(&CaseView, Result<Made, Failure>) -> T + Sync,
+        mut report: impl FnMut(&CaseView, T) -> Result<(), Failure>,
+    ) -> Result<(), Failure> {
+        let jobs: Vec<usize> = (0..self.cases.len()).collect();
+        let run_case = |context: &Option<Arc<GpuContext>>, k: usize| {
+            let made = self.make(args, k, context.as_ref());
+            handle(&self.view(k), made)
+        };
+        let shared = self.context.clone();
+        in_order(
+            &self.context,
+            || Some(shared.clone()),
+            &jobs,
+            self.workers,
+            run_case,
+            |k, t| report(&self.view(k), t),
+        )
+    }
+
+    /// Renders case `k`.
+    fn make(
+        &self,
+        args: &RenderArgs,
+        k: usize,
+        context: Option<&Arc<GpuContext>>,
+    ) -> Result<Made, Failure> {
+        let case = &self.cases[k];
+        let planned = &self.scenes[case.scene];
+        let scene = planned.scene.as_ref().map_err(Clone::clone)?;
+        let backend = case.backend.clone()?;
+        let format = ImageFormat::from_path(Path::new(&case.file_name))?;
+        let (rendered, device, driver) = match (backend, context) {
+            (Backend::Gpu, Some(context)) => {
+                let target = color_target(scene, format);
+                let rendered = shadelab::render::render_gpu_to(
+                    context,
+                    scene,
+                    case.shading,
+                    args.stats,
+                    target,
+                )?;
+                let info = &context.info;
+                (rendered, info.name.clone(), Some(info.driver.clone()))
+            }
+            (Backend::Gpu, None) => {
+                return Err(self
+                    .no_device
+                    .clone()
+                    .unwrap_or_else(|| Failure::usage("no device".into())))
+            }
+            (Backend::Cpu, _) => {
+                let (rendered, _) = shadelab::render::render_cpu(scene, case.shading)?;
+                (rendered, "CPU reference (f64)".to_string(), None)
+            }
+        };
+        let settings = effective_settings(
+            planned.path.as_deref(),
+            case.shading,
+            scene,
+            backend,
+            &rendered,
+            &device,
+            driver.as_deref(),
+        );
+        let metadata = image_metadata(&planned.name, &device, &settings);
+        Ok(Made {
+            rendered,
+            backend,
+            device,
+            driver,
+            settings,
+            metadata,
+            lighting_hook: scene.lighting_hook.is_some(),
+        })
+    }
+}
+
+/// The pixels that are not finite, as a case's failure.
+pub(super) fn non_finite_failure(made: &Made) -> Option<Failure> {
+    let image = &made.rendered.image;
+    let non_finite = image.non_finite_pixels();
+    (non_finite > 0).then(|| Failure {
+        code: 1,
+        message: format!(
+            "{non_finite} of {} pixels are not finite (NaN or infinity){}",
+            image.pixels.len(),
+            if made.lighting_hook {
+                " (the lighting hook returned them)"
+            } else {
+                ""
+            }
+        ),
+    })
+}
+
+/// `render` with many images: each written into `--out-dir`.
 pub fn run(args: &RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
     let started = Instant::now();
     let modes = args.modes();
@@ -153,72 +379,57 @@ pub fn run(args: &RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Res
         )));
     }
     check_pattern(&args.name, scene_count, modes.len())?;
-    // The flags that apply to every scene, checked once on the default
-    // scene: a bad value is a usage error, not an error in every case.
-    apply_overrides(&mut shadelab::scene::default_scene(), args, &modes, true)?;
     let out_dir = args.out_dir.clone().unwrap_or_else(|| PathBuf::from("."));
     shadelab::output::prepare_output_folder(&out_dir)?;
-
-    let scenes = plan_scenes(args, &modes, memory);
-    let mut cases = Vec::new();
-    for (i, scene) in scenes.iter().enumerate() {
-        for &shading in &modes {
-            let (planned, choice) = plan_case(args, scene, shading, memory);
-            let out = out_dir.join(file_name(&args.name, &scene.name, shading));
-            cases.push(PlannedCase {
-                scene: i,
-                shading,
-                out,
-                estimate: planned.as_ref().map_or(0, |&(_, e)| e),
-                backend: planned.map(|(b, _)| b),
-                choice,
-            });
-        }
-    }
-    for scene in &scenes {
-        if let Ok(loaded) = &scene.scene {
-            for warning in &loaded.warnings {
-                eprintln!("shadelab: warning: {}: {warning}", scene.name);
+    let batch = Batch::plan(args, options, memory)?;
+    let mut failures: Vec<(String, Failure)> = Vec::new();
+    let mut values = Vec::new();
+    let handle = |view: &CaseView, made: Result<Made, Failure>| {
+        let out = out_dir.join(view.file_name);
+        let mut value = serde_json::json!({
+            "scene": view.path.map_or_else(
+                || "built-in default scene".to_string(),
+                |p| p.display().to_string(),
+            ),
+            "name": view.name,
+            "shading": view.shading,
+            "output": out,
+        });
+        let written = made.and_then(|made| {
+            shadelab::output::write_image_with(&made.rendered.image, &out, &made.metadata)?;
+            Ok(made)
+        });
+        match written {
+            Ok(made) => {
+                let failure = non_finite_failure(&made);
+                describe(args, view, &made, &out, &mut value);
+                value["status"] = if failure.is_some() { "failed" } else { "ok" }.into();
+                if let Some(failure) = &failure {
+                    value["error"] = failure.message.clone().into();
+                }
+                let line = made_line(view, &made, &out);
+                let stats = args.stats.then_some(made.rendered);
+                CaseDone {
+                    value,
+                    line: Some(line),
+                    stats: stats.map(|r| (r, view.shading)),
+                    failure,
+                }
             }
-        }
-    }
-
-    // One device for the batch, opened only if a case renders on it.
-    let wants_gpu = cases.iter().any(|c| matches!(c.backend, Ok(Backend::Gpu)));
-    let (context, no_device) = if wants_gpu {
-        match GpuContext::new(options) {
-            Ok(context) => (Some(context), None),
-            Err(e) => (None, Some(Failure::from(e))),
-        }
-    } else {
-        (None, None)
-    };
-    if let Some(no_device) = &no_device {
-        // `auto` renders on the CPU where there is no GPU, as for one image.
-        for case in &mut cases {
-            if let Some(choice) = case.choice.as_mut().filter(|c| !c.needs_gpu) {
-                if matches!(case.backend, Ok(Backend::Gpu)) {
-                    choice.backend = Backend::Cpu;
-                    choice.why = format!("no GPU to open ({})", no_device.message);
-                    case.backend = Ok(Backend::Cpu);
+            Err(failure) => {
+                value["status"] = "failed".into();
+                value["error"] = failure.message.clone().into();
+                CaseDone {
+                    value,
+                    line: None,
+                    stats: None,
+                    failure: Some(failure),
                 }
             }
         }
-    }
-
-    let largest = cases.iter().map(|c| c.estimate).max().unwrap_or(0);
-    let workers = case_workers(cases.len(), largest, memory);
-    let jobs: Vec<usize> = (0..cases.len()).collect();
-    let run_case = |context: &Option<Arc<GpuContext>>, k: usize| {
-        let case = &cases[k];
-        let scene = &scenes[case.scene];
-        render_case(args, scene, case, context.as_ref(), no_device.as_ref())
     };
-    let mut failures: Vec<(String, Failure)> = Vec::new();
-    let mut values = Vec::new();
-    let report = |k: usize, done: CaseDone| {
-        let case = &cases[k];
-        let label = format!("{}/{}", scenes[case.scene].name, case.shading);
+    let report = |view: &CaseView, done: CaseDone| {
+        let label = format!("{}/{}", view.name, view.shading);
         if !args.json {
             if let Some(line) = &done.line {
                 println!("{line}");
@@ -236,34 +447,25 @@ pub fn run(args: &RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Res
         values.push(done.value);
         Ok(())
     };
-    let shared = context.clone();
-    in_order(
-        &context,
-        || Some(shared.clone()),
-        &jobs,
-        workers,
-        run_case,
-        report,
-    )?;
+    batch.run(args, handle, report)?;
 
-    let failed = failures.len();
+    let (total, failed) = (batch.len(), failures.len());
     if args.json {
         let value = serde_json::json!({
             "out_dir": out_dir,
             "cases": values,
-            "rendered": cases.len() - failed,
+            "rendered": total - failed,
             "failed": failed,
             // Every case on the one device shares what it built: a scene
             // rendered twice in a mode builds one pipeline.
-            "pipelines_built": context.as_ref().map(|c| c.pipelines_kept()),
+            "pipelines_built": batch.context().map(|c| c.pipelines_kept()),
             "wall_ms": shadelab::gpu::ms_since(started),
         });
         println!("{value}");
     } else {
         println!(
-            "rendered {} of {} images into {} in {:.0} ms{}",
-            cases.len() - failed,
-            cases.len(),
+            "rendered {} of {total} images into {} in {:.0} ms{}",
+            total - failed,
             out_dir.display(),
             shadelab::gpu::ms_since(started),
             if failed > 0 {
@@ -278,149 +480,61 @@ pub fn run(args: &RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Res
         Some((label, first)) => Err(Failure {
             code: first.code,
             message: format!(
-                "{failed} of {} images failed, the first {label}: {}",
-                cases.len(),
+                "{failed} of {total} images failed, the first {label}: {}",
                 first.message
             ),
         }),
     }
 }
 
-/// Renders one case and writes its image; every failure becomes the case's.
-fn render_case(
+/// Adds `render --json`'s fields for a made image to a case's object.
+fn describe(
     args: &RenderArgs,
-    scene: &PlannedScene,
-    case: &PlannedCase,
-    context: Option<&Arc<GpuContext>>,
-    no_device: Option<&Failure>,
-) -> CaseDone {
-    let mut value = serde_json::json!({
-        "scene": scene.path.as_ref().map_or_else(
-            || "built-in default scene".to_string(),
-            |p| p.display().to_string(),
-        ),
-        "name": scene.name,
-        "shading": case.shading,
-        "output": case.out,
+    view: &CaseView,
+    made: &Made,
+    out: &Path,
+    value: &mut serde_json::Value,
+) {
+    let r = &made.rendered;
+    let extra = serde_json::json!({
+        "output": out,
+        "backend": made.backend.name(),
+        "backend_choice": view.backend_choice,
+        "width": r.image.width,
+        "height": r.image.height,
+        "device": made.device,
+        "driver": made.driver,
+        "traversal": r.traversal.map(|t| t.name()),
+        "timings_ms": r.timings,
+        "non_finite_pixels": r.image.non_finite_pixels(),
+        "settings": made.settings,
     });
-    match write_case(args, scene, case, context, no_device) {
-        Ok(done) => {
-            let object = value.as_object_mut().expect("an object");
-            object.extend(done.value.as_object().expect("an object").clone());
-            object.insert(
-                "status".into(),
-                if done.failure.is_some() {
-                    "failed"
-                } else {
-                    "ok"
-                }
-                .into(),
-            );
-            if let Some(failure) = &done.failure {
-                object.insert("error".into(), failure.message.clone().into());
-            }
-            CaseDone { value, ..done }
-        }
-        Err(failure) => {
-            value["status"] = "failed".into();
-            value["error"] = failure.message.clone().into();
-            CaseDone {
-                value,
-                line: None,
-                stats: None,
-                failure: Some(failure),
-            }
-        }
+    let object = value.as_object_mut().expect("an object");
+    object.extend(extra.as_object().expect("an object").clone());
+    if args.stats {
+        object.insert(
+            "stats".into(),
+            serde_json::to_value(r.ray_stats).expect("ray statistics serialise to JSON"),
+        );
     }
 }
 
-fn write_case(
-    args: &RenderArgs,
-    planned: &PlannedScene,
-    case: &PlannedCase,
-    context: Option<&Arc<GpuContext>>,
-    no_device: Option<&Failure>,
-) -> Result<CaseDone, Failure> {
-    let scene = planned.scene.as_ref().map_err(Clone::clone)?;
-    let backend = case.backend.clone()?;
-    let format = ImageFormat::from_path(&case.out)?;
-    let (rendered, device, driver) = match (backend, context) {
-        (Backend::Gpu, Some(context)) => {
-            let target = color_target(scene, format);
-            let rendered =
-                shadelab::render::render_gpu_to(context, scene, case.shading, args.stats, target)?;
-            let info = &context.info;
-            (rendered, info.name.clone(), Some(info.driver.clone()))
-        }
-        (Backend::Gpu, None) => {
-            return Err(no_device
-                .cloned()
-                .unwrap_or_else(|| Failure::usage("no device".into())))
-        }
-        (Backend::Cpu, _) => {
-            let (rendered, _) = shadelab::render::render_cpu(scene, case.shading)?;
-            (rendered, "CPU reference (f64)".to_string(), None)
-        }
-    };
-    let settings = effective_settings(
-        planned.path.as_deref(),
-        case.shading,
-        scene,
-        backend,
-        &rendered,
-        &device,
-        driver.as_deref(),
-    );
-    let metadata = image_metadata(&planned.name, &device, &settings);
-    shadelab::output::write_image_with(&rendered.image, &case.out, &metadata)?;
-    let non_finite = rendered.image.non_finite_pixels();
-    let mut value = serde_json::json!({
-        "backend": backend.name(),
-        "backend_choice": case.choice,
-        "width": rendered.image.width,
-        "height": rendered.image.height,
-        "device": device,
-        "driver": driver,
-        "traversal": rendered.traversal.map(|t| t.name()),
-        "timings_ms": rendered.timings,
-        "non_finite_pixels": non_finite,
-        "settings": settings,
-    });
-    if args.stats {
-        value["stats"] =
-            serde_json::to_value(rendered.ray_stats).expect("ray statistics serialise to JSON");
-    }
-    let auto = case
-        .choice
-        .as_ref()
+/// `wrote FILE (W x H, mode, ms on device)`, with `auto`'s reason.
+fn made_line(view: &CaseView, made: &Made, out: &Path) -> String {
+    let auto = view
+        .backend_choice
         .map(|c| format!("; backend auto: {}", c.why))
         .unwrap_or_default();
-    let line = format!(
-        "wrote {} ({}x{}, {}, {:.1} ms on {device}{auto})",
-        case.out.display(),
-        rendered.image.width,
-        rendered.image.height,
-        case.shading,
-        rendered.timings.total_ms,
-    );
-    let failure = (non_finite > 0).then(|| Failure {
-        code: 1,
-        message: format!(
-            "{non_finite} of {} pixels are not finite (NaN or infinity){}",
-            rendered.image.pixels.len(),
-            if scene.lighting_hook.is_some() {
-                " (the lighting hook returned them)"
-            } else {
-                ""
-            }
-        ),
-    });
-    Ok(CaseDone {
-        value,
-        line: Some(line),
-        stats: args.stats.then_some((rendered, case.shading)),
-        failure,
-    })
+    let r = &made.rendered;
+    format!(
+        "wrote {} ({}x{}, {}, {:.1} ms on {}{auto})",
+        out.display(),
+        r.image.width,
+        r.image.height,
+        view.shading,
+        r.timings.total_ms,
+        made.device,
+    )
 }
 
 #[cfg(test)]

@@ -25,6 +25,52 @@ pub fn flip_heatmap(flip: &FlipStats) -> LinearImage {
     }
 }
 
+/// The per-pixel error (the largest channel difference) of two images of
+/// one size, scaled so that the largest is 1, in magma: where they differ,
+/// however little (FLIP's map of a change under one 8-bit step is black
+/// to the eye). A non-finite difference counts as the largest. Returns
+/// the image and the scale (the largest finite error; 0 where they are
+/// equal, and the image black).
+pub fn scaled_error_heatmap(expected: &LinearImage, actual: &LinearImage) -> (LinearImage, f64) {
+    let errors: Vec<f64> = expected
+        .pixels
+        .iter()
+        .zip(&actual.pixels)
+        .map(|(e, a)| {
+            (0..3)
+                .map(|c| (f64::from(e[c]) - f64::from(a[c])).abs())
+                .fold(
+                    0.0,
+                    |m: f64, d| if d.is_nan() { f64::INFINITY } else { m.max(d) },
+                )
+        })
+        .collect();
+    let largest = errors
+        .iter()
+        .copied()
+        .filter(|d| d.is_finite())
+        .fold(0.0, f64::max);
+    let map: Vec<f32> = errors
+        .iter()
+        .map(|&d| match (d.is_finite(), largest > 0.0) {
+            (false, _) => 1.0,
+            (true, true) => (d / largest) as f32,
+            (true, false) => 0.0,
+        })
+        .collect();
+    let stats = FlipStats {
+        mean: 0.0,
+        median: 0.0,
+        p99: 0.0,
+        max: 0.0,
+        pixels_per_degree: 0.0,
+        width: expected.width,
+        height: expected.height,
+        map,
+    };
+    (flip_heatmap(&stats), largest)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -65,5 +111,32 @@ mod tests {
         assert_eq!((heat.width, heat.height), (3, 2));
         assert_eq!(linear_to_srgb8(heat.get(2, 1)[0]), 252);
         assert_eq!(linear_to_srgb8(heat.get(0, 0)[0]), 0);
+    }
+
+    /// The largest error is magma's top, half of it magma's middle, none
+    /// black, whatever the scale.
+    #[test]
+    fn the_scaled_error_map_spans_magma_from_no_error_to_the_largest() {
+        let image = |values: [f32; 3]| LinearImage {
+            width: 3,
+            height: 1,
+            pixels: values.iter().map(|&v| [v, 0.0, 0.0]).collect(),
+        };
+        let (heat, scale) =
+            scaled_error_heatmap(&image([0.1, 0.1, 0.1]), &image([0.1, 0.102, 0.104]));
+        assert!((scale - 0.004).abs() < 1e-6, "{scale}");
+        let reference = flip_heatmap(&stats(vec![0.0, 0.5, 1.0], 3, 1));
+        for x in 0..3 {
+            let a = heat.get(x, 0).map(linear_to_srgb8);
+            let b = reference.get(x, 0).map(linear_to_srgb8);
+            let close = a.iter().zip(&b).all(|(p, q)| p.abs_diff(*q) <= 2);
+            assert!(close, "pixel {x}: {a:?} against {b:?}");
+        }
+        let (black, zero) = scaled_error_heatmap(&image([0.5; 3]), &image([0.5; 3]));
+        assert_eq!(zero, 0.0);
+        assert_eq!(
+            black.get(2, 0).map(linear_to_srgb8),
+            reference.get(0, 0).map(linear_to_srgb8)
+        );
     }
 }

@@ -21,7 +21,7 @@ use crate::linear_image::LinearImage;
 
 pub use edges::gradient_mask;
 pub use flip::{flip, FlipStats};
-pub use heatmap::flip_heatmap;
+pub use heatmap::{flip_heatmap, scaled_error_heatmap};
 pub use stats::ErrorStats;
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

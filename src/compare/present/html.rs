@@ -20,7 +20,8 @@ pub fn png_data_uri(bytes: &[u8]) -> String {
     )
 }
 
-fn img(png_bytes: &[u8], width: u32, height: u32, alt: &str, class: &str) -> String {
+/// An `<img>` of PNG bytes, inline.
+pub fn img(png_bytes: &[u8], width: u32, height: u32, alt: &str, class: &str) -> String {
     format!(
         r#"<img class="{class}" src="{}" width="{width}" height="{height}" alt="{}">"#,
         png_data_uri(png_bytes),
@@ -52,6 +53,8 @@ th { background: #f2f2f2; }
 td.name { text-align: left; font-family: 'DejaVu Sans Mono', monospace; white-space: nowrap; }
 tr.pareto td { background: #fff0e0; }
 tr.pareto td.flag { color: #b35900; font-weight: bold; }
+tr.fail td { background: #fde4e4; }
+tr.fail td.flag { color: #b00000; font-weight: bold; }
 span.swatch { display: inline-block; width: 0.8em; height: 0.8em; border-radius: 50%; margin-right: 0.4em; }
 dl.legend dt { font-weight: bold; margin-top: 0.6em; }
 dl.legend dd { margin-left: 1.5em; max-width: 60em; }
@@ -64,6 +67,19 @@ img.sheet { max-width: 100%; height: auto; }
 div.plot svg { max-width: 100%; height: auto; }
 ";
 
+/// A report page's head and title, with the reports' one style sheet:
+/// `compare`'s and `golden`'s pages read alike. End it with [`PAGE_END`].
+pub fn page_start(title: &str) -> String {
+    format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n<h1>{}</h1>\n",
+        escape(title),
+        escape(title)
+    )
+}
+
+/// What closes a page begun with [`page_start`].
+pub const PAGE_END: &str = "</body>\n</html>\n";
+
 pub(crate) fn page(
     report: &Report,
     images: &[VariantImages],
@@ -71,14 +87,8 @@ pub(crate) fn page(
     plot_svg: &str,
     contact_sheet_png: &[u8],
 ) -> String {
-    let mut h = String::new();
     let title = format!("shadelab compare: {}", report.scene);
-    let _ = write!(
-        h,
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n<h1>{}</h1>\n",
-        escape(&title),
-        escape(&title)
-    );
+    let mut h = page_start(&title);
     let shard = match report.shard {
         Some((i, n)) => format!("; shard {i} of {n}"),
         None => String::new(),
@@ -166,7 +176,7 @@ pub(crate) fn page(
             escape(&report.reference)
         );
     }
-    h.push_str("</body>\n</html>\n");
+    h.push_str(PAGE_END);
     h
 }
 

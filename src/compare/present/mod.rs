@@ -14,6 +14,8 @@ pub mod labels;
 pub mod plot;
 mod table;
 
+pub use html::{escape, img, page_start, png_data_uri, PAGE_END};
+
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
 

@@ -1,0 +1,830 @@
+//! `shadelab golden`: each scene in each mode rendered (the lighting hook in
+//! play) and compared with its stored reference image, with limits for a
+//! render against a stored render of the same renderer. Missing references
+//! fail unless `--create` makes them; `--bless` accepts the renders that
+//! changed. References are kept per driver where one needs its own, found
+//! before the shared ones.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::Args;
+use shadelab::gpu::GpuOptions;
+use shadelab::junit::{self, TestCase};
+use shadelab::linear_image::LinearImage;
+use shadelab::memory::MemoryLimit;
+use shadelab::metrics::{self, format_figure, Comparison, Settings, Thresholds, Verdict};
+use shadelab::output::{self, ImageFormat, ImageMetadata};
+
+use super::args::{DepthArg, ImageSize, LightingArg, ModeList, TraversalArg};
+use super::diff::{compare_images, parse_thresholds, Judging, Preset, EDGE_THRESHOLD};
+use super::golden_report::{write_report, ReportCase};
+use super::render::RenderArgs;
+use super::render_batch::{non_finite_failure, Batch, CaseView, Made};
+use super::Failure;
+
+#[derive(Args)]
+pub struct GoldenArgs {
+    /// Scene files (.toml, .gltf or .glb); the built-in default scene if none.
+    scenes: Vec<PathBuf>,
+    #[command(flatten)]
+    modes: ModeList,
+    /// The folder of stored references: DIR/KEY/NAME (this driver's, looked
+    /// for first), then DIR/NAME (shared by every driver).
+    #[arg(long, value_name = "DIR")]
+    references: PathBuf,
+    /// Each reference's file name, from {scene} (the scene file's name
+    /// without its extension) and {mode}; .png or .exr.
+    #[arg(long, value_name = "PATTERN", default_value = "{scene}-{mode}.png")]
+    name: String,
+    /// Make the references that are missing from this run's renders (else a
+    /// missing reference fails its case).
+    #[arg(long)]
+    create: bool,
+    /// Accept this run's renders: rewrite every reference that is over its
+    /// limits (or cannot be compared), make the missing ones, and list each.
+    /// Also SHADELAB_BLESS=1.
+    #[arg(long, visible_alias = "update")]
+    bless: bool,
+    /// Write the references that --create or --bless make into this
+    /// driver's folder (DIR/KEY/), leaving the shared ones as they are.
+    #[arg(long)]
+    per_driver: bool,
+    /// This driver's folder of references [default: made from the device
+    /// and driver names, printed by every run].
+    #[arg(long, value_name = "KEY")]
+    key: Option<String>,
+    /// The limits to start from: stored-reference (no pixel off by more
+    /// than 0.01, one 8-bit step) or gpu-vs-reference (diff's defaults).
+    #[arg(long, value_enum, default_value = "stored-reference")]
+    preset: Preset,
+    /// Thresholds on top of the preset, as diff's: `FIGURE=X[,FIGURE=X...]`
+    /// for flip_mean, max_abs, p99_abs, rmse, fraction_over, count_over or
+    /// psnr (a floor, dB).
+    #[arg(long, value_name = "[FIGURE=]X,...")]
+    threshold: Vec<String>,
+    /// Folder for report.html and, for each case that did not pass, its
+    /// NAME-actual and NAME-diff images.
+    #[arg(long, value_name = "DIR", default_value = "golden-out")]
+    out: PathBuf,
+    /// Also write a JUnit XML report here.
+    #[arg(long, value_name = "FILE.xml")]
+    junit: Option<PathBuf>,
+    /// Print one JSON object with every case on stdout.
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    size: ImageSize,
+    #[command(flatten)]
+    lighting: LightingArg,
+    #[command(flatten)]
+    traversal: TraversalArg,
+    #[command(flatten)]
+    depth: DepthArg,
+    #[command(flatten)]
+    pub machine: super::args::MachineArgs,
+}
+
+/// What a case came to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub(super) enum Status {
+    /// Within the limits of its reference.
+    Pass,
+    /// Over them (or of another size).
+    Fail,
+    /// No reference, and none made.
+    Missing,
+    /// No reference: made from this render (`--create`, `--bless`).
+    Created,
+    /// Over its limits, and rewritten from this render (`--bless`).
+    Updated,
+    /// Not rendered, or its reference unreadable.
+    Error,
+}
+
+impl Status {
+    pub(super) fn word(self) -> &'static str {
+        match self {
+            Status::Pass => "PASS",
+            Status::Fail => "FAIL",
+            Status::Missing => "MISSING",
+            Status::Created => "CREATED",
+            Status::Updated => "UPDATED",
+            Status::Error => "ERROR",
+        }
+    }
+
+    /// Whether the case leaves the run green.
+    fn ok(self) -> bool {
+        matches!(self, Status::Pass | Status::Created | Status::Updated)
+    }
+}
+
+/// One case judged against its reference.
+pub(super) struct Judged {
+    pub status: Status,
+    /// The reference compared with, or written.
+    pub reference: Option<PathBuf>,
+    /// `driver` (DIR/KEY/NAME) or `shared` (DIR/NAME).
+    pub reference_kind: Option<&'static str>,
+    pub failures: Vec<String>,
+    pub verdicts: Vec<Verdict>,
+    pub comparison: Option<Comparison>,
+    /// Said with the failure: the reference was made on another driver.
+    pub hint: Option<String>,
+    pub error: Option<Failure>,
+    /// The images a person looks at, as PNG bytes: expected, actual and
+    /// heat map, for the cases that did not pass (and the blessed ones).
+    pub pictures: Option<Pictures>,
+    /// Files written into `--out` for this case.
+    pub written: Vec<PathBuf>,
+    pub time_s: f64,
+}
+
+pub(super) struct Pictures {
+    pub expected: Option<Vec<u8>>,
+    pub actual: Vec<u8>,
+    pub heatmap: Option<Vec<u8>>,
+    /// The per-pixel error scaled so that its largest is white, and that
+    /// largest error.
+    pub error: Option<(Vec<u8>, f64)>,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Judged {
+    fn error(failure: Failure, time_s: f64) -> Self {
+        Judged {
+            status: Status::Error,
+            reference: None,
+            reference_kind: None,
+            failures: Vec::new(),
+            verdicts: Vec::new(),
+            comparison: None,
+            hint: None,
+            error: Some(failure),
+            pictures: None,
+            written: Vec::new(),
+            time_s,
+        }
+    }
+}
+
+/// The folder name for a device's references: the device and driver
+/// names, lower case, each run of characters other than a-z, 0-9 and `.`
+/// made one `-` (`llvmpipe-llvm-15.0.6-256-bits-mesa-25.0.7-...`): the
+/// vector width and the Mesa version, which change the image, are in it.
+pub(super) fn driver_key(device: &str, driver: &str) -> String {
+    let mut key = String::new();
+    for c in format!("{device} {driver}").to_lowercase().chars() {
+        if c.is_ascii_alphanumeric() || c == '.' {
+            key.push(c);
+        } else if !key.ends_with('-') {
+            key.push('-');
+        }
+    }
+    key.trim_matches('-').to_string()
+}
+
+/// Where a case's reference is: this driver's, then the shared one.
+fn find_reference(references: &Path, key: &str, file: &str) -> Option<(PathBuf, &'static str)> {
+    let own = references.join(key).join(file);
+    let shared = references.join(file);
+    if own.is_file() {
+        Some((own, "driver"))
+    } else if shared.is_file() {
+        Some((shared, "shared"))
+    } else {
+        None
+    }
+}
+
+/// `NAME-actual.png` for `NAME.png`.
+fn beside(file: &str, what: &str, ext: &str) -> String {
+    let stem = Path::new(file)
+        .file_stem()
+        .map_or_else(|| file.to_string(), |s| s.to_string_lossy().into_owned());
+    format!("{stem}-{what}.{ext}")
+}
+
+fn png_of(image: &LinearImage) -> Result<Vec<u8>, Failure> {
+    Ok(output::encode_with(
+        image,
+        Path::new("picture.png"),
+        &ImageMetadata::software(),
+    )?)
+}
+
+/// Where the reference was made, from the `shadelab:settings` of a PNG
+/// that `render` or `golden` wrote: `device (driver)`.
+fn made_on(reference_bytes: &[u8]) -> Option<String> {
+    let text = output::png_text(reference_bytes, "shadelab:settings")?;
+    let settings: serde_json::Value = serde_json::from_str(&text).ok()?;
+    let device = settings["device"].as_str()?;
+    let driver = settings["driver"].as_str().unwrap_or("no driver");
+    Some(format!("{device} ({driver})"))
+}
+
+struct Plan<'a> {
+    args: &'a GoldenArgs,
+    judging: Judging,
+    bless: bool,
+    key: String,
+}
+
+impl Plan<'_> {
+    /// The path a made or blessed reference goes to.
+    fn target(&self, file: &str, found: Option<&Path>) -> PathBuf {
+        match (self.per_driver(), found) {
+            (false, Some(found)) => found.to_path_buf(),
+            (false, None) => self.args.references.join(file),
+            (true, _) => self.args.references.join(&self.key).join(file),
+        }
+    }
+
+    fn per_driver(&self) -> bool {
+        self.args.per_driver
+    }
+
+    /// Compares case `view`'s render with its reference; writes what a
+    /// person needs to see a failure, and the references made or blessed.
+    fn judge(&self, view: &CaseView, made: Result<Made, Failure>, started: Instant) -> Judged {
+        let time = || started.elapsed().as_secs_f64();
+        let made = match made {
+            Ok(made) => made,
+            Err(failure) => return Judged::error(failure, time()),
+        };
+        // An image with NaN is never a reference, nor blessed into one.
+        if let Some(failure) = non_finite_failure(&made) {
+            return Judged::error(failure, time());
+        }
+        match self.judge_made(view, &made) {
+            Ok(mut judged) => {
+                // The render's time too: JUnit's time is the case's.
+                judged.time_s = time() + made.rendered.timings.total_ms / 1e3;
+                judged
+            }
+            Err(failure) => Judged::error(failure, time()),
+        }
+    }
+
+    fn judge_made(&self, view: &CaseView, made: &Made) -> Result<Judged, Failure> {
+        let file = view.file_name;
+        let format = ImageFormat::from_path(Path::new(file))?;
+        // A case's pictures from an earlier run would be read as this
+        // run's: they go, and come back only if this case fails.
+        for stale in [
+            beside(file, "actual", "png"),
+            beside(file, "actual", "exr"),
+            beside(file, "diff", "png"),
+            beside(file, "error", "png"),
+        ] {
+            let _ = std::fs::remove_file(self.args.out.join(stale));
+        }
+        // The render as its reference file would hold it: compared after
+        // the same encoding, so that a repeated render is exactly equal.
+        let bytes = output::encode_with(&made.rendered.image, Path::new(file), &made.metadata)?;
+        let actual = output::decode_image(&bytes, format)
+            .map_err(|e| Failure::usage(format!("cannot decode the render of {file}: {e}")))?;
+        let found = find_reference(&self.args.references, &self.key, file);
+        let mut judged = Judged {
+            status: Status::Pass,
+            reference: found.as_ref().map(|(p, _)| p.clone()),
+            reference_kind: found.as_ref().map(|&(_, k)| k),
+            failures: Vec::new(),
+            verdicts: Vec::new(),
+            comparison: None,
+            hint: None,
+            error: None,
+            pictures: None,
+            written: Vec::new(),
+            time_s: 0.0,
+        };
+        let Some((reference_path, _)) = &found else {
+            if self.args.create || self.bless {
+                let target = self.target(file, None);
+                write_reference(&target, &bytes)?;
+                judged.status = Status::Created;
+                judged.reference = Some(target);
+                judged.reference_kind = Some(if self.per_driver() {
+                    "driver"
+                } else {
+                    "shared"
+                });
+            } else {
+                judged.status = Status::Missing;
+                judged.failures.push(format!(
+                    "no reference {} (nor {}); run with --create to make it from this render",
+                    self.args.references.join(file).display(),
+                    self.args.references.join(&self.key).join(file).display()
+                ));
+                judged.pictures = Some(self.keep_pictures(
+                    file,
+                    format,
+                    &bytes,
+                    &actual,
+                    None,
+                    None,
+                    &mut judged.written,
+                )?);
+            }
+            return Ok(judged);
+        };
+        let reference_bytes = std::fs::read(reference_path).map_err(|e| {
+            Failure::usage(format!(
+                "cannot read the reference {}: {e}",
+                reference_path.display()
+            ))
+        })?;
+        let expected = output::decode_image(&reference_bytes, format);
+        let compared = match &expected {
+            Ok(expected) => compare_images(expected, &actual, &self.judging).map_err(|e| {
+                format!(
+                    "{} cannot be compared with the render: {e}",
+                    reference_path.display()
+                )
+            }),
+            Err(e) => Err(format!(
+                "the reference {} cannot be read: {e}",
+                reference_path.display()
+            )),
+        };
+        let over = match &compared {
+            Ok(pair) => !pair.failures.is_empty(),
+            Err(_) => true,
+        };
+        if let Ok(pair) = &compared {
+            judged.verdicts = pair.verdicts.clone();
+            judged.failures = pair.failures.clone();
+            judged.comparison = Some(pair.comparison.clone());
+        }
+        if !over {
+            return Ok(judged);
+        }
+        if let Err(why) = &compared {
+            judged.failures.push(why.clone());
+        }
+        if let Some(there) = made_on(&reference_bytes) {
+            let here = format!(
+                "{} ({})",
+                made.device,
+                made.driver.as_deref().unwrap_or("no driver")
+            );
+            if there != here {
+                judged.hint = Some(format!(
+                    "the reference was made on {there}, this render on {here}: where a driver's images differ, keep references per driver (--per-driver --bless)"
+                ));
+            }
+        }
+        let heat = judged
+            .comparison
+            .as_ref()
+            .map(|c| metrics::flip_heatmap(&c.flip));
+        let expected_png = match &expected {
+            Ok(_) if format == ImageFormat::Png => Some(reference_bytes.clone()),
+            Ok(image) => Some(png_of(image)?),
+            Err(_) => None,
+        };
+        let same_size = |e: &LinearImage| e.width == actual.width && e.height == actual.height;
+        let expected_image = expected.as_ref().ok().filter(|e| same_size(e));
+        judged.pictures = Some(self.keep_pictures(
+            file,
+            format,
+            &bytes,
+            &actual,
+            expected_png.map(|png| (png, expected_image)),
+            heat.as_ref(),
+            &mut judged.written,
+        )?);
+        if self.bless {
+            let target = self.target(file, Some(reference_path));
+            write_reference(&target, &bytes)?;
+            // A driver's own reference made beside a shared one is new; any
+            // other is the old one rewritten.
+            judged.status = if target == *reference_path {
+                Status::Updated
+            } else {
+                Status::Created
+            };
+            judged.reference = Some(target);
+            if self.per_driver() {
+                judged.reference_kind = Some("driver");
+            }
+        } else if expected.is_err() {
+            judged.status = Status::Error;
+            judged.error = Some(Failure::usage(judged.failures.join("; ")));
+        } else {
+            judged.status = Status::Fail;
+        }
+        Ok(judged)
+    }
+
+    /// Writes the render (`NAME-actual.EXT`), the FLIP heat map
+    /// (`NAME-diff.png`) and the scaled error (`NAME-error.png`) into
+    /// `--out`, and returns the pictures for the report. `expected` is the
+    /// reference as a PNG, and as an image where it is the render's size.
+    #[allow(clippy::too_many_arguments)]
+    fn keep_pictures(
+        &self,
+        file: &str,
+        format: ImageFormat,
+        actual_bytes: &[u8],
+        actual: &LinearImage,
+        expected: Option<(Vec<u8>, Option<&LinearImage>)>,
+        heat: Option<&LinearImage>,
+        written: &mut Vec<PathBuf>,
+    ) -> Result<Pictures, Failure> {
+        let mut keep = |what: &str, image: &LinearImage| -> Result<Vec<u8>, Failure> {
+            let path = self.args.out.join(beside(file, what, "png"));
+            let bytes = png_of(image)?;
+            output::write_atomically(&path, &bytes)?;
+            written.push(path);
+            Ok(bytes)
+        };
+        let ext = match format {
+            ImageFormat::Png => "png",
+            ImageFormat::Exr => "exr",
+        };
+        let heatmap = heat.map(|heat| keep("diff", heat)).transpose()?;
+        let (expected_png, expected_image) = expected.map_or((None, None), |(p, i)| (Some(p), i));
+        let error = match expected_image {
+            Some(reference) => {
+                let (image, scale) = metrics::scaled_error_heatmap(reference, actual);
+                Some((keep("error", &image)?, scale))
+            }
+            None => None,
+        };
+        let actual_path = self.args.out.join(beside(file, "actual", ext));
+        output::write_atomically(&actual_path, actual_bytes)?;
+        written.insert(0, actual_path);
+        let actual_png = match format {
+            ImageFormat::Png => actual_bytes.to_vec(),
+            ImageFormat::Exr => png_of(actual)?,
+        };
+        Ok(Pictures {
+            expected: expected_png,
+            actual: actual_png,
+            heatmap,
+            error,
+            width: actual.width,
+            height: actual.height,
+        })
+    }
+}
+
+fn write_reference(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
+    output::prepare_output_path(path)?;
+    Ok(output::write_atomically(path, bytes)?)
+}
+
+/// `SHADELAB_BLESS` set to anything but empty, 0 or false.
+fn bless_from_env() -> bool {
+    std::env::var("SHADELAB_BLESS")
+        .map(|v| !matches!(v.trim(), "" | "0" | "false"))
+        .unwrap_or(false)
+}
+
+pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
+    let started = Instant::now();
+    let thresholds: Thresholds = parse_thresholds(args.preset.thresholds(), &args.threshold)?;
+    let judging = Judging {
+        thresholds,
+        settings: Settings::default(),
+        edge_threshold: EDGE_THRESHOLD,
+    };
+    if let Some(key) = &args.key {
+        let clean = !key.is_empty() && key != "." && key != ".." && !key.contains(['/', '\\']);
+        if !clean {
+            return Err(Failure::usage(format!(
+                "--key {key:?} must be a folder name (no path)"
+            )));
+        }
+    }
+    if args.references.exists() && !args.references.is_dir() {
+        return Err(Failure::usage(format!(
+            "--references {} is not a folder",
+            args.references.display()
+        )));
+    }
+    let bless = args.bless || bless_from_env();
+    output::prepare_output_folder(&args.out)?;
+    if let Some(path) = &args.junit {
+        output::prepare_output_path(path)?;
+    }
+    let render_args = RenderArgs {
+        scenes: args.scenes.clone(),
+        shading: args.modes.modes(),
+        backend: "gpu".to_string(),
+        size: ImageSize {
+            width: args.size.width,
+            height: args.size.height,
+        },
+        lighting: LightingArg {
+            lighting: args.lighting.lighting.clone(),
+        },
+        traversal: TraversalArg {
+            traversal: args.traversal.traversal.clone(),
+        },
+        depth: DepthArg {
+            depth: args.depth.depth,
+        },
+        cutoff: None,
+        samples: None,
+        no_shadows: false,
+        out: None,
+        out_dir: None,
+        name: args.name.clone(),
+        json: args.json,
+        stats: false,
+        machine: args.machine.clone(),
+    };
+    let batch = Batch::plan(&render_args, options, memory)?;
+    let (device, driver) = batch.context().map_or_else(
+        || ("no device".to_string(), String::new()),
+        |c| (c.info.name.clone(), c.info.driver.clone()),
+    );
+    let key = args
+        .key
+        .clone()
+        .unwrap_or_else(|| driver_key(&device, &driver));
+    let plan = Plan {
+        args: &args,
+        judging,
+        bless,
+        key,
+    };
+    if !args.json {
+        println!(
+            "references {} (this driver's: {}); limits {}",
+            args.references.display(),
+            args.references.join(&plan.key).display(),
+            describe_limits(args.preset, &plan.judging.thresholds)
+        );
+    }
+    let mut cases: Vec<ReportCase> = Vec::new();
+    let handle =
+        |view: &CaseView, made: Result<Made, Failure>| plan.judge(view, made, Instant::now());
+    let report = |view: &CaseView, judged: Judged| {
+        if !args.json {
+            print_case(view, &judged, &args.out);
+        }
+        cases.push(ReportCase {
+            scene: view.name.to_string(),
+            shading: view.shading,
+            file: view.file_name.to_string(),
+            judged,
+        });
+        Ok(())
+    };
+    batch.run(&render_args, handle, report)?;
+
+    let count = |s: Status| cases.iter().filter(|c| c.judged.status == s).count();
+    let html = args.out.join("report.html");
+    write_report(
+        &html,
+        &cases,
+        &args.references,
+        &plan.key,
+        &device,
+        &driver,
+        &describe_limits(args.preset, &plan.judging.thresholds),
+    )?;
+    if let Some(path) = &args.junit {
+        let xml = junit::render("shadelab golden", &junit_cases(&cases));
+        output::write_atomically(path, xml.as_bytes())?;
+    }
+    let summary = format!(
+        "{} passed, {} failed, {} missing, {} created, {} updated, {} errors of {} cases",
+        count(Status::Pass),
+        count(Status::Fail),
+        count(Status::Missing),
+        count(Status::Created),
+        count(Status::Updated),
+        count(Status::Error),
+        cases.len()
+    );
+    if args.json {
+        let value = serde_json::json!({
+            "references": args.references,
+            "key": plan.key,
+            "device": device,
+            "driver": driver,
+            "preset": args.preset,
+            "thresholds": plan.judging.thresholds,
+            "bless": bless,
+            "cases": cases.iter().map(case_json).collect::<Vec<_>>(),
+            "passed": count(Status::Pass),
+            "failed": count(Status::Fail),
+            "missing": count(Status::Missing),
+            "created": count(Status::Created),
+            "updated": count(Status::Updated),
+            "errors": count(Status::Error),
+            "report": html,
+            "wall_ms": shadelab::gpu::ms_since(started),
+        });
+        println!("{value}");
+    } else {
+        println!("golden: {summary}; report {}", html.display());
+    }
+    let not_ok: Vec<&ReportCase> = cases.iter().filter(|c| !c.judged.status.ok()).collect();
+    if not_ok.is_empty() {
+        return Ok(());
+    }
+    // Every case an error (no device, no scene): that error's status.
+    if not_ok.len() == cases.len() && not_ok.iter().all(|c| c.judged.status == Status::Error) {
+        if let Some(error) = not_ok[0].judged.error.clone() {
+            return Err(error);
+        }
+    }
+    let hint = if count(Status::Fail) + count(Status::Missing) > 0 {
+        "; to accept these renders as the references, run again with --bless"
+    } else {
+        ""
+    };
+    Err(Failure {
+        code: 1,
+        message: format!(
+            "{} of {} cases did not pass ({summary}){hint}",
+            not_ok.len(),
+            cases.len()
+        ),
+    })
+}
+
+/// The limits for people: the preset's name, then each limit.
+fn describe_limits(preset: Preset, t: &Thresholds) -> String {
+    let mut parts = vec![
+        format!("max_abs {}", t.max_abs),
+        format!("p99_abs {}", t.p99_abs),
+        format!("flip_mean {}", t.flip_mean),
+    ];
+    for (name, value) in [
+        ("rmse", t.rmse),
+        ("fraction_over", t.fraction_over),
+        ("count_over", t.count_over),
+    ] {
+        if let Some(v) = value {
+            parts.push(format!("{name} {v}"));
+        }
+    }
+    if let Some(psnr) = t.psnr {
+        parts.push(format!("psnr >= {psnr} dB"));
+    }
+    format!("{} ({})", preset.name(), parts.join(", "))
+}
+
+fn print_case(view: &CaseView, judged: &Judged, out: &Path) {
+    let label = format!("{}/{}", view.name, view.shading);
+    let word = judged.status.word();
+    let reference = judged
+        .reference
+        .as_ref()
+        .map(|p| p.display().to_string())
+        .unwrap_or_default();
+    match judged.status {
+        Status::Pass => {
+            let figures = judged
+                .comparison
+                .as_ref()
+                .map(|c| format!("max_abs {}", format_figure(c.stats.max_abs)))
+                .unwrap_or_default();
+            println!("{word:<8} {label}  {reference}  {figures}");
+        }
+        Status::Created if judged.failures.is_empty() => {
+            println!("{word:<8} {label}  {reference} (from this render)")
+        }
+        Status::Created => println!(
+            "{word:<8} {label}  {reference} (from this render; the shared one was: {})",
+            judged.failures.join("; ")
+        ),
+        Status::Updated => println!(
+            "{word:<8} {label}  {reference} (was: {})",
+            judged.failures.join("; ")
+        ),
+        Status::Error => println!(
+            "{word:<8} {label}  {}",
+            judged.error.as_ref().map_or("", |e| e.message.as_str())
+        ),
+        Status::Fail | Status::Missing => {
+            println!("{word:<8} {label}  {reference}");
+            for f in &judged.failures {
+                println!("         {f}");
+            }
+            if let Some(hint) = &judged.hint {
+                println!("         {hint}");
+            }
+            if !judged.written.is_empty() {
+                let names: Vec<String> = judged
+                    .written
+                    .iter()
+                    .map(|p| p.display().to_string())
+                    .collect();
+                println!(
+                    "         see {} and {}",
+                    names.join(", "),
+                    out.join("report.html").display()
+                );
+            }
+        }
+    }
+}
+
+fn case_json(c: &ReportCase) -> serde_json::Value {
+    let j = &c.judged;
+    serde_json::json!({
+        "scene": c.scene,
+        "shading": c.shading,
+        "file": c.file,
+        "status": j.status,
+        "reference": j.reference,
+        "reference_kind": j.reference_kind,
+        "failures": j.failures,
+        "verdicts": j.verdicts,
+        "figures": j.comparison,
+        "hint": j.hint,
+        "error": j.error.as_ref().map(|e| e.message.clone()),
+        "written": j.written,
+        "time_s": j.time_s,
+    })
+}
+
+fn junit_cases(cases: &[ReportCase]) -> Vec<TestCase> {
+    cases
+        .iter()
+        .map(|c| {
+            let j = &c.judged;
+            let mut lines = j.failures.clone();
+            lines.extend(j.hint.clone());
+            TestCase {
+                classname: c.scene.clone(),
+                name: c.shading.to_string(),
+                time_s: j.time_s,
+                failure: matches!(j.status, Status::Fail | Status::Missing)
+                    .then(|| lines.join("\n")),
+                error: (j.status == Status::Error).then(|| {
+                    j.error
+                        .as_ref()
+                        .map_or_else(String::new, |e| e.message.clone())
+                }),
+                output: match j.status {
+                    Status::Created | Status::Updated => format!(
+                        "{} {}",
+                        j.status.word().to_lowercase(),
+                        j.reference
+                            .as_ref()
+                            .map_or_else(String::new, |p| p.display().to_string())
+                    ),
+                    _ => String::new(),
+                },
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_driver_key_is_a_folder_name_holding_the_vector_width_and_the_version() {
+        let key = driver_key(
+            "llvmpipe (LLVM 15.0.6, 256 bits)",
+            "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)",
+        );
+        assert_eq!(
+            key,
+            "llvmpipe-llvm-15.0.6-256-bits-mesa-25.0.7-2-bpo12-1-llvm-15.0.6"
+        );
+        assert_ne!(
+            key,
+            driver_key(
+                "llvmpipe (LLVM 15.0.6, 128 bits)",
+                "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)"
+            )
+        );
+        assert_eq!(driver_key("A/B", ".."), "a-b-..");
+    }
+
+    #[test]
+    fn the_drivers_own_reference_is_found_before_the_shared_one() {
+        let dir = tempfile::tempdir().unwrap();
+        let refs = dir.path();
+        assert_eq!(find_reference(refs, "k", "a.png"), None);
+        std::fs::write(refs.join("a.png"), b"x").unwrap();
+        assert_eq!(
+            find_reference(refs, "k", "a.png"),
+            Some((refs.join("a.png"), "shared"))
+        );
+        std::fs::create_dir(refs.join("k")).unwrap();
+        std::fs::write(refs.join("k/a.png"), b"x").unwrap();
+        assert_eq!(
+            find_reference(refs, "k", "a.png"),
+            Some((refs.join("k/a.png"), "driver"))
+        );
+        assert_eq!(
+            find_reference(refs, "other", "a.png"),
+            Some((refs.join("a.png"), "shared"))
+        );
+    }
+}

@@ -1,0 +1,172 @@
+//! `golden`'s `report.html`: every case in a table, then each one that did
+//! not pass (or was accepted) as its reference, its render and the FLIP
+//! heat map side by side. One self-contained page in `compare`'s style:
+//! images inline, no script, all text escaped.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use shadelab::compare::present::{escape, img, page_start, PAGE_END};
+use shadelab::metrics::format_figure;
+use shadelab::output::write_atomically;
+use shadelab::shading::Shading;
+
+use super::golden::{Judged, Status};
+use super::Failure;
+
+/// A case as the report shows it.
+pub(super) struct ReportCase {
+    pub scene: String,
+    pub shading: Shading,
+    /// The reference's file name.
+    pub file: String,
+    pub judged: Judged,
+}
+
+/// `shared: NAME` or `driver: NAME`: the folder is in the page's head.
+fn reference_cell(j: &Judged) -> String {
+    match (&j.reference, j.reference_kind) {
+        (Some(path), Some(kind)) => {
+            let name = path
+                .file_name()
+                .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+            format!("{kind}: {name}")
+        }
+        _ => "none".to_string(),
+    }
+}
+
+fn figure_cells(j: &Judged) -> String {
+    match &j.comparison {
+        Some(c) => format!(
+            "<td>{}</td><td>{}</td><td>{}</td>",
+            format_figure(c.stats.max_abs),
+            (c.stats.fraction_over * c.stats.pixels as f64).round(),
+            format_figure(c.flip.mean)
+        ),
+        None => "<td>-</td><td>-</td><td>-</td>".to_string(),
+    }
+}
+
+/// Writes the page to `path`.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn write_report(
+    path: &Path,
+    cases: &[ReportCase],
+    references: &Path,
+    key: &str,
+    device: &str,
+    driver: &str,
+    limits: &str,
+) -> Result<(), Failure> {
+    let passed = cases
+        .iter()
+        .filter(|c| c.judged.status == Status::Pass)
+        .count();
+    let title = format!("shadelab golden: {passed} of {} cases passed", cases.len());
+    let mut h = page_start(&title);
+    let _ = writeln!(
+        h,
+        "<p class=\"meta\">references {} (this driver's: {}); device {} ({}); limits {}.</p>",
+        escape(&references.display().to_string()),
+        escape(&references.join(key).display().to_string()),
+        escape(device),
+        escape(driver),
+        escape(limits)
+    );
+    h.push_str("<table>\n<tr><th>scene</th><th>mode</th><th>result</th><th>max_abs</th><th>pixels over 0.01</th><th>FLIP mean</th><th>reference</th><th>why</th></tr>\n");
+    for c in cases {
+        let j = &c.judged;
+        let class = if j.status == Status::Pass {
+            ""
+        } else {
+            " class=\"fail\""
+        };
+        let mut why = j.failures.join("; ");
+        if let Some(e) = &j.error {
+            why = e.message.clone();
+        }
+        let _ = writeln!(
+            h,
+            "<tr{class}><td class=\"name\">{}</td><td class=\"name\">{}</td><td class=\"flag\">{}</td>{}<td class=\"name\">{}</td><td class=\"name\">{}</td></tr>",
+            escape(&c.scene),
+            c.shading,
+            j.status.word(),
+            figure_cells(j),
+            escape(&reference_cell(j)),
+            escape(&why)
+        );
+    }
+    h.push_str("</table>\n");
+    let shown: Vec<&ReportCase> = cases
+        .iter()
+        .filter(|c| c.judged.pictures.is_some())
+        .collect();
+    if !shown.is_empty() {
+        h.push_str("<h2>Against the references</h2>\n<p class=\"meta\">Each case: the reference, this render, the FLIP error between them (black none, through purple and orange, to pale yellow for 1), and the per-pixel error scaled so that its largest is pale yellow (where they differ, however little).</p>\n");
+    }
+    for c in shown {
+        let j = &c.judged;
+        let p = j.pictures.as_ref().expect("filtered on pictures");
+        let _ = write!(
+            h,
+            "<h2>{}/{}: {}</h2>\n<figure class=\"variant\">",
+            escape(&c.scene),
+            c.shading,
+            j.status.word()
+        );
+        let label = |what: &str| format!("{} {what}", c.file);
+        match &p.expected {
+            Some(bytes) => h.push_str(&img(bytes, p.width, p.height, &label("reference"), "image")),
+            None => h.push_str("<span>(no reference)</span>"),
+        }
+        h.push_str(&img(
+            &p.actual,
+            p.width,
+            p.height,
+            &label("render"),
+            "image",
+        ));
+        if let Some(bytes) = &p.heatmap {
+            h.push_str(&img(
+                bytes,
+                p.width,
+                p.height,
+                &label("FLIP heat map"),
+                "image",
+            ));
+        }
+        if let Some((bytes, _)) = &p.error {
+            h.push_str(&img(
+                bytes,
+                p.width,
+                p.height,
+                &label("error, scaled"),
+                "image",
+            ));
+        }
+        let mut caption = vec![format!(
+            "reference <code>{}</code>",
+            escape(
+                &j.reference
+                    .as_ref()
+                    .map_or_else(|| "none".into(), |p| p.display().to_string())
+            )
+        )];
+        if let Some((_, scale)) = &p.error {
+            caption.push(format!(
+                "left to right: the reference, this render, FLIP (0 to 1), the error scaled so that its largest ({}) is pale yellow",
+                format_figure(*scale)
+            ));
+        }
+        caption.extend(j.failures.iter().map(|f| escape(f)));
+        caption.extend(j.hint.iter().map(|f| escape(f)));
+        let _ = writeln!(
+            h,
+            "<figcaption>{}</figcaption></figure>",
+            caption.join("<br>")
+        );
+    }
+    h.push_str(PAGE_END);
+    Ok(write_atomically(path, h.as_bytes())?)
+}
