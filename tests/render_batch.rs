@@ -211,4 +211,15 @@ fn one_output_file_for_a_batch_is_refused() {
     assert_eq!(run.code, 2);
     assert!(run.stderr.contains("needs {mode}"), "{}", run.stderr);
     assert_eq!(names_in(dir.path()), Vec::<String>::new());
+    // `--name` alone makes a batch of one, in the current folder.
+    let mut args = vec!["render", "--shading", "flat", "--name", "one-{mode}.png"];
+    args.extend(SIZE);
+    let run = shadelab(dir.path(), &args);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(
+        run.stdout.contains("rendered 1 of 1 images"),
+        "{}",
+        run.stdout
+    );
+    assert!(dir.path().join("one-flat.png").is_file());
 }

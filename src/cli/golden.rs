@@ -154,19 +154,29 @@ pub(super) struct Pictures {
 }
 
 impl Judged {
-    fn error(failure: Failure, time_s: f64) -> Self {
+    /// `status`, against `reference` (with its kind), nothing else yet.
+    fn new(status: Status, reference: Option<(PathBuf, &'static str)>) -> Self {
+        let (reference, reference_kind) = reference.unzip();
         Judged {
-            status: Status::Error,
-            reference: None,
-            reference_kind: None,
+            status,
+            reference,
+            reference_kind,
             failures: Vec::new(),
             verdicts: Vec::new(),
             comparison: None,
             hint: None,
-            error: Some(failure),
+            error: None,
             pictures: None,
             written: Vec::new(),
+            time_s: 0.0,
+        }
+    }
+
+    fn error(failure: Failure, time_s: f64) -> Self {
+        Judged {
+            error: Some(failure),
             time_s,
+            ..Judged::new(Status::Error, None)
         }
     }
 }
@@ -251,6 +261,17 @@ impl Plan<'_> {
     /// person needs to see a failure, and the references made or blessed.
     fn judge(&self, view: &CaseView, made: Result<Made, Failure>, started: Instant) -> Judged {
         let time = || started.elapsed().as_secs_f64();
+        // A case's pictures from an earlier run would be read as this
+        // run's: they go, and come back only if this case fails.
+        let file = view.file_name;
+        for stale in [
+            beside(file, "actual", "png"),
+            beside(file, "actual", "exr"),
+            beside(file, "diff", "png"),
+            beside(file, "error", "png"),
+        ] {
+            let _ = std::fs::remove_file(self.args.out.join(stale));
+        }
         let made = match made {
             Ok(made) => made,
             Err(failure) => return Judged::error(failure, time()),
@@ -272,35 +293,13 @@ impl Plan<'_> {
     fn judge_made(&self, view: &CaseView, made: &Made) -> Result<Judged, Failure> {
         let file = view.file_name;
         let format = ImageFormat::from_path(Path::new(file))?;
-        // A case's pictures from an earlier run would be read as this
-        // run's: they go, and come back only if this case fails.
-        for stale in [
-            beside(file, "actual", "png"),
-            beside(file, "actual", "exr"),
-            beside(file, "diff", "png"),
-            beside(file, "error", "png"),
-        ] {
-            let _ = std::fs::remove_file(self.args.out.join(stale));
-        }
         // The render as its reference file would hold it: compared after
         // the same encoding, so that a repeated render is exactly equal.
         let bytes = output::encode_with(&made.rendered.image, Path::new(file), &made.metadata)?;
         let actual = output::decode_image(&bytes, format)
             .map_err(|e| Failure::usage(format!("cannot decode the render of {file}: {e}")))?;
         let found = find_reference(&self.args.references, &self.key, file);
-        let mut judged = Judged {
-            status: Status::Pass,
-            reference: found.as_ref().map(|(p, _)| p.clone()),
-            reference_kind: found.as_ref().map(|&(_, k)| k),
-            failures: Vec::new(),
-            verdicts: Vec::new(),
-            comparison: None,
-            hint: None,
-            error: None,
-            pictures: None,
-            written: Vec::new(),
-            time_s: 0.0,
-        };
+        let mut judged = Judged::new(Status::Pass, found.clone());
         let Some((reference_path, _)) = &found else {
             if self.args.create || self.bless {
                 let target = self.target(file, None);
@@ -534,7 +533,7 @@ pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
         no_shadows: false,
         out: None,
         out_dir: None,
-        name: args.name.clone(),
+        name: Some(args.name.clone()),
         json: args.json,
         stats: false,
         machine: args.machine.clone(),

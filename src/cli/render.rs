@@ -58,9 +58,10 @@ pub struct RenderArgs {
     #[arg(long, value_name = "DIR")]
     pub(super) out_dir: Option<PathBuf>,
     /// A batch: each image's file name, from {scene} (the scene file's
-    /// name without its extension) and {mode}; .png or .exr.
-    #[arg(long, value_name = "PATTERN", default_value = "{scene}-{mode}.png")]
-    pub(super) name: String,
+    /// name without its extension) and {mode}; .png or .exr [default:
+    /// {scene}-{mode}.png]. Makes a batch of even one image.
+    #[arg(long, value_name = "PATTERN")]
+    pub(super) name: Option<String>,
     /// Print one JSON object describing the render on stdout (a batch: one
     /// object with a case per image).
     #[arg(long)]
@@ -101,9 +102,17 @@ impl RenderArgs {
         modes
     }
 
-    /// More than one image, or `--out-dir`: a batch.
+    /// More than one image, `--out-dir` or `--name`: a batch.
     fn is_batch(&self) -> bool {
-        self.scenes.len() > 1 || self.modes().len() > 1 || self.out_dir.is_some()
+        self.scenes.len() > 1
+            || self.modes().len() > 1
+            || self.out_dir.is_some()
+            || self.name.is_some()
+    }
+
+    /// The batch's file name pattern.
+    pub(super) fn name_pattern(&self) -> &str {
+        self.name.as_deref().unwrap_or("{scene}-{mode}.png")
     }
 }
 

@@ -183,7 +183,7 @@ impl Batch {
     ) -> Result<Batch, Failure> {
         let modes = args.modes();
         let scene_count = args.scenes.len().max(1);
-        check_pattern(&args.name, scene_count, modes.len())?;
+        check_pattern(args.name_pattern(), scene_count, modes.len())?;
         // The flags that apply to every scene, checked once on the default
         // scene: a bad value is a usage error, not an error in every case.
         apply_overrides(&mut shadelab::scene::default_scene(), args, &modes, true)?;
@@ -195,7 +195,7 @@ impl Batch {
                 cases.push(PlannedCase {
                     scene: i,
                     shading,
-                    file_name: file_name(&args.name, &scene.name, shading),
+                    file_name: file_name(args.name_pattern(), &scene.name, shading),
                     estimate: planned.as_ref().map_or(0, |&(_, e)| e),
                     backend: planned.map(|(b, _)| b),
                     choice,
@@ -378,7 +378,7 @@ pub fn run(args: &RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Res
             modes.len()
         )));
     }
-    check_pattern(&args.name, scene_count, modes.len())?;
+    check_pattern(args.name_pattern(), scene_count, modes.len())?;
     let out_dir = args.out_dir.clone().unwrap_or_else(|| PathBuf::from("."));
     shadelab::output::prepare_output_folder(&out_dir)?;
     let batch = Batch::plan(args, options, memory)?;
