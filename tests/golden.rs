@@ -7,9 +7,8 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-use common::cli::{mesa_cache, shadelab, Run};
+use common::cli::{shadelab, shadelab_with, Run};
 
 fn repo(path: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(path)
@@ -26,6 +25,23 @@ fn statuses(report: &serde_json::Value) -> Vec<String> {
         .unwrap()
         .iter()
         .map(|c| c["status"].as_str().unwrap().to_string())
+        .collect()
+}
+
+/// The cases of a report with `status`, as `scene/mode`.
+fn cases_with(report: &serde_json::Value, status: &str) -> Vec<String> {
+    report["cases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|c| c["status"] == status)
+        .map(|c| {
+            format!(
+                "{}/{}",
+                c["scene"].as_str().unwrap(),
+                c["shading"].as_str().unwrap()
+            )
+        })
         .collect()
 }
 
@@ -114,19 +130,7 @@ fn a_suite_with_a_users_hook_is_made_repeated_broken_and_accepted() {
     let run = suite(d, &brighter, &["--junit", &junit_arg]);
     assert_eq!(run.code, 1, "{}", run.stderr);
     let report = json(&run);
-    let failed: Vec<String> = report["cases"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter(|c| c["status"] == "fail")
-        .map(|c| {
-            format!(
-                "{}/{}",
-                c["scene"].as_str().unwrap(),
-                c["shading"].as_str().unwrap()
-            )
-        })
-        .collect();
+    let failed = cases_with(&report, "fail");
     assert!(
         failed.contains(&"spheres/phong".to_string())
             && failed.contains(&"whitted/raytrace".to_string()),
@@ -160,19 +164,7 @@ fn a_suite_with_a_users_hook_is_made_repeated_broken_and_accepted() {
     let run = suite(d, &brighter, &["--bless"]);
     assert_eq!(run.code, 0, "{}", run.stderr);
     let report = json(&run);
-    let updated: Vec<String> = report["cases"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter(|c| c["status"] == "updated")
-        .map(|c| {
-            format!(
-                "{}/{}",
-                c["scene"].as_str().unwrap(),
-                c["shading"].as_str().unwrap()
-            )
-        })
-        .collect();
+    let updated = cases_with(&report, "updated");
     assert_eq!(updated, failed, "bless rewrites exactly the failed cases");
     assert_ne!(
         std::fs::read(d.join("refs/spheres-phong.png")).unwrap(),
@@ -371,21 +363,22 @@ fn bad_references_and_flags_get_one_clear_error() {
 fn the_bless_variable_accepts_as_the_flag_does() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let out = Command::new(env!("CARGO_BIN_EXE_shadelab"))
-        .args(["golden", "--shading", "gouraud", "--references", "refs"])
-        .args(["--width", "64", "--height", "48"])
-        .current_dir(d)
-        .env("SHADELAB_VALIDATION", "1")
-        .env("SHADELAB_CACHE_DIR", d.join("cache"))
-        .env("MESA_SHADER_CACHE_DIR", mesa_cache())
-        .env("SHADELAB_BLESS", "1")
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let run = shadelab_with(
+        d,
+        &[
+            "golden",
+            "--shading",
+            "gouraud",
+            "--references",
+            "refs",
+            "--width",
+            "64",
+            "--height",
+            "48",
+        ],
+        &[("SHADELAB_BLESS", "1")],
     );
-    assert!(String::from_utf8_lossy(&out.stdout).contains("CREATED"));
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(run.stdout.contains("CREATED"), "{}", run.stdout);
     assert!(d.join("refs/default-gouraud.png").is_file());
 }

@@ -19,6 +19,11 @@ pub fn mesa_cache() -> std::path::PathBuf {
 /// lighting hooks' and specialised modules' cache in `dir/cache` (not the
 /// user's).
 pub fn shadelab(dir: &Path, args: &[&str]) -> Run {
+    shadelab_with(dir, args, &[])
+}
+
+/// As [`shadelab`], with the variables `env` set too.
+pub fn shadelab_with(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Run {
     let out = Command::new(env!("CARGO_BIN_EXE_shadelab"))
         .args(args)
         .current_dir(dir)
@@ -27,6 +32,7 @@ pub fn shadelab(dir: &Path, args: &[&str]) -> Run {
         // One Mesa shader cache for the whole suite, as a user's runs share
         // one: a fresh one per test would compile every shader again.
         .env("MESA_SHADER_CACHE_DIR", mesa_cache())
+        .envs(env.iter().copied())
         .output()
         .expect("the binary runs");
     Run {
