@@ -122,6 +122,23 @@ pub fn estimate(size: &GeometrySize, pixels: u64, shading: Shading, backend: Bac
     })
 }
 
+/// The bytes a raster render's samples add where a pixel has `samples`
+/// of them: on the GPU a float colour and a depth per sample (the resolved
+/// image is in the per-pixel cost), on the CPU reference a colour, depth,
+/// ids and pattern cell per sample (its bands hold every row at once).
+pub fn multisample_bytes(pixels: u64, shading: Shading, backend: Backend, samples: u32) -> u64 {
+    if samples <= 1 || shading.raster_mode().is_none() {
+        return 0;
+    }
+    let per_sample: u64 = match backend {
+        Backend::Gpu => 16 + 4,
+        Backend::Cpu => 24 + 8 + 8 + 8 + 16 + 1,
+    };
+    pixels
+        .saturating_mul(u64::from(samples))
+        .saturating_mul(per_sample)
+}
+
 /// The most memory shadelab may plan to use, and how it was set.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct MemoryLimit {
@@ -219,7 +236,13 @@ impl MemoryLimit {
         let largest = |modes: &[Shading], backend| {
             modes
                 .iter()
-                .map(|&s| (estimate(&size_for(s), pixels, s, backend), s))
+                .map(|&s| {
+                    let samples = multisample_bytes(pixels, s, backend, scene.render.msaa.samples);
+                    (
+                        estimate(&size_for(s), pixels, s, backend).saturating_add(samples),
+                        s,
+                    )
+                })
                 .max_by_key(|e| e.0)
         };
         let size = size_for(
@@ -248,6 +271,11 @@ impl MemoryLimit {
                 format!("rendering it in {gs} mode on the GPU and {cs} mode on the CPU")
             }
             (None, None) => "rendering it".into(),
+        };
+        let raster = gpu.iter().chain(cpu).any(|s| s.raster_mode().is_some());
+        let work = match scene.render.msaa.samples {
+            n if n > 1 && raster => format!("{work} with {n} samples per pixel"),
+            _ => work,
         };
         let textures = if texels > 0 {
             format!(", {} of textures", format_bytes(texture_bytes))

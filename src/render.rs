@@ -162,6 +162,13 @@ pub fn render_cpu(scene: &Scene, shading: Shading) -> Result<(Rendered, Coverage
     let Some(mode) = shading.raster_mode() else {
         return Ok(raytrace_cpu(scene));
     };
+    let msaa = scene.render.msaa;
+    if msaa.positions().is_none() {
+        return Err(Error::Usage(format!(
+            "{} samples per pixel: the CPU reference renders 1, 2, 4, 8 or 16 (the counts with standard sample locations)",
+            msaa.samples
+        )));
+    }
     let started = Instant::now();
     let out = cpu::raster::render(scene, mode);
     let rendered = Rendered {

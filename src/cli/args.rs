@@ -158,6 +158,40 @@ pub fn ray_trace_flags(
     .collect()
 }
 
+/// `--msaa`: the raster modes' samples per pixel, overriding the scene's
+/// `render.msaa`.
+#[derive(Args, Clone, Default)]
+pub struct MsaaArg {
+    /// The raster modes' samples per pixel, N or N,per-sample (shade every
+    /// sample); the counts the device renders are in `shadelab info`.
+    /// Overrides the scene's render.msaa [default: 1].
+    #[arg(long, value_name = "N[,per-sample]")]
+    pub msaa: Option<String>,
+}
+
+impl MsaaArg {
+    /// Warns, in one line, that `--msaa` changes nothing when no mode in
+    /// `modes` rasterizes.
+    pub fn warn_unused(&self, modes: &[Shading]) {
+        if self.msaa.is_some() && !modes.iter().any(|m| m.raster_mode().is_some()) {
+            eprintln!(
+                "shadelab: warning: --msaa is for the raster modes; the ray tracer ignores it (its anti-aliasing is --samples)"
+            );
+        }
+    }
+
+    /// Sets the samples on `scene`; text that is not a count is a usage
+    /// error (the device's counts are checked where it renders).
+    pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
+        if let Some(text) = &self.msaa {
+            scene.render.msaa = text
+                .parse()
+                .map_err(|e: String| Failure::usage(format!("--msaa {e}")))?;
+        }
+        Ok(())
+    }
+}
+
 /// `--depth`: the ray tracer's maximum depth, overriding the scene's.
 #[derive(Args)]
 pub struct DepthArg {

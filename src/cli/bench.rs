@@ -21,7 +21,7 @@ use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
 use super::args::{
-    check_runs, ray_trace_flags, DepthArg, ImageSize, LightingArg, ModeList, TraversalArg,
+    check_runs, ray_trace_flags, DepthArg, ImageSize, LightingArg, ModeList, MsaaArg, TraversalArg,
 };
 use super::render::load_scene;
 use super::time_to_image::{self, TimeToImage};
@@ -42,6 +42,8 @@ pub struct BenchArgs {
     lighting: LightingArg,
     #[command(flatten)]
     traversal: TraversalArg,
+    #[command(flatten)]
+    msaa: MsaaArg,
     #[command(flatten)]
     depth: DepthArg,
     /// Also time the CPU reference on the same work (the ray tracer's
@@ -179,10 +181,12 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
         &args.traversal,
         args.cpu,
     ));
+    args.msaa.warn_unused(&modes);
     let (mut scene, name) = load_scene(args.scene.as_deref(), memory)?;
     args.size.apply(&mut scene)?;
     args.lighting.apply(&mut scene)?;
     args.traversal.apply(&mut scene)?;
+    args.msaa.apply(&mut scene)?;
     let hook_path = scene.lighting_hook.as_ref().map(|h| h.path.clone());
     args.depth.apply(&mut scene)?;
     let cpu_modes: &[Shading] = if args.cpu { &[Shading::Raytrace] } else { &[] };
@@ -190,7 +194,12 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     gpu_modes.push(Shading::Flat);
     memory.check(&name, &scene, &gpu_modes, cpu_modes)?;
     let context = GpuContext::new(options)?;
-    let raster_target = args.target.color_target();
+    // Multisampled images are resolved as floats whatever the output.
+    let raster_target = if scene.render.msaa.is_multisampled() {
+        ColorTarget::Float32
+    } else {
+        args.target.color_target()
+    };
     let target_of = |shading: Shading| {
         if shading.raster_mode().is_some() {
             raster_target
@@ -287,6 +296,7 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
             "runs": args.runs,
             "baseline": { "shading": "flat", "total_ms": baseline },
             "raster_target": raster_target.name(),
+            "msaa": scene.render.msaa.to_string(),
             "lighting": hook_path,
             "results": rows,
         });
@@ -297,8 +307,14 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
         "{name} at {w}x{h} on {} ({}), median of {} runs after a warm-up; baseline: flat raster, {baseline:.1} ms",
         info.name, info.driver, args.runs
     );
+    let msaa = scene.render.msaa;
+    let samples = if msaa.is_multisampled() {
+        format!(" at --msaa {msaa}, resolved")
+    } else {
+        String::new()
+    };
     println!(
-        "raster modes timed into the {} target (the path of render --out x.{}); the ray tracer writes rgba32f",
+        "raster modes timed{samples} into the {} target (the path of render --out x.{}); the ray tracer writes rgba32f",
         raster_target.name(),
         if raster_target == ColorTarget::Srgb8 { "png" } else { "exr" }
     );

@@ -14,7 +14,7 @@ use shadelab::metrics::heatmap::flip_heatmap;
 use shadelab::output::{write_atomically, write_image};
 use shadelab::shading::Shading;
 
-use super::args::{ImageSize, LightingArg, ModeList, TraversalArg};
+use super::args::{ImageSize, LightingArg, ModeList, MsaaArg, TraversalArg};
 use super::cases::{case_workers, in_order};
 use super::check_report::{CaseReport, KeepImages};
 use super::render::load_scene;
@@ -45,6 +45,8 @@ pub struct CheckArgs {
     lighting: LightingArg,
     #[command(flatten)]
     traversal: TraversalArg,
+    #[command(flatten)]
+    msaa: MsaaArg,
     /// Largest error allowed at an interior pixel [default: 1e-3, and 5e-3
     /// for raytrace].
     #[arg(long)]
@@ -89,8 +91,9 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     let modes = args.modes.modes();
     args.modes
         .warn_unused(&super::args::ray_trace_flags(None, &args.traversal, false));
-    let limits_for = |shading: Shading| {
-        let defaults = CheckThresholds::for_shading(shading);
+    args.msaa.warn_unused(&modes);
+    let limits_for = |shading: Shading, msaa: shadelab::msaa::Msaa| {
+        let defaults = CheckThresholds::for_render(shading, msaa);
         CheckThresholds {
             interior_max_abs: args.interior_max_abs.unwrap_or(defaults.interior_max_abs),
             edge_fraction: args.edge_fraction.unwrap_or(defaults.edge_fraction),
@@ -120,6 +123,7 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
         let mut probe = shadelab::scene::default_scene();
         args.lighting.apply(&mut probe)?;
         args.traversal.apply(&mut probe)?;
+        args.msaa.apply(&mut probe)?;
     }
     if let Some(path) = &args.junit {
         shadelab::output::prepare_output_path(path)?;
@@ -140,6 +144,7 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
             args.size.apply(&mut scene)?;
             args.lighting.apply(&mut scene)?;
             args.traversal.apply(&mut scene)?;
+            args.msaa.apply(&mut scene)?;
             let estimate = memory.check(&stem, &scene, &modes, &modes)?;
             Ok((scene, stem, estimate))
         });
@@ -173,7 +178,8 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     let run_case = |context: &Arc<GpuContext>, (i, shading): (usize, Shading)| {
         let (scene, name) = &scenes[i];
         let scene = scene.as_ref().map_err(|f| CaseError::Check(f.clone()))?;
-        let outcome = check(context, scene, scene, shading, &limits_for(shading))?;
+        let limits = limits_for(shading, scene.render.msaa);
+        let outcome = check(context, scene, scene, shading, &limits)?;
         let keep = match args.images {
             KeepImages::All => true,
             KeepImages::Failures => !outcome.passed(),
@@ -219,8 +225,9 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     if args.json {
         let value = serde_json::json!({
             "thresholds": {
-                "raster": limits_for(Shading::Phong),
-                "raytrace": limits_for(Shading::Raytrace),
+                "raster": limits_for(Shading::Phong, Default::default()),
+                "raster_multisampled": limits_for(Shading::Phong, shadelab::msaa::Msaa { samples: 4, per_sample: false }),
+                "raytrace": limits_for(Shading::Raytrace, Default::default()),
             },
             "cases": report.json,
             "failed": report.failed,

@@ -14,7 +14,7 @@ use shadelab::memory::MemoryLimit;
 use shadelab::output::write_atomically;
 use shadelab::shading::Shading;
 
-use super::args::{check_runs, ImageSize};
+use super::args::{check_runs, ImageSize, MsaaArg};
 use super::render::load_scene;
 use super::Failure;
 
@@ -41,6 +41,10 @@ pub struct CompareArgs {
     merge: Vec<PathBuf>,
     #[command(flatten)]
     size: ImageSize,
+    // Every raster variant's samples per pixel, unless it sets its own
+    // (`msaa=N`).
+    #[command(flatten)]
+    msaa: MsaaArg,
     /// The one reference the plot, the Pareto front and the budget measure
     /// every variant against: `global` (the ray-traced reference, the
     /// scene as it should look) or `local` (the formula per pixel on exact
@@ -234,6 +238,7 @@ fn render_variants(
     check_runs(args.runs)?;
     let (mut scene, name) = load_scene(args.scene.as_deref(), memory)?;
     args.size.apply(&mut scene)?;
+    args.msaa.apply(&mut scene)?;
     let variants: Vec<Variant> = if args.variants.is_empty() {
         default_variants(&scene)
     } else {

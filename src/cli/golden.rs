@@ -16,7 +16,7 @@ use shadelab::memory::MemoryLimit;
 use shadelab::metrics::{self, format_figure, Comparison, Settings, Thresholds, Verdict};
 use shadelab::output::{self, ImageFormat, ImageMetadata};
 
-use super::args::{DepthArg, ImageSize, LightingArg, ModeList, TraversalArg};
+use super::args::{DepthArg, ImageSize, LightingArg, ModeList, MsaaArg, TraversalArg};
 use super::diff::{compare_images, parse_thresholds, Judging, Preset, EDGE_THRESHOLD};
 use super::golden_report::{write_report, ReportCase};
 use super::render::RenderArgs;
@@ -79,6 +79,8 @@ pub struct GoldenArgs {
     lighting: LightingArg,
     #[command(flatten)]
     traversal: TraversalArg,
+    #[command(flatten)]
+    msaa: MsaaArg,
     #[command(flatten)]
     depth: DepthArg,
     #[command(flatten)]
@@ -528,6 +530,7 @@ pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
         depth: DepthArg {
             depth: args.depth.depth,
         },
+        msaa: args.msaa.clone(),
         cutoff: None,
         samples: None,
         no_shadows: false,

@@ -39,9 +39,20 @@ pub fn run(args: InfoArgs, options: &GpuOptions) -> Result<(), Failure> {
                     Some(w) => format!(" (ray tracer: --traversal bvh; no ray queries: {w})"),
                 },
             };
+            let counts: Vec<String> = d.msaa_counts.iter().map(u32::to_string).collect();
+            let per_sample = if d.sample_rate_shading {
+                ", per-sample"
+            } else {
+                ""
+            };
             println!(
-                "{mark} {}: {} [{}] Vulkan {} - {}{note}",
-                d.index, d.name, d.device_type, d.api_version, d.driver
+                "{mark} {}: {} [{}] Vulkan {} - {}{note}; --msaa {}{per_sample}",
+                d.index,
+                d.name,
+                d.device_type,
+                d.api_version,
+                d.driver,
+                counts.join(" or ")
             );
         }
         if devices.is_empty() {

@@ -15,7 +15,7 @@ use shadelab::rt_scene::RayStats;
 use shadelab::scene::{self, Scene};
 use shadelab::shading::Shading;
 
-use super::args::{DepthArg, ImageSize, LightingArg, TraversalArg};
+use super::args::{DepthArg, ImageSize, LightingArg, MsaaArg, TraversalArg};
 use super::Failure;
 
 #[derive(Args)]
@@ -38,6 +38,8 @@ pub struct RenderArgs {
     pub(super) lighting: LightingArg,
     #[command(flatten)]
     pub(super) traversal: TraversalArg,
+    #[command(flatten)]
+    pub(super) msaa: MsaaArg,
     #[command(flatten)]
     pub(super) depth: DepthArg,
     /// Ray tracing: adaptive depth cut-off on the ray weight.
@@ -133,6 +135,7 @@ pub(super) fn apply_overrides(
     }
     args.lighting.apply(scene)?;
     args.traversal.apply(scene)?;
+    args.msaa.apply(scene)?;
     args.depth.apply(scene)?;
     if let Some(c) = args.cutoff {
         if !c.is_finite() || c < 0.0 {
@@ -154,6 +157,9 @@ pub(super) fn apply_overrides(
         scene.render.shadows = false;
     }
     // Said once the flags are known to be valid: a bad one is the answer.
+    if warn {
+        args.msaa.warn_unused(modes);
+    }
     if warn && !modes.contains(&Shading::Raytrace) {
         let given = ray_trace_options_given(args);
         if !given.is_empty() {
@@ -198,6 +204,7 @@ pub(super) fn effective_settings(
         "shadows": ray_traced.then_some(r.shadows),
         "cutoff": ray_traced.then_some(r.cutoff),
         "traversal": rendered.traversal.map(|t| t.name()),
+        "msaa": (!ray_traced).then(|| r.msaa.to_string()),
         "lighting": scene.lighting_hook.as_ref().map(|h| h.path.clone()),
         "device": device,
         "driver": driver,
@@ -211,7 +218,8 @@ pub(super) fn color_target(scene: &Scene, format: shadelab::output::ImageFormat)
     // A lighting hook is the user's code, and may return NaN: the float
     // target keeps it to be counted, where the 8-bit one turns it into a
     // colour on the way in.
-    if scene.lighting_hook.is_some() {
+    // Multisampled: the samples are averaged as floats (`gpu::raster`).
+    if scene.lighting_hook.is_some() || scene.render.msaa.is_multisampled() {
         ColorTarget::Float32
     } else {
         ColorTarget::for_output(format)

@@ -14,7 +14,7 @@ use shadelab::gpu::{GpuContext, GpuOptions};
 use shadelab::memory::MemoryLimit;
 use shadelab::render::render_gpu;
 
-use super::args::{DepthArg, LightingArg, ModeList, TraversalArg};
+use super::args::{DepthArg, LightingArg, ModeList, MsaaArg, TraversalArg};
 use super::render::load_scene;
 use super::Failure;
 
@@ -32,6 +32,8 @@ pub struct WarmArgs {
     #[command(flatten)]
     traversal: TraversalArg,
     #[command(flatten)]
+    msaa: MsaaArg,
+    #[command(flatten)]
     depth: DepthArg,
     #[command(flatten)]
     pub machine: super::args::MachineArgs,
@@ -44,6 +46,7 @@ pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result
         &args.traversal,
         false,
     ));
+    args.msaa.warn_unused(&modes);
     let started = Instant::now();
     let paths: Vec<Option<PathBuf>> = if args.scenes.is_empty() {
         vec![None]
@@ -57,6 +60,7 @@ pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result
         scene.image.height = WARM_SIZE;
         args.lighting.apply(&mut scene)?;
         args.traversal.apply(&mut scene)?;
+        args.msaa.apply(&mut scene)?;
         args.depth.apply(&mut scene)?;
         memory.check(&name, &scene, &modes, &[])?;
         scenes.push((scene, name));

@@ -10,6 +10,7 @@ use std::path::Path;
 use std::str::FromStr;
 use std::sync::Arc;
 
+use crate::msaa::Msaa;
 use crate::scene::{
     FilterPreset, ImageTexture, Interpolation, LightingHook, Pattern, Scene, SceneError, Shape,
     Traversal, MAX_DEPTH,
@@ -36,6 +37,9 @@ pub struct Variant {
     /// filters (its wrap modes stay).
     #[serde(default)]
     pub filter: Option<FilterPreset>,
+    /// The raster modes' samples per pixel (`--msaa`).
+    #[serde(default)]
+    pub msaa: Option<Msaa>,
 }
 
 impl Variant {
@@ -51,6 +55,7 @@ impl Variant {
             lighting: None,
             traversal: None,
             filter: None,
+            msaa: None,
         }
     }
 
@@ -85,6 +90,9 @@ impl Variant {
         }
         if let Some(t) = self.traversal {
             s.render.traversal = t;
+        }
+        if let Some(m) = self.msaa {
+            s.render.msaa = m;
         }
         if let Some(filter) = self.filter {
             for material in &mut s.materials {
@@ -130,6 +138,9 @@ impl fmt::Display for Variant {
         if let Some(filter) = self.filter {
             keys.push(format!("filter={}", filter.name()));
         }
+        if let Some(m) = self.msaa {
+            keys.push(format!("msaa={m}"));
+        }
         if keys.is_empty() {
             write!(f, "{}", self.shading)
         } else {
@@ -151,6 +162,14 @@ impl FromStr for Variant {
         let raster = v.shading.raster_mode().is_some();
         let mut seen: Vec<&str> = Vec::new();
         for pair in settings.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+            // `msaa=4,per-sample`: the rate follows the count.
+            if pair == "per-sample" || pair == "per-pixel" {
+                let Some(m) = v.msaa.as_mut() else {
+                    return Err(format!("variant `{text}`: `{pair}` follows msaa=N"));
+                };
+                m.per_sample = pair == "per-sample";
+                continue;
+            }
             let (key, value) = pair
                 .split_once('=')
                 .ok_or_else(|| format!("variant `{text}`: `{pair}` is not key=value"))?;
@@ -225,6 +244,10 @@ impl FromStr for Variant {
                     only(!raster, "raytrace")?;
                     v.traversal = Some(value.parse().map_err(|_| bad("auto, bvh or query"))?);
                 }
+                "msaa" => {
+                    only(raster, "flat, gouraud and phong")?;
+                    v.msaa = Some(value.parse().map_err(|_| bad("a sample count such as 4"))?);
+                }
                 "filter" => {
                     v.filter = Some(
                         FilterPreset::from_name(value)
@@ -233,7 +256,7 @@ impl FromStr for Variant {
                 }
                 _ => {
                     return Err(format!(
-                        "variant `{text}`: unknown setting `{key}`; expected segments, interpolation, depth, cutoff, samples, shadows, lighting, traversal or filter"
+                        "variant `{text}`: unknown setting `{key}`; expected segments, interpolation, depth, cutoff, samples, shadows, lighting, traversal, filter or msaa"
                     ))
                 }
             }
@@ -244,7 +267,8 @@ impl FromStr for Variant {
 
 /// The variants that show a scene's interesting axes: every mode; a
 /// tessellation sweep of the raster modes if the scene has spheres; screen
-/// against perspective interpolation; a depth sweep and a cut-off sweep of
+/// against perspective interpolation; 4 samples per pixel in each raster
+/// mode; a depth sweep and a cut-off sweep of
 /// the ray tracer if anything reflects or refracts; the three texture
 /// filters in Phong shading and ray tracing if an object has an image.
 pub fn default_variants(scene: &Scene) -> Vec<Variant> {
@@ -265,6 +289,10 @@ pub fn default_variants(scene: &Scene) -> Vec<Variant> {
     }
     list.push(parse("gouraud:interpolation=screen"));
     list.push(parse("phong:interpolation=screen"));
+    // What 4 samples a pixel cost and buy, beside the ray tracer's 4.
+    for mode in ["flat", "gouraud", "phong"] {
+        list.push(parse(&format!("{mode}:msaa=4")));
+    }
     let secondary = scene.materials.iter().any(|m| m.kr > 0.0 || m.kt > 0.0);
     if secondary {
         for d in [0, 1, 2, 3, 5] {
@@ -311,6 +339,8 @@ mod tests {
             "phong:filter=nearest",
             "raytrace:depth=2,filter=trilinear",
             "flat:filter=bilinear",
+            "phong:msaa=4",
+            "gouraud:segments=16,msaa=4,per-sample",
         ] {
             let v: Variant = text.parse().unwrap();
             assert_eq!(v.to_string(), text);
@@ -386,6 +416,9 @@ mod tests {
             ("phong:traversal=query", "raytrace only"),
             ("raytrace:traversal=rtx", "auto, bvh or query"),
             ("phong:filter=anisotropic", "nearest, bilinear or trilinear"),
+            ("raytrace:msaa=4", "flat, gouraud and phong only"),
+            ("phong:msaa=zero", "a sample count"),
+            ("phong:per-sample", "follows msaa=N"),
             (
                 "raytrace:depth=3,depth=4",
                 "`depth` is given more than once",

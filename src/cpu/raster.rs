@@ -316,9 +316,10 @@ fn screen_triangle(
     if hi.x < 0.0 || hi.y < 0.0 || lo.x > w || lo.y > h {
         return None;
     }
-    // Pixels whose centre (x + 0.5) can fall inside [lo, hi].
-    let first = |v: f64| (v - 0.5).ceil().max(0.0) as u32;
-    let last = |v: f64, n: u32| ((v - 0.5).floor().max(-1.0) as i64).min(i64::from(n) - 1);
+    // Pixels whose area meets [lo, hi]: any of their samples may fall
+    // inside (with one sample, only those whose centre can).
+    let first = |v: f64| v.floor().max(0.0) as u32;
+    let last = |v: f64, n: u32| (v.floor().max(-1.0) as i64).min(i64::from(n) - 1);
     let (x1, y1) = (last(hi.x, view.width), last(hi.y, view.height));
     if x1 < 0 || y1 < 0 {
         return None;
@@ -404,8 +405,12 @@ fn uv_at_point(t: &Triangle, p: DVec2) -> DVec2 {
 /// and along its column between the quad's two pixel centres), scaled by
 /// the transform and level 0's size; `lambda = log2` of the longer.
 fn raster_lambda(t: &Triangle, p: DVec2, image: &ImageTexture) -> f64 {
-    let (x, y) = ((p.x - 0.5).floor(), (p.y - 0.5).floor());
-    let (qx, qy) = (x - x.rem_euclid(2.0) + 0.5, y - y.rem_euclid(2.0) + 0.5);
+    // The quad's first pixel, and where in its pixel the sample lies: a
+    // sample shaded on its own (per-sample MSAA) differs from the same
+    // sample of the quad's other pixels.
+    let (x, y) = (p.x.floor(), p.y.floor());
+    let (fx, fy) = (p.x - x, p.y - y);
+    let (qx, qy) = (x - x.rem_euclid(2.0) + fx, y - y.rem_euclid(2.0) + fy);
     let dx = uv_at_point(t, DVec2::new(qx + 1.0, p.y)) - uv_at_point(t, DVec2::new(qx, p.y));
     let dy = uv_at_point(t, DVec2::new(p.x, qy + 1.0)) - uv_at_point(t, DVec2::new(p.x, qy));
     let m = &image.transform.0;
@@ -505,6 +510,7 @@ fn shade_sample(
 }
 
 /// What one sample shows.
+#[derive(Clone)]
 struct Sample {
     color: DVec3,
     /// Phong: the interpolated normal is shorter than `VANISHING_NORMAL`.
@@ -580,49 +586,90 @@ struct Band {
     cells: Vec<Option<i64>>,
 }
 
-/// Renders `scene` at its image size in `mode`.
+/// Renders `scene` at its image size in `mode`, with its samples per
+/// pixel (`scene.render.msaa`, a count with standard locations:
+/// [`crate::msaa::positions`]): each sample covered and depth tested on its
+/// own, shaded once per pixel at its centre (or, per sample, at its own
+/// position), and the samples' linear values averaged.
 pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
     let (width, height) = (scene.image.width, scene.image.height);
     let view = View::new(scene, width, height);
     let triangles = setup_triangles(scene, &view, mode);
     let background = scene.image.background;
+    let msaa = scene.render.msaa;
+    let offsets = msaa
+        .positions()
+        .expect("render::render_cpu refuses counts without standard locations");
+    let n = offsets.len();
+    let at = |x: u32, y: u32, s: usize| {
+        let (ox, oy) = offsets[s];
+        DVec2::new(f64::from(x) + ox, f64::from(y) + oy)
+    };
+    let per_sample = msaa.per_sample && n > 1;
     let bands: Vec<Band> = (0..height.div_ceil(BAND_ROWS))
         .into_par_iter()
         .map(|band| {
             let y0 = band * BAND_ROWS;
             let y1 = (y0 + BAND_ROWS).min(height);
             let count = ((y1 - y0) * width) as usize;
-            let mut color = vec![background; count];
-            let mut ids = vec![None; count];
-            let mut tri_ids = vec![None; count];
-            let mut vanishing = vec![false; count];
-            let mut cells = vec![None; count];
+            // Per sample: pixel i's sample s at i * n + s.
+            let mut color = vec![background; count * n];
+            let mut ids = vec![None; count * n];
+            let mut tri_ids = vec![None; count * n];
+            let mut vanishing = vec![false; count * n];
+            let mut cells = vec![None; count * n];
             // Reversed depth: cleared to 0, nearer is greater.
-            let mut depth = vec![0.0f64; count];
+            let mut depth = vec![0.0f64; count * n];
             for t in &triangles {
                 if t.max.1 < y0 || t.min.1 >= y1 {
                     continue;
                 }
                 for y in t.min.1.max(y0)..=t.max.1.min(y1 - 1) {
                     for x in t.min.0..=t.max.0 {
-                        let p = DVec2::new(f64::from(x) + 0.5, f64::from(y) + 0.5);
-                        let Some(bary) = coverage(t, p) else { continue };
-                        let z = bary[0] * t.depth[0] + bary[1] * t.depth[1] + bary[2] * t.depth[2];
                         let i = ((y - y0) * width + x) as usize;
-                        if z > depth[i] {
-                            depth[i] = z;
-                            ids[i] = Some(t.object);
-                            tri_ids[i] = Some(t.primitive);
-                            let sample = shade_sample(scene, &view, mode, t, (p, bary));
-                            (color[i], vanishing[i]) = (sample.color, sample.vanishing_normal);
-                            cells[i] = sample.cell;
+                        // Once per pixel: shaded at the centre (extrapolated
+                        // where the triangle misses it), when it wins a sample.
+                        let mut pixel_shade: Option<Sample> = None;
+                        for s in 0..n {
+                            let p = at(x, y, s);
+                            let Some(bary) = coverage(t, p) else { continue };
+                            let z =
+                                bary[0] * t.depth[0] + bary[1] * t.depth[1] + bary[2] * t.depth[2];
+                            let k = i * n + s;
+                            if z <= depth[k] {
+                                continue;
+                            }
+                            depth[k] = z;
+                            ids[k] = Some(t.object);
+                            tri_ids[k] = Some(t.primitive);
+                            let sample = if per_sample || n == 1 {
+                                shade_sample(scene, &view, mode, t, (p, bary))
+                            } else {
+                                pixel_shade
+                                    .get_or_insert_with(|| {
+                                        let centre =
+                                            DVec2::new(f64::from(x) + 0.5, f64::from(y) + 0.5);
+                                        shade_sample(
+                                            scene,
+                                            &view,
+                                            mode,
+                                            t,
+                                            (centre, barycentrics(t, centre)),
+                                        )
+                                    })
+                                    .clone()
+                            };
+                            (color[k], vanishing[k]) = (sample.color, sample.vanishing_normal);
+                            cells[k] = sample.cell;
                         }
                     }
                 }
             }
-            // Second pass, against the final depth: mark samples near the
-            // boundary of every triangle that is not behind what they show.
-            let mut near_edge = vanishing;
+            // Second pass, against the final depth: mark pixels with a
+            // sample near the boundary of a triangle not behind it there.
+            let mut near_edge: Vec<bool> = (0..count)
+                .map(|i| vanishing[i * n..(i + 1) * n].iter().any(|&v| v))
+                .collect();
             for t in &triangles {
                 if t.max.1 + 1 < y0 || t.min.1 > y1 {
                     continue;
@@ -630,25 +677,43 @@ pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
                 let ys = t.min.1.saturating_sub(1).max(y0)..=(t.max.1 + 1).min(y1 - 1);
                 for y in ys {
                     for x in t.min.0.saturating_sub(1)..=(t.max.0 + 1).min(width - 1) {
-                        let p = DVec2::new(f64::from(x) + 0.5, f64::from(y) + 0.5);
-                        let (distance, bary) = boundary_distance(t, p);
-                        if distance.abs() > EDGE_MARGIN {
+                        let i = ((y - y0) * width + x) as usize;
+                        if near_edge[i] {
                             continue;
                         }
-                        let z = bary[0] * t.depth[0] + bary[1] * t.depth[1] + bary[2] * t.depth[2];
-                        let i = ((y - y0) * width + x) as usize;
-                        if z >= depth[i] * (1.0 - 1e-9) {
-                            near_edge[i] = true;
-                        }
+                        near_edge[i] = (0..n).any(|s| {
+                            let (distance, bary) = boundary_distance(t, at(x, y, s));
+                            let z =
+                                bary[0] * t.depth[0] + bary[1] * t.depth[1] + bary[2] * t.depth[2];
+                            distance.abs() <= EDGE_MARGIN && z >= depth[i * n + s] * (1.0 - 1e-9)
+                        });
                     }
                 }
             }
+            // The resolve: the mean of the samples' linear values. A pixel
+            // whose samples show different pattern cells is an edge too.
+            let mut pixel_cells = Vec::with_capacity(count);
+            for i in 0..count {
+                let own = &cells[i * n..(i + 1) * n];
+                if own.iter().any(|c| *c != own[0]) {
+                    near_edge[i] = true;
+                }
+                pixel_cells.push(own[0]);
+            }
+            let pixels = (0..count)
+                .map(|i| {
+                    let sum = color[i * n..(i + 1) * n]
+                        .iter()
+                        .fold(DVec3::ZERO, |a, c| a + *c);
+                    (sum / n as f64).as_vec3().to_array()
+                })
+                .collect();
             Band {
-                pixels: color.iter().map(|c| c.as_vec3().to_array()).collect(),
-                object_ids: ids,
-                triangle_ids: tri_ids,
+                pixels,
+                object_ids: (0..count).map(|i| ids[i * n]).collect(),
+                triangle_ids: (0..count).map(|i| tri_ids[i * n]).collect(),
                 near_edge,
-                cells,
+                cells: pixel_cells,
             }
         })
         .collect();

@@ -51,6 +51,12 @@ pub struct DeviceInfo {
     /// 16-bit float arithmetic in shaders (enabled where offered, for
     /// lighting hooks in half precision).
     pub shader_float16: bool,
+    /// The samples per pixel its raster modes render (`--msaa`): the
+    /// counts its colour and depth targets both take, where it places
+    /// them at Vulkan's standard locations (else 1 alone).
+    pub msaa_counts: Vec<u32>,
+    /// Whether it shades every sample (`--msaa N,per-sample`).
+    pub sample_rate_shading: bool,
     /// `None` when shadelab can use the device, else why not.
     pub unusable_because: Option<String>,
     /// `None` when the GPU ray tracer runs on the device, else why not
@@ -178,6 +184,7 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
             instance.get_physical_device_features2(physical, &mut f2);
             instance.get_physical_device_queue_family_properties(physical)
         };
+        let sample_rate_shading = f2.features.sample_rate_shading == vk::TRUE;
         let props = props2.properties;
         let name = props
             .device_name_as_c_str()
@@ -220,6 +227,8 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
                 ),
                 is_lavapipe: driver.driver_id == vk::DriverId::MESA_LLVMPIPE,
                 shader_float16: f12.shader_float16 == vk::TRUE,
+                msaa_counts: msaa_counts(&props.limits),
+                sample_rate_shading,
                 unusable_because: missing.map(|m| format!("lacks {m}")),
                 no_ray_tracer_because: (!packet_tracing_supported(&subgroup)).then(|| {
                     "lacks subgroup shuffles in compute shaders, 4 to 64 invocations wide"
@@ -233,6 +242,20 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
         });
     }
     Ok(out)
+}
+
+/// The sample counts both the colour and the depth target take, where the
+/// device places samples at the standard locations the CPU reference uses.
+fn msaa_counts(limits: &vk::PhysicalDeviceLimits) -> Vec<u32> {
+    let both = limits.framebuffer_color_sample_counts & limits.framebuffer_depth_sample_counts;
+    crate::msaa::STANDARD_COUNTS
+        .into_iter()
+        .filter(|&n| {
+            n == 1
+                || (limits.standard_sample_locations == vk::TRUE
+                    && both.contains(vk::SampleCountFlags::from_raw(n)))
+        })
+        .collect()
 }
 
 /// The ray tracer walks its BVH a subgroup at a time, the lanes sharing
@@ -448,7 +471,11 @@ impl GpuContext {
         } else {
             Vec::new()
         };
+        // Sample-rate shading, for `--msaa N,per-sample`, where offered.
+        let features = vk::PhysicalDeviceFeatures::default()
+            .sample_rate_shading(chosen.info.sample_rate_shading);
         let mut create = vk::DeviceCreateInfo::default()
+            .enabled_features(&features)
             .queue_create_infos(&queues)
             .enabled_extension_names(&extensions)
             .push_next(&mut f13)

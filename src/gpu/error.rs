@@ -25,6 +25,12 @@ pub enum GpuError {
         height: u32,
         why: String,
     },
+    #[error("{asked} samples per pixel: `{device}` renders {supported}; choose one of those with --msaa (or the scene's render.msaa)")]
+    UnsupportedSamples {
+        asked: String,
+        device: String,
+        supported: String,
+    },
     #[error("the meshes' BVH is {depth} levels deep, more than the GPU ray tracer's {limit}; render this scene with --backend cpu")]
     BvhTooDeep { depth: usize, limit: usize },
     #[error("the GPU ray tracer cannot run on `{device}`: it {why}; render with --backend cpu")]
@@ -58,6 +64,7 @@ impl GpuError {
         matches!(
             self,
             GpuError::ImageTooLarge { .. }
+                | GpuError::UnsupportedSamples { .. }
                 | GpuError::LightingHook(_)
                 | GpuError::DeviceNotFound { .. }
                 | GpuError::DeviceAmbiguous { .. }

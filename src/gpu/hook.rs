@@ -232,6 +232,8 @@ mod tests {
             api_version: String::new(),
             is_lavapipe: false,
             shader_float16: true,
+            msaa_counts: vec![1],
+            sample_rate_shading: false,
             unusable_because: None,
             no_ray_tracer_because: None,
             no_ray_query_because: None,

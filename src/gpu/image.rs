@@ -25,6 +25,19 @@ impl Image {
         usage: vk::ImageUsageFlags,
         aspect: vk::ImageAspectFlags,
     ) -> Result<Self, GpuError> {
+        Self::multisampled(context, name, extent, (format, 1), usage, aspect)
+    }
+
+    /// An image of `samples` samples per pixel (a power of two the device
+    /// takes for `format`).
+    pub fn multisampled(
+        context: &Arc<GpuContext>,
+        name: &str,
+        extent: vk::Extent2D,
+        (format, samples): (vk::Format, u32),
+        usage: vk::ImageUsageFlags,
+        aspect: vk::ImageAspectFlags,
+    ) -> Result<Self, GpuError> {
         let device = &context.device;
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
@@ -36,7 +49,7 @@ impl Image {
             })
             .mip_levels(1)
             .array_layers(1)
-            .samples(vk::SampleCountFlags::TYPE_1)
+            .samples(vk::SampleCountFlags::from_raw(samples))
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(usage)
             .initial_layout(vk::ImageLayout::UNDEFINED);

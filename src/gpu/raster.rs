@@ -25,6 +25,7 @@ use super::shader_catalog::{self as shaders, ShaderBlob};
 use super::timestamps::{ms_since, GpuTimings, Timestamps};
 use crate::camera::View;
 use crate::linear_image::LinearImage;
+use crate::msaa::Msaa;
 use crate::scene::{Interpolation, LightingHook, Scene};
 use crate::shading::RasterMode;
 
@@ -96,21 +97,23 @@ pub(crate) struct SurfaceFeatures {
     /// With `pattern`: some pattern is an image, sampled in the fragment
     /// stage from the texture buffers (`gpu::texture_table`).
     pub texture: bool,
+    /// Per-sample MSAA: Gouraud's and Phong's fragment inputs at each
+    /// sample's position (flat shading's colour is the face's anyway).
+    pub per_sample: bool,
 }
 
 /// The variant of `base` (`PHONG_FRAG`, ...) with the features it takes.
 fn variant(base: &str, screen: bool, colors: bool, pattern: bool) -> &'static ShaderBlob {
-    textured_variant(base, screen, colors, pattern, false)
+    fragment_variant(base, (screen, colors, pattern), false, false)
 }
 
-/// `variant`, and for a fragment stage that samples images, its
-/// `_TEXTURE` variant.
-fn textured_variant(
+/// `variant`, and for a fragment stage its `_TEXTURE` variant where it
+/// samples images and its `_SAMPLE` variant where it runs per sample.
+fn fragment_variant(
     base: &str,
-    screen: bool,
-    colors: bool,
-    pattern: bool,
+    (screen, colors, pattern): (bool, bool, bool),
     texture: bool,
+    per_sample: bool,
 ) -> &'static ShaderBlob {
     let mut name = base.to_string();
     for (on, suffix) in [
@@ -118,6 +121,7 @@ fn textured_variant(
         (colors, "_COLOR"),
         (pattern, "_PATTERN"),
         (texture, "_TEXTURE"),
+        (per_sample, "_SAMPLE"),
     ] {
         if on {
             name.push_str(suffix);
@@ -140,6 +144,7 @@ fn shader_pair(
         colors,
         pattern,
         texture,
+        per_sample,
     } = features;
     match mode {
         RasterMode::Flat => (
@@ -148,11 +153,16 @@ fn shader_pair(
         ),
         RasterMode::Gouraud => (
             variant("GOURAUD_VERT", screen, colors, pattern),
-            textured_variant("GOURAUD_FRAG", screen, false, pattern, texture),
+            fragment_variant(
+                "GOURAUD_FRAG",
+                (screen, false, pattern),
+                texture,
+                per_sample,
+            ),
         ),
         RasterMode::Phong => (
             variant("PHONG_VERT", screen, colors, pattern),
-            textured_variant("PHONG_FRAG", screen, colors, pattern, texture),
+            fragment_variant("PHONG_FRAG", (screen, colors, pattern), texture, per_sample),
         ),
     }
 }
@@ -171,12 +181,13 @@ pub(crate) fn bindings_of(
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn create_pipeline(
     context: &Arc<GpuContext>,
     mode: RasterMode,
     interpolation: Interpolation,
     spec: &Specialization,
-    target: ColorTarget,
+    (target, msaa): (ColorTarget, Msaa),
     lighting_hook: Option<&LightingHook>,
     features: SurfaceFeatures,
 ) -> Result<PipelineObjects, GpuError> {
@@ -281,8 +292,12 @@ fn create_pipeline(
         .cull_mode(vk::CullModeFlags::NONE)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
+    // Per sample: every covered sample shaded at its own position
+    // (docs/lighting-model.md, "Samples per pixel"); else once per pixel.
     let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        .rasterization_samples(vk::SampleCountFlags::from_raw(msaa.samples))
+        .sample_shading_enable(msaa.per_sample && msaa.is_multisampled())
+        .min_sample_shading(1.0);
     // Reversed Z: nearer is greater. Strict comparison makes the first-drawn
     // of two coincident surfaces win, deterministically.
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
@@ -367,6 +382,28 @@ fn image_size_error(side_limit: u32, width: u32, height: u32) -> Option<GpuError
     })
 }
 
+/// Refuses a sample count the device does not render, or per-sample
+/// shading where it has none, naming what it offers.
+pub(crate) fn check_samples(info: &super::context::DeviceInfo, msaa: Msaa) -> Result<(), GpuError> {
+    let counts = &info.msaa_counts;
+    let listed: Vec<String> = counts.iter().map(u32::to_string).collect();
+    if !counts.contains(&msaa.samples) {
+        return Err(GpuError::UnsupportedSamples {
+            asked: msaa.samples.to_string(),
+            device: info.name.clone(),
+            supported: format!("{} samples per pixel", listed.join(", ")),
+        });
+    }
+    if msaa.per_sample && msaa.is_multisampled() && !info.sample_rate_shading {
+        return Err(GpuError::UnsupportedSamples {
+            asked: msaa.to_string(),
+            device: info.name.clone(),
+            supported: "no per-sample shading (sampleRateShading)".to_string(),
+        });
+    }
+    Ok(())
+}
+
 /// Renders `scene` at its `image` size in `mode`, into the float target.
 pub fn render(
     context: &Arc<GpuContext>,
@@ -386,6 +423,16 @@ pub fn render_to(
     let started = Instant::now();
     let (width, height) = (scene.image.width, scene.image.height);
     check_image_size(context, width, height)?;
+    let msaa = scene.render.msaa;
+    check_samples(&context.info, msaa)?;
+    // Samples are resolved as linear floats (the average of linear values,
+    // then the sRGB encoding on the host): an 8-bit target would round
+    // each sample before the average.
+    let target = if msaa.is_multisampled() {
+        ColorTarget::Float32
+    } else {
+        target
+    };
     let view = View::new(scene, width, height);
     let geometry = build_geometry(scene, &view, mode == RasterMode::Flat);
     let spec = geometry.with_back_faces(specialization(scene));
@@ -398,14 +445,23 @@ pub fn render_to(
         colors: !geometry.vertex_colors.is_empty() || !geometry.face_colors.is_empty(),
         pattern: !geometry.vertex_uvs.is_empty(),
         texture: !geometry.textures.is_empty(),
+        per_sample: msaa.per_sample && msaa.is_multisampled(),
     };
     let key = format!(
-        "raster {mode:?} {interpolation:?} {target:?} spec {:?} hook {:016x} {features:?}",
+        "raster {mode:?} {interpolation:?} {target:?} msaa {msaa} spec {:?} hook {:016x} {features:?}",
         bytemuck::bytes_of(&spec),
         crate::cache::digest(&hook.map(|h| &h.source)),
     );
     let pipeline = context.pipelines.get_or_create(key, || {
-        create_pipeline(context, mode, interpolation, &spec, target, hook, features)
+        create_pipeline(
+            context,
+            mode,
+            interpolation,
+            &spec,
+            (target, msaa),
+            hook,
+            features,
+        )
     })?;
     let pipeline_ms = ms_since(pipeline_started);
 
@@ -414,7 +470,7 @@ pub fn render_to(
         context,
         (scene, &view, &geometry),
         (mode, features),
-        target,
+        (target, msaa),
         &pipeline,
     )?;
     let timestamps = Timestamps::new(context)?;

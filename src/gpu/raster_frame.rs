@@ -36,7 +36,11 @@ pub(crate) struct Frame {
     uv_buffer: Option<Buffer>,
     index_buffer: Buffer,
     descriptors: Descriptors,
+    /// The resolved (or only) colour image, read back.
     color: Image,
+    /// Multisampled: the colour samples, averaged into `color` at the end
+    /// of rendering.
+    color_samples: Option<Image>,
     depth: Image,
     readback: Buffer,
     target: ColorTarget,
@@ -54,7 +58,7 @@ impl Frame {
         context: &Arc<GpuContext>,
         (scene, view, geometry): (&Scene, &View, &Geometry),
         (mode, features): (RasterMode, SurfaceFeatures),
-        target: ColorTarget,
+        (target, msaa): (ColorTarget, crate::msaa::Msaa),
         pipeline: &PipelineObjects,
     ) -> Result<Self, GpuError> {
         let (width, height) = (scene.image.width, scene.image.height);
@@ -164,11 +168,23 @@ impl Frame {
             vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
             vk::ImageAspectFlags::COLOR,
         )?;
-        let depth = Image::new(
+        let color_samples = if msaa.is_multisampled() {
+            Some(Image::multisampled(
+                context,
+                "color samples",
+                extent,
+                (target.format(), msaa.samples),
+                vk::ImageUsageFlags::COLOR_ATTACHMENT,
+                vk::ImageAspectFlags::COLOR,
+            )?)
+        } else {
+            None
+        };
+        let depth = Image::multisampled(
             context,
             "depth",
             extent,
-            DEPTH_FORMAT,
+            (DEPTH_FORMAT, msaa.samples),
             vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
             vk::ImageAspectFlags::DEPTH,
         )?;
@@ -187,6 +203,7 @@ impl Frame {
             index_buffer,
             descriptors,
             color,
+            color_samples,
             depth,
             readback,
             target,
@@ -226,7 +243,22 @@ impl Frame {
     /// As `record`.
     unsafe fn to_attachments(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
         let (color, depth) = (&self.color, &self.depth);
-        let to_attachment = [
+        let to_color_attachment = |image: vk::Image| {
+            image_barrier(
+                image,
+                vk::ImageAspectFlags::COLOR,
+                (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                ),
+                (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
+                (
+                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                ),
+            )
+        };
+        let mut to_attachment = vec![
             image_barrier(
                 color.raw,
                 vk::ImageAspectFlags::COLOR,
@@ -256,6 +288,9 @@ impl Frame {
                 ),
             ),
         ];
+        if let Some(samples) = &self.color_samples {
+            to_attachment.push(to_color_attachment(samples.raw));
+        }
         device.cmd_pipeline_barrier2(
             cmd,
             &vk::DependencyInfo::default().image_memory_barriers(&to_attachment),
@@ -280,16 +315,30 @@ impl Frame {
         let (width, height) = (extent.width, extent.height);
         let background = scene.image.background.as_vec3();
 
-        let color_attachments = [vk::RenderingAttachmentInfo::default()
-            .image_view(color.view)
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue {
-                color: vk::ClearColorValue {
-                    float32: [background.x, background.y, background.z, 1.0],
-                },
-            })];
+        let clear = vk::ClearValue {
+            color: vk::ClearColorValue {
+                float32: [background.x, background.y, background.z, 1.0],
+            },
+        };
+        // Multisampled: the samples are drawn, averaged into `color` at the
+        // end (their own values are not kept).
+        let color_attachments = [match &self.color_samples {
+            None => vk::RenderingAttachmentInfo::default()
+                .image_view(color.view)
+                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(clear),
+            Some(samples) => vk::RenderingAttachmentInfo::default()
+                .image_view(samples.view)
+                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .clear_value(clear)
+                .resolve_mode(vk::ResolveModeFlags::AVERAGE)
+                .resolve_image_view(color.view)
+                .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+        }];
         let depth_attachment = vk::RenderingAttachmentInfo::default()
             .image_view(depth.view)
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)

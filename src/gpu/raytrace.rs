@@ -562,6 +562,8 @@ mod tests {
             api_version: "1.3.0".into(),
             is_lavapipe: false,
             shader_float16: false,
+            msaa_counts: vec![1],
+            sample_rate_shading: false,
             unusable_because: None,
             no_ray_tracer_because: None,
             no_ray_query_because: (!ray_query).then(|| "lacks VK_KHR_ray_query".into()),

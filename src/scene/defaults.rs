@@ -67,6 +67,7 @@ impl Default for RenderSettings {
             shadows: true,
             samples: 1,
             traversal: Traversal::Auto,
+            msaa: crate::msaa::Msaa::default(),
         }
     }
 }

@@ -316,6 +316,8 @@ pub struct RenderSettings {
     pub samples: u32,
     /// Ray tracing on the GPU: the engine that finds hits.
     pub traversal: Traversal,
+    /// The raster modes: samples per pixel and where they are shaded.
+    pub msaa: crate::msaa::Msaa,
 }
 
 /// Two unit vectors `(u, v)` spanning the plane with unit normal `n`, with

@@ -28,6 +28,7 @@
 //! | `render.shadows` | `true` | |
 //! | `render.samples` | `1` | 1..=1024 |
 //! | `render.traversal` | `"auto"` | or `"bvh"`, `"query"`: the GPU ray tracer's engine |
+//! | `render.msaa` | `1` | the raster modes' samples per pixel, 1..=64 (the device's counts: `shadelab info`), or `"4,per-sample"` to shade every sample |
 //!
 //! Objects (`[[objects]]`, `shape` selects the kind; a key that belongs to
 //! another shape is an error):
@@ -284,6 +285,15 @@ struct RenderRaw {
     shadows: Option<bool>,
     samples: Option<Spanned<i64>>,
     traversal: Option<Traversal>,
+    msaa: Option<Spanned<MsaaRaw>>,
+}
+
+/// `msaa = 4` or `msaa = "4,per-sample"`.
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum MsaaRaw {
+    Count(i64),
+    Text(String),
 }
 
 // ---------------------------------------------------------------------------
@@ -905,6 +915,15 @@ pub fn parse_within(
         if let Some(t) = r.traversal {
             render.traversal = t;
         }
+        if let Some(m) = &r.msaa {
+            let text = match m.get_ref() {
+                MsaaRaw::Count(n) => n.to_string(),
+                MsaaRaw::Text(t) => t.clone(),
+            };
+            render.msaa = text
+                .parse()
+                .map_err(|e: String| cx.err(m, format!("render.msaa {e}")))?;
+        }
     }
 
     Ok(Scene {
@@ -1208,6 +1227,7 @@ depth   = 5                       # ray tracing: maximum recursion depth
 cutoff  = 0.001                   # ray tracing: adaptive depth cut-off
 shadows = true
 samples = 1                       # ray tracing: samples per pixel
+msaa    = 1                       # raster modes: samples per pixel ("4,per-sample": shade each)
 "#;
 
     fn fixture(name: &str) -> PathBuf {
@@ -1319,6 +1339,7 @@ samples = 1                       # ray tracing: samples per pixel
                 shadows: true,
                 samples: 1,
                 traversal: Traversal::Auto,
+                msaa: crate::msaa::Msaa::default(),
             }
         );
         assert!(s.warnings.is_empty());
@@ -1397,7 +1418,7 @@ samples = 1                       # ray tracing: samples per pixel
             "[lighting]\nambient = [0.1, 0.2, 0.3]\nk = 0\ninterpolation = \"screen\"\nattenuation = false\n\
              [[lights]]\nposition = [1, 2, 3]\nintensity = [1, 0.5, 0]\n\
              [materials.m]\n[[objects]]\nshape = \"box\"\ncenter = [0, 0, 0]\nsize = [2, 4, 6]\nrotate_deg = [0, 90, 0]\nmaterial = \"m\"\n\
-             [render]\ndepth = 0\ncutoff = 0\nshadows = false\nsamples = 16\ntraversal = \"query\"\n",
+             [render]\ndepth = 0\ncutoff = 0\nshadows = false\nsamples = 16\ntraversal = \"query\"\nmsaa = \"4,per-sample\"\n",
         ));
         assert_eq!(s.lighting.ambient, DVec3::new(0.1, 0.2, 0.3));
         assert_eq!(s.lighting.k, 0.0);
@@ -1423,6 +1444,10 @@ samples = 1                       # ray tracing: samples per pixel
                 shadows: false,
                 samples: 16,
                 traversal: Traversal::Query,
+                msaa: crate::msaa::Msaa {
+                    samples: 4,
+                    per_sample: true,
+                },
             }
         );
     }
@@ -1606,6 +1631,8 @@ samples = 1                       # ray tracing: samples per pixel
             ("[[lights]]\nposition = [0, 0, 0]\nintensity = -2\n", &["line 6", "intensity", ">= 0"]),
             ("[render]\ndepth = 65\n", &["line 5", "render.depth", "64"]),
             ("[render]\nsamples = 0\n", &["line 5", "render.samples", "1024"]),
+            ("[render]\nmsaa = 0\n", &["line 5", "render.msaa", "sample count"]),
+            ("[render]\nmsaa = \"4,sometimes\"\n", &["line 5", "render.msaa", "per-sample"]),
             ("[render]\ncutoff = -0.1\n", &["line 5", "render.cutoff"]),
             (
                 "[materials.m]\n[[objects]]\nshape = \"sphere\"\ncenter = [0, 0, 0]\nradius = 0\nmaterial = \"m\"\n",
