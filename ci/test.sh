@@ -22,6 +22,10 @@ cargo test --release
 # time into every mode, holds check's thresholds as the built-in one does.
 ./target/release/shadelab check assets/*.toml --lighting examples/lighting/phong.glsl \
     --out target/check-hook --junit target/check-hook/assets.xml
+# Four samples per pixel in the raster modes: the GPU and the reference
+# sample, depth-test and average the same points (docs/check.md).
+./target/release/shadelab check assets/*.toml assets/hard/*.toml --shading flat,gouraud,phong \
+    --msaa 4 --out target/check-msaa --images failures --junit target/check-msaa/assets.xml
 # The ray tracer's packets at another subgroup size: lavapipe on 128-bit
 # vectors (as on a CPU without AVX) runs subgroups of 4 lanes, not 8.
 LP_NATIVE_VECTOR_WIDTH=128 ./target/release/shadelab check assets/*.toml --shading raytrace \
