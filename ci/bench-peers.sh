@@ -185,6 +185,10 @@ define_jobs() {
         job "raster-sphere$seg.shadelab" shadelab -- \
             "$bin" bench "$scenes/sphere-$seg.toml" --shading flat,gouraud,phong "${size_args[@]}"
         job "raster-sphere$seg.wgpu" python -- "$venv_py" "$src/wgpu_raster_peer.py" "$seg" "$size" "$runs"
+        # Four samples per pixel on both sides (issue 34).
+        job "raster-sphere$seg-msaa4.shadelab" shadelab -- \
+            "$bin" bench "$scenes/sphere-$seg.toml" --shading flat,gouraud,phong --msaa 4 "${size_args[@]}"
+        job "raster-sphere$seg-msaa4.wgpu" python -- "$venv_py" "$src/wgpu_raster_peer.py" "$seg" "$size" "$runs" 4
     done
 }
 

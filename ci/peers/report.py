@@ -316,14 +316,17 @@ class Report:
                      f"{fmt_ms(uber)} gpu_ms", f"{fmt_ms(gpu)} gpu_ms", uber / gpu if gpu else None,
                      sl_job, sl_job, unit="ms", peer_value=uber, shadelab_value=gpu)
 
-    def raster(self, seg):
+    def raster(self, seg, samples=1):
         def target_note(r):
             # shadelab names the colour target it timed (rgba8-srgb: the PNG path); older
             # binaries rendered into rgba32f and did not say.
             return f"{r['color_target']} target, " if r.get("color_target") else ""
 
         size = self.args.size
-        sl_job, p_job = f"raster-sphere{seg}.shadelab", f"raster-sphere{seg}.wgpu"
+        suffix = f"-msaa{samples}" if samples > 1 else ""
+        sl_job, p_job = f"raster-sphere{seg}{suffix}.shadelab", f"raster-sphere{seg}{suffix}.wgpu"
+        section = ("Raster: the peers' UV sphere" if samples == 1
+                   else f"Raster: the peers' UV sphere, {samples} samples per pixel (MSAA)")
         if not (self.res.ran(sl_job) or self.res.ran(p_job)):
             return
         bench = self.res.get(sl_job)
@@ -336,7 +339,7 @@ class Report:
             pm = (p or {}).get("modes", {}).get(p_mode)
             peer = (f"wgpu {p.get('wgpu', '')} {p_mode} (GPU: {p.get('device', '?')})" if p
                     else f"wgpu {p_mode}")
-            self.add("Raster: the peers' UV sphere", f"{tris}-triangle sphere, {what}, {size}x{size}", peer,
+            self.add(section, f"{tris}-triangle sphere, {what}, {size}x{size}", peer,
                      fmt_range(pm) if pm else self.missing(p_job),
                      (f"{fmt_ms(gpu)} gpu_ms ({target_note(r)}{fmt_ms(r.get('total_ms'))} total)" if gpu
                       else self.missing(sl_job)),
@@ -407,6 +410,8 @@ class Report:
         self.specialisation()
         for seg in self.args.segs:
             self.raster(seg)
+        for seg in self.args.segs:
+            self.raster(seg, 4)
 
 
 def row_key(row, seen):

@@ -3,7 +3,10 @@ peers' lit UV sphere offscreen, the same work as `shadelab bench` on ci/peers/sp
 scene: SIZExSIZE, depth test, back-face culling, one point light, the same lighting formula per
 pixel (phong), per vertex (gouraud), or none (constant colour: the driver's floor).
 
-    wgpu_raster_peer.py SEG SIZE RUNS
+    wgpu_raster_peer.py SEG SIZE RUNS [SAMPLES]
+
+SAMPLES > 1 draws into a multisampled colour and depth target (sample_count = SAMPLES) resolved
+into the rgba8 image at the end of the pass, as `shadelab bench --msaa SAMPLES` times.
 
 Timed per frame: record, submit, wait and read the colour image back (rgba8), i.e. the
 frame's work and its read-back; pipeline creation is timed apart. Two warm-up frames, then
@@ -17,7 +20,7 @@ import wgpu
 
 from peer_common import emit, int_args, summary
 
-SEG, SIZE, RUNS = int_args(["seg", "size", "runs"], [100, 1024, 5])
+SEG, SIZE, RUNS, SAMPLES = int_args(["seg", "size", "runs", "samples"], [100, 1024, 5, 1])
 W = H = SIZE
 
 
@@ -106,7 +109,11 @@ def main():
     color = dev.create_texture(size=(W, H, 1), format=wgpu.TextureFormat.rgba8unorm,
                                usage=wgpu.TextureUsage.RENDER_ATTACHMENT | wgpu.TextureUsage.COPY_SRC)
     depth = dev.create_texture(size=(W, H, 1), format=wgpu.TextureFormat.depth32float,
-                               usage=wgpu.TextureUsage.RENDER_ATTACHMENT)
+                               usage=wgpu.TextureUsage.RENDER_ATTACHMENT, sample_count=SAMPLES)
+    # Multisampled: the samples drawn here, resolved into `color` at the end of the pass.
+    samples = (dev.create_texture(size=(W, H, 1), format=wgpu.TextureFormat.rgba8unorm,
+                                  usage=wgpu.TextureUsage.RENDER_ATTACHMENT, sample_count=SAMPLES)
+               if SAMPLES > 1 else None)
     modes = {}
     for mode, fs in FS.items():
         g = "shade(pos, n)" if mode == "gouraud" else "vec3f(0.0)"
@@ -120,6 +127,7 @@ def main():
             primitive={"topology": "triangle-list", "cull_mode": "back", "front_face": "ccw"},
             depth_stencil={"format": "depth32float", "depth_write_enabled": True, "depth_compare": "less"},
             fragment={"module": sm, "entry_point": "fs", "targets": [{"format": "rgba8unorm"}]},
+            multisample={"count": SAMPLES},
         )
         bg = dev.create_bind_group(layout=pipe.get_bind_group_layout(0),
                                    entries=[{"binding": 0, "resource": {"buffer": ub}}])
@@ -130,8 +138,10 @@ def main():
             t0 = time.perf_counter()
             enc = dev.create_command_encoder()
             rp = enc.begin_render_pass(
-                color_attachments=[{"view": color.create_view(), "clear_value": (0, 0, 0, 1),
-                                    "load_op": "clear", "store_op": "store"}],
+                color_attachments=[{"view": (samples or color).create_view(),
+                                    "resolve_target": color.create_view() if samples else None,
+                                    "clear_value": (0, 0, 0, 1), "load_op": "clear",
+                                    "store_op": "discard" if samples else "store"}],
                 depth_stencil_attachment={"view": depth.create_view(), "depth_clear_value": 1.0,
                                           "depth_load_op": "clear", "depth_store_op": "store"})
             rp.set_pipeline(pipe)
@@ -148,7 +158,8 @@ def main():
                            mean_px=round(float(img[..., :3].mean()), 3))
     emit({"peer": "wgpu-raster", "wgpu": wgpu.__version__, "device": info.get("device", ""),
           "backend": info.get("backend_type", ""), "description": info.get("description", ""),
-          "triangles": len(idx) // 3, "width": W, "height": H, "timed": "submit + draw + read-back (rgba8)",
+          "triangles": len(idx) // 3, "width": W, "height": H, "samples": SAMPLES,
+          "timed": "submit + draw + read-back (rgba8)",
           "modes": modes})
 
 

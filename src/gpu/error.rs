@@ -25,11 +25,11 @@ pub enum GpuError {
         height: u32,
         why: String,
     },
-    #[error("{asked} samples per pixel: `{device}` renders {supported}; choose one of those with --msaa (or the scene's render.msaa)")]
+    #[error("msaa {asked} (--msaa or the scene's render.msaa): `{device}` {why}")]
     UnsupportedSamples {
         asked: String,
         device: String,
-        supported: String,
+        why: String,
     },
     #[error("the meshes' BVH is {depth} levels deep, more than the GPU ray tracer's {limit}; render this scene with --backend cpu")]
     BvhTooDeep { depth: usize, limit: usize },

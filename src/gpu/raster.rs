@@ -386,19 +386,30 @@ fn image_size_error(side_limit: u32, width: u32, height: u32) -> Option<GpuError
 /// shading where it has none, naming what it offers.
 pub(crate) fn check_samples(info: &super::context::DeviceInfo, msaa: Msaa) -> Result<(), GpuError> {
     let counts = &info.msaa_counts;
-    let listed: Vec<String> = counts.iter().map(u32::to_string).collect();
     if !counts.contains(&msaa.samples) {
-        return Err(GpuError::UnsupportedSamples {
-            asked: msaa.samples.to_string(),
-            device: info.name.clone(),
-            supported: format!("{} samples per pixel", listed.join(", ")),
-        });
-    }
-    if msaa.per_sample && msaa.is_multisampled() && !info.sample_rate_shading {
+        let mut listed: Vec<String> = counts.iter().map(u32::to_string).collect();
+        let last = listed.pop().unwrap_or_default();
+        let listed = if listed.is_empty() {
+            last
+        } else {
+            format!("{} or {last}", listed.join(", "))
+        };
         return Err(GpuError::UnsupportedSamples {
             asked: msaa.to_string(),
             device: info.name.clone(),
-            supported: "no per-sample shading (sampleRateShading)".to_string(),
+            why: format!("renders {listed} samples per pixel (`shadelab info` lists them; the CPU reference, --backend cpu, 1, 2, 4, 8 or 16)"),
+        });
+    }
+    if msaa.per_sample && msaa.is_multisampled() && !info.sample_rate_shading {
+        let why = if info.is_lavapipe {
+            super::context::PER_SAMPLE_ON_LAVAPIPE
+        } else {
+            "it offers no sample-rate shading; --msaa N shades per pixel, and --backend cpu renders per sample"
+        };
+        return Err(GpuError::UnsupportedSamples {
+            asked: msaa.to_string(),
+            device: info.name.clone(),
+            why: format!("shades no sample on its own: {why}"),
         });
     }
     Ok(())
