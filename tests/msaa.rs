@@ -275,3 +275,42 @@ fn counts_the_device_lacks_and_msaa_with_the_ray_tracer_are_said_in_one_line() {
     );
     assert_eq!(run.code, 2, "{}", run.stderr);
 }
+
+/// A multisampled render for a PNG resolves into 16-bit floats (an 8-bit
+/// sRGB target is not averaged in linear light on lavapipe): its PNG is the
+/// 32-bit path's within one 8-bit step on every channel of every pixel.
+#[test]
+fn the_half_float_resolve_gives_the_float_path_png_within_one_step() {
+    use shadelab::gpu::raster::ColorTarget;
+    let context = gpu();
+    let png_codes = |image: &LinearImage| -> Vec<u8> {
+        image
+            .pixels
+            .iter()
+            .flat_map(|p| p.map(|v| shadelab::srgb::linear_to_srgb8(v)))
+            .collect()
+    };
+    for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
+        let mut scene = default_scene();
+        scene.render.msaa = Msaa {
+            samples: 4,
+            per_sample: false,
+        };
+        let at = |target| {
+            shadelab::render::render_gpu_to(&context, &scene, shading, false, target)
+                .unwrap()
+                .image
+        };
+        let (half, full) = (
+            png_codes(&at(ColorTarget::Float16)),
+            png_codes(&at(ColorTarget::Float32)),
+        );
+        let worst = half
+            .iter()
+            .zip(&full)
+            .map(|(a, b)| a.abs_diff(*b))
+            .max()
+            .unwrap();
+        assert!(worst <= 1, "{shading}: {worst} steps apart");
+    }
+}

@@ -339,7 +339,8 @@ class Report:
             pm = (p or {}).get("modes", {}).get(p_mode)
             peer = (f"wgpu {p.get('wgpu', '')} {p_mode} (GPU: {p.get('device', '?')})" if p
                     else f"wgpu {p_mode}")
-            self.add(section, f"{tris}-triangle sphere, {what}, {size}x{size}", peer,
+            work = f"{tris}-triangle sphere, {what}, {size}x{size}" + (f", {samples} samples per pixel" if samples > 1 else "")
+            self.add(section, work, peer,
                      fmt_range(pm) if pm else self.missing(p_job),
                      (f"{fmt_ms(gpu)} gpu_ms ({target_note(r)}{fmt_ms(r.get('total_ms'))} total)" if gpu
                       else self.missing(sl_job)),

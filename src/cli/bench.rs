@@ -194,11 +194,10 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     gpu_modes.push(Shading::Flat);
     memory.check(&name, &scene, &gpu_modes, cpu_modes)?;
     let context = GpuContext::new(options)?;
-    // Multisampled images are resolved as floats whatever the output.
-    let raster_target = if scene.render.msaa.is_multisampled() {
-        ColorTarget::Float32
-    } else {
-        args.target.color_target()
+    // Multisampled images are resolved as floats: 16-bit for a PNG.
+    let raster_target = match args.target.color_target() {
+        ColorTarget::Srgb8 if scene.render.msaa.is_multisampled() => ColorTarget::Float16,
+        other => other,
     };
     let target_of = |shading: Shading| {
         if shading.raster_mode().is_some() {

@@ -218,11 +218,15 @@ pub(super) fn color_target(scene: &Scene, format: shadelab::output::ImageFormat)
     // A lighting hook is the user's code, and may return NaN: the float
     // target keeps it to be counted, where the 8-bit one turns it into a
     // colour on the way in.
-    // Multisampled: the samples are averaged as floats (`gpu::raster`).
-    if scene.lighting_hook.is_some() || scene.render.msaa.is_multisampled() {
-        ColorTarget::Float32
-    } else {
-        ColorTarget::for_output(format)
+    // Multisampled: the samples are averaged as floats, 16-bit for a PNG
+    // (`gpu::raster`).
+    match (
+        scene.lighting_hook.is_some(),
+        ColorTarget::for_output(format),
+    ) {
+        (true, _) => ColorTarget::Float32,
+        (false, ColorTarget::Srgb8) if scene.render.msaa.is_multisampled() => ColorTarget::Float16,
+        (false, target) => target,
     }
 }
 

@@ -496,6 +496,9 @@ impl Frame {
             ColorTarget::Srgb8 => {
                 LinearImage::from_srgba8_bytes(width, height, self.readback.mapped())
             }
+            ColorTarget::Float16 => {
+                LinearImage::from_rgba16f_bytes(width, height, self.readback.mapped())
+            }
         }
     }
 }
