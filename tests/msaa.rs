@@ -287,7 +287,7 @@ fn the_half_float_resolve_gives_the_float_path_png_within_one_step() {
         image
             .pixels
             .iter()
-            .flat_map(|p| p.map(|v| shadelab::srgb::linear_to_srgb8(v)))
+            .flat_map(|p| p.map(shadelab::srgb::linear_to_srgb8))
             .collect()
     };
     for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
