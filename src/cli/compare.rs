@@ -239,7 +239,8 @@ fn render_variants(
     let (mut scene, name) = load_scene(args.scene.as_deref(), memory)?;
     args.size.apply(&mut scene)?;
     args.msaa.apply(&mut scene)?;
-    let variants: Vec<Variant> = if args.variants.is_empty() {
+    let chosen_for_the_scene = args.variants.is_empty();
+    let variants: Vec<Variant> = if chosen_for_the_scene {
         default_variants(&scene)
     } else {
         args.variants
@@ -257,15 +258,26 @@ fn render_variants(
     // Only a tessellation override changes the geometry; copying the scene
     // for the others would double the memory this check guards.
     for variant in &variants {
-        let varied = match variant.segments {
-            Some(_) => std::borrow::Cow::Owned(variant.apply(&scene)?),
-            None => std::borrow::Cow::Borrowed(&scene),
+        let varied = match (variant.segments, variant.msaa) {
+            (None, None) => std::borrow::Cow::Borrowed(&scene),
+            _ => std::borrow::Cow::Owned(variant.apply(&scene)?),
         };
         let modes = [variant.shading];
         let references = [variant.shading, Shading::Raytrace];
         memory.check(&name, &varied, &modes, &references)?;
     }
     let context = GpuContext::new(options)?;
+    // The list chosen for the scene keeps the sample counts this device
+    // renders; a count asked for by name is the device's to refuse.
+    let variants: Vec<Variant> = if chosen_for_the_scene {
+        let counts = &context.info.msaa_counts;
+        variants
+            .into_iter()
+            .filter(|v| v.msaa.is_none_or(|m| counts.contains(&m.samples)))
+            .collect()
+    } else {
+        variants
+    };
     let bar = indicatif::ProgressBar::new(0);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}")
