@@ -183,60 +183,35 @@ fn one_sample_is_the_image_of_before() {
 #[test]
 fn counts_the_device_lacks_and_msaa_with_the_ray_tracer_are_said_in_one_line() {
     let dir = tempfile::tempdir().unwrap();
+    let render = |args: &str| {
+        let mut all = vec!["render"];
+        all.extend(args.split_whitespace());
+        shadelab(dir.path(), &all)
+    };
     for bad in ["0", "3", "64", "4,sometimes"] {
-        let run = shadelab(dir.path(), &["render", "--msaa", bad, "-o", "x.png"]);
+        let run = render(&format!("--msaa {bad} -o x.png"));
         assert_eq!(run.code, 2, "--msaa {bad}: {}", run.stderr);
         assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
         assert!(!dir.path().join("x.png").exists());
     }
     // A count that parses but that the device lacks names the ones it has.
-    let run = shadelab(dir.path(), &["render", "--msaa", "3", "-o", "x.png"]);
+    let run = render("--msaa 3 -o x.png");
     assert!(run.stderr.contains("renders 1"), "{}", run.stderr);
     // Per-sample shading on lavapipe is refused with the reason, and the
     // CPU reference renders it.
-    let run = shadelab(
-        dir.path(),
-        &["render", "--msaa", "4,per-sample", "-o", "x.png"],
-    );
+    let run = render("--msaa 4,per-sample -o x.png");
     let lavapipe = run.stderr.contains("lavapipe");
     assert!(
         run.code == 0 || (run.code == 2 && lavapipe && run.stderr.contains("--backend cpu")),
         "{}",
         run.stderr
     );
-    let run = shadelab(
-        dir.path(),
-        &[
-            "render",
-            "--backend",
-            "cpu",
-            "--msaa",
-            "4,per-sample",
-            "--width",
-            "32",
-            "--height",
-            "24",
-            "-o",
-            "cpu4s.png",
-        ],
-    );
+    let small = "--width 32 --height 24";
+    let run = render(&format!(
+        "--backend cpu --msaa 4,per-sample {small} -o cpu4s.png"
+    ));
     assert_eq!(run.code, 0, "{}", run.stderr);
-    let run = shadelab(
-        dir.path(),
-        &[
-            "render",
-            "--shading",
-            "raytrace",
-            "--msaa",
-            "4",
-            "--width",
-            "32",
-            "--height",
-            "24",
-            "-o",
-            "rt.png",
-        ],
-    );
+    let run = render(&format!("--shading raytrace --msaa 4 {small} -o rt.png"));
     assert_eq!(run.code, 0, "{}", run.stderr);
     assert!(
         run.stderr.contains("ray tracer ignores it"),
@@ -244,35 +219,9 @@ fn counts_the_device_lacks_and_msaa_with_the_ray_tracer_are_said_in_one_line() {
         run.stderr
     );
     // The CPU reference renders every count with standard locations.
-    let run = shadelab(
-        dir.path(),
-        &[
-            "render",
-            "--backend",
-            "cpu",
-            "--msaa",
-            "8",
-            "--width",
-            "32",
-            "--height",
-            "24",
-            "-o",
-            "cpu8.png",
-        ],
-    );
+    let run = render(&format!("--backend cpu --msaa 8 {small} -o cpu8.png"));
     assert_eq!(run.code, 0, "{}", run.stderr);
-    let run = shadelab(
-        dir.path(),
-        &[
-            "render",
-            "--backend",
-            "cpu",
-            "--msaa",
-            "32",
-            "-o",
-            "cpu32.png",
-        ],
-    );
+    let run = render("--backend cpu --msaa 32 -o cpu32.png");
     assert_eq!(run.code, 2, "{}", run.stderr);
 }
 

@@ -259,19 +259,7 @@ impl Frame {
             )
         };
         let mut to_attachment = vec![
-            image_barrier(
-                color.raw,
-                vk::ImageAspectFlags::COLOR,
-                (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                ),
-                (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
-                (
-                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                ),
-            ),
+            to_color_attachment(color.raw),
             image_barrier(
                 depth.raw,
                 vk::ImageAspectFlags::DEPTH,
