@@ -344,6 +344,13 @@ fn bad_references_and_flags_get_one_clear_error() {
         &["golden", "--references", "refs", "--threshold", "max_abs=x"],
     );
     assert_eq!(run.code, 2);
+    // A bad file name pattern or size is refused before any folder is made.
+    for bad in [["--name", "{scene}-{shading}.png"], ["--width", "0"]] {
+        let mut args = vec!["golden", "--references", "refs"];
+        args.extend(bad);
+        let run = shadelab(d, &args);
+        assert_eq!(run.code, 2, "{bad:?}: {}", run.stderr);
+    }
     assert!(!d.join("refs").exists() && !d.join("golden-out").exists());
     // A corrupt reference is an error of its case (every case: exit 2),
     // and --bless replaces it.

@@ -114,10 +114,15 @@ fn the_cases_share_one_device_and_its_pipelines() {
         "--name",
         "{mode}/../{scene}.png",
     ];
-    // A pattern with a folder in it is refused before anything runs.
+    // A pattern with a folder in it is refused before anything runs, as
+    // is a bad size: no folder is made.
     let refused = shadelab(dir.path(), &args);
     assert_eq!(refused.code, 2, "{}", refused.stderr);
     assert!(refused.stderr.contains("not a path"), "{}", refused.stderr);
+    let mut bad_size = args.clone();
+    bad_size[8] = "{scene}.png";
+    bad_size.extend(["--width", "0"]);
+    assert_eq!(shadelab(dir.path(), &bad_size).code, 2);
     assert!(!dir.path().join("out").exists());
     args[8] = "{scene}_{mode}.exr";
     args.push("--json");

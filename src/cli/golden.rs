@@ -248,15 +248,11 @@ struct Plan<'a> {
 impl Plan<'_> {
     /// The path a made or blessed reference goes to.
     fn target(&self, file: &str, found: Option<&Path>) -> PathBuf {
-        match (self.per_driver(), found) {
+        match (self.args.per_driver, found) {
             (false, Some(found)) => found.to_path_buf(),
             (false, None) => self.args.references.join(file),
             (true, _) => self.args.references.join(&self.key).join(file),
         }
-    }
-
-    fn per_driver(&self) -> bool {
-        self.args.per_driver
     }
 
     /// Compares case `view`'s render with its reference; writes what a
@@ -308,7 +304,7 @@ impl Plan<'_> {
                 write_reference(&target, &bytes)?;
                 judged.status = Status::Created;
                 judged.reference = Some(target);
-                judged.reference_kind = Some(if self.per_driver() {
+                judged.reference_kind = Some(if self.args.per_driver {
                     "driver"
                 } else {
                     "shared"
@@ -409,7 +405,7 @@ impl Plan<'_> {
                 Status::Created
             };
             judged.reference = Some(target);
-            if self.per_driver() {
+            if self.args.per_driver {
                 judged.reference_kind = Some("driver");
             }
         } else if expected.is_err() {
@@ -509,10 +505,6 @@ pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
         )));
     }
     let bless = args.bless || bless_from_env();
-    output::prepare_output_folder(&args.out)?;
-    if let Some(path) = &args.junit {
-        output::prepare_output_path(path)?;
-    }
     let render_args = RenderArgs {
         scenes: args.scenes.clone(),
         shading: args.modes.modes(),
@@ -541,6 +533,11 @@ pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
         stats: false,
         machine: args.machine.clone(),
     };
+    Batch::check_flags(&render_args)?;
+    output::prepare_output_folder(&args.out)?;
+    if let Some(path) = &args.junit {
+        output::prepare_output_path(path)?;
+    }
     let batch = Batch::plan(&render_args, options, memory)?;
     let (device, driver) = batch.context().map_or_else(
         || ("no device".to_string(), String::new()),

@@ -174,19 +174,25 @@ pub(super) struct Made {
 }
 
 impl Batch {
+    /// The flags a batch takes, checked before anything is written: the
+    /// file name pattern, and those that apply to every scene (on the
+    /// default scene), so that a bad value is one usage error, not an error
+    /// in every case, and leaves no folder behind.
+    pub fn check_flags(args: &RenderArgs) -> Result<(), Failure> {
+        let modes = args.modes();
+        check_pattern(args.name_pattern(), args.scenes.len().max(1), modes.len())?;
+        apply_overrides(&mut shadelab::scene::default_scene(), args, &modes, true)
+    }
+
     /// Loads the scenes, chooses each case's backend, opens the device if
     /// a case needs it. A scene that does not load fails its own cases.
+    /// The flags are `check_flags`'.
     pub fn plan(
         args: &RenderArgs,
         options: &GpuOptions,
         memory: &MemoryLimit,
     ) -> Result<Batch, Failure> {
         let modes = args.modes();
-        let scene_count = args.scenes.len().max(1);
-        check_pattern(args.name_pattern(), scene_count, modes.len())?;
-        // The flags that apply to every scene, checked once on the default
-        // scene: a bad value is a usage error, not an error in every case.
-        apply_overrides(&mut shadelab::scene::default_scene(), args, &modes, true)?;
         let scenes = plan_scenes(args, &modes, memory);
         let mut cases = Vec::new();
         for (i, scene) in scenes.iter().enumerate() {
@@ -378,7 +384,7 @@ pub fn run(args: &RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Res
             modes.len()
         )));
     }
-    check_pattern(args.name_pattern(), scene_count, modes.len())?;
+    Batch::check_flags(args)?;
     let out_dir = args.out_dir.clone().unwrap_or_else(|| PathBuf::from("."));
     shadelab::output::prepare_output_folder(&out_dir)?;
     let batch = Batch::plan(args, options, memory)?;
