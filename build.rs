@@ -28,8 +28,6 @@ const SCREEN_LINEAR: u8 = 1;
 const VERTEX_COLOR: u8 = 2;
 const PATTERN: u8 = 4;
 const TEXTURE: u8 = 8;
-/// Per-sample MSAA: the fragment inputs at each sample's position.
-const PER_SAMPLE: u8 = 16;
 
 /// The defines of a subset of the features.
 fn feature_defines(features: u8) -> &'static [(&'static str, Option<&'static str>)] {
@@ -38,7 +36,6 @@ fn feature_defines(features: u8) -> &'static [(&'static str, Option<&'static str
         (VERTEX_COLOR, "VERTEX_COLOR"),
         (PATTERN, "PATTERN"),
         (TEXTURE, "TEXTURE"),
-        (PER_SAMPLE, "PER_SAMPLE"),
     ];
     let defines: Vec<(&'static str, Option<&'static str>)> = all
         .iter()
@@ -73,7 +70,7 @@ const RASTER_STAGES: &[(&str, &str, glslang::ShaderStage, u8)] = &[
         "GOURAUD_FRAG",
         "gouraud.frag.glsl",
         glslang::ShaderStage::Fragment,
-        SCREEN_LINEAR | PATTERN | TEXTURE | PER_SAMPLE,
+        SCREEN_LINEAR | PATTERN | TEXTURE,
     ),
     (
         "PHONG_VERT",
@@ -85,13 +82,13 @@ const RASTER_STAGES: &[(&str, &str, glslang::ShaderStage, u8)] = &[
         "PHONG_FRAG",
         "phong.frag.glsl",
         glslang::ShaderStage::Fragment,
-        SCREEN_LINEAR | VERTEX_COLOR | PATTERN | TEXTURE | PER_SAMPLE,
+        SCREEN_LINEAR | VERTEX_COLOR | PATTERN | TEXTURE,
     ),
 ];
 
 /// The suffix the features add to a variant's name (`gpu::raster` looks
-/// variants up by it): `_SCREEN`, `_COLOR`, `_PATTERN`, `_TEXTURE`,
-/// `_SAMPLE`, in that order.
+/// variants up by it): `_SCREEN`, `_COLOR`, `_PATTERN`, `_TEXTURE`, in
+/// that order.
 fn feature_suffix(features: u8) -> String {
     let mut suffix = String::new();
     for (bit, name) in [
@@ -99,7 +96,6 @@ fn feature_suffix(features: u8) -> String {
         (VERTEX_COLOR, "_COLOR"),
         (PATTERN, "_PATTERN"),
         (TEXTURE, "_TEXTURE"),
-        (PER_SAMPLE, "_SAMPLE"),
     ] {
         if features & bit != 0 {
             suffix.push_str(name);
@@ -111,7 +107,7 @@ fn feature_suffix(features: u8) -> String {
 fn variants() -> Vec<Variant> {
     let mut out = Vec::new();
     for &(name, source, stage, takes) in RASTER_STAGES {
-        for features in 0..32u8 {
+        for features in 0..16u8 {
             // Images are read at the pattern's texture coordinates.
             if features & !takes != 0 || (features & TEXTURE != 0 && features & PATTERN == 0) {
                 continue;

@@ -9,18 +9,18 @@
 #include "pattern.glsl"
 #endif
 
-layout(location = 0) SAMPLE_IN vec3 in_front_intensity;
+layout(location = 0) in vec3 in_front_intensity;
 // The back's, for a triangle seen from behind; read only where some draw
 // may show its back (BACK_FACES), so that a scene of closed objects seen
 // from outside interpolates one intensity, as before backs were lit.
-layout(location = 4) SAMPLE_IN vec3 in_back_intensity;
+layout(location = 4) in vec3 in_back_intensity;
 #ifdef SCREEN_LINEAR
-layout(location = 1) SAMPLE_IN float in_w;
+layout(location = 1) in float in_w;
 #endif
 #ifdef PATTERN
-layout(location = 2) SAMPLE_IN vec3 in_front_specular;
-layout(location = 5) SAMPLE_IN vec3 in_back_specular;
-layout(location = 3) SAMPLE_IN vec2 in_uv;
+layout(location = 2) in vec3 in_front_specular;
+layout(location = 5) in vec3 in_back_specular;
+layout(location = 3) in vec2 in_uv;
 #endif
 layout(location = 0) out vec4 out_color;
 

@@ -12,20 +12,20 @@
 #include "pattern.glsl"
 #endif
 
-layout(location = 0) SAMPLE_IN vec3 in_position;
-layout(location = 1) SAMPLE_IN vec3 in_normal;
+layout(location = 0) in vec3 in_position;
+layout(location = 1) in vec3 in_normal;
 #ifdef SCREEN_LINEAR
-layout(location = 2) SAMPLE_IN float in_w;
+layout(location = 2) in float in_w;
 #define PER_PIXEL(v) ((v) / in_w)
 #else
 #define PER_PIXEL(v) (v)
 #endif
 #ifdef VERTEX_COLOR
 // The interpolated vertex colour (times w, screen-linearly).
-layout(location = 3) SAMPLE_IN vec3 in_tint;
+layout(location = 3) in vec3 in_tint;
 #endif
 #ifdef PATTERN
-layout(location = 4) SAMPLE_IN vec2 in_uv;
+layout(location = 4) in vec2 in_uv;
 #endif
 #if defined(VERTEX_COLOR) && defined(PATTERN)
 #define SURFACE tinted(draw_surface(), PER_PIXEL(in_tint) * pattern_color(PER_PIXEL(in_uv)))

@@ -11,6 +11,7 @@
 //! `docs/memory.md` has the measurements and the command that repeats them.
 
 use crate::error::Error;
+use crate::msaa::Msaa;
 use crate::scene::footprint::{format_bytes, scene_texture_bytes, TEXEL_COPIES};
 use crate::scene::{GeometrySize, LoadLimits, Scene};
 use crate::shading::Shading;
@@ -122,20 +123,23 @@ pub fn estimate(size: &GeometrySize, pixels: u64, shading: Shading, backend: Bac
     })
 }
 
-/// The bytes a raster render's samples add where a pixel has `samples`
-/// of them: on the GPU a float colour and a depth per sample (the resolved
-/// image is in the per-pixel cost), on the CPU reference a colour, depth,
-/// ids and pattern cell per sample (its bands hold every row at once).
-pub fn multisample_bytes(pixels: u64, shading: Shading, backend: Backend, samples: u32) -> u64 {
-    if samples <= 1 || shading.raster_mode().is_none() {
+/// The bytes a raster render's samples add where a pixel has several: on
+/// the GPU a float colour and a depth per sample (the resolved image is in
+/// the per-pixel cost), or with a pass per sample (per-sample shading) a
+/// float colour image and its read-back copy per pass; on the CPU
+/// reference a colour, depth, ids and pattern cell per sample (its bands
+/// hold every row at once).
+pub fn multisample_bytes(pixels: u64, shading: Shading, backend: Backend, msaa: Msaa) -> u64 {
+    if msaa.samples <= 1 || shading.raster_mode().is_none() {
         return 0;
     }
     let per_sample: u64 = match backend {
+        Backend::Gpu if msaa.per_sample => 16 + 16,
         Backend::Gpu => 16 + 4,
         Backend::Cpu => 24 + 8 + 8 + 8 + 16 + 1,
     };
     pixels
-        .saturating_mul(u64::from(samples))
+        .saturating_mul(u64::from(msaa.samples))
         .saturating_mul(per_sample)
 }
 
@@ -237,7 +241,7 @@ impl MemoryLimit {
             modes
                 .iter()
                 .map(|&s| {
-                    let samples = multisample_bytes(pixels, s, backend, scene.render.msaa.samples);
+                    let samples = multisample_bytes(pixels, s, backend, scene.render.msaa);
                     (
                         estimate(&size_for(s), pixels, s, backend).saturating_add(samples),
                         s,

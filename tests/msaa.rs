@@ -44,21 +44,13 @@ fn share_left_of(msaa: Msaa, frac: f64) -> f64 {
 fn a_known_edge_covers_the_samples_the_standard_locations_say() {
     let context = gpu();
     let colour = [0.8f32, 0.4, 0.2];
-    for msaa in [
-        Msaa::default(),
-        Msaa {
-            samples: 4,
-            per_sample: false,
-        },
-        Msaa {
-            samples: 4,
-            per_sample: true,
-        },
-    ] {
+    for msaa in ["1", "4", "4,per-sample", "8,per-sample", "16,per-sample"] {
+        let msaa: Msaa = msaa.parse().unwrap();
         let mut scene = edge_scene();
         scene.render.msaa = msaa;
         // By hand: 4 samples lie at x = 0.375, 0.875, 0.125, 0.625 in the
-        // pixel, so 1 of them is left of 0.3 and 3 of them left of 0.7.
+        // pixel, so 1 of them is left of 0.3 and 3 of them left of 0.7
+        // (8 and 16: the GPU draws a pass per sample, on any device).
         let left = 1.0 - share_left_of(msaa, 0.3);
         let right = share_left_of(msaa, 0.7);
         let expected_at = |x: u32| match x {
@@ -68,14 +60,8 @@ fn a_known_edge_covers_the_samples_the_standard_locations_say() {
             _ => 0.0,
         };
         let (cpu_image, _) = shadelab::render::render_cpu(&scene, Shading::Flat).unwrap();
-        let mut images = vec![("CPU", cpu_image.image)];
-        // Per-sample shading where the device offers it (lavapipe: not yet,
-        // `gpu::context::PER_SAMPLE_ON_LAVAPIPE`).
-        if !msaa.per_sample || context.info.sample_rate_shading {
-            let gpu_image = shadelab::render::render_gpu(&context, &scene, Shading::Flat).unwrap();
-            images.push(("GPU", gpu_image.image));
-        }
-        for (name, image) in &images {
+        let gpu_image = shadelab::render::render_gpu(&context, &scene, Shading::Flat).unwrap();
+        for (name, image) in [("CPU", &cpu_image.image), ("GPU", &gpu_image.image)] {
             for y in [0, 23, 47] {
                 for x in [9, 10, 11, 49, 50, 51] {
                     let want = colour.map(|c| c * expected_at(x) as f32);
@@ -89,6 +75,86 @@ fn a_known_edge_covers_the_samples_the_standard_locations_say() {
             }
         }
     }
+}
+
+/// The edge scene's box as a quad whose colour ramps from 0 at its left
+/// edge (window x = 10.3) to 1 at its right (50.7) in red, the reverse in
+/// green: face on, so the ramp is linear in window x, r(X) = (X - 10.3) /
+/// 40.4, times the material's 0.8. Lit by ambient light alone, Gouraud
+/// and Phong both show it.
+fn ramp_scene() -> Scene {
+    use glam::DVec3;
+    use shadelab::scene::{Shape, TriangleMesh};
+    let mut scene = edge_scene();
+    let to_world = |window: f64| (window - 32.0) / 32.0 * 9.5 * 4.0 / 3.0;
+    let (left, right) = (to_world(10.3), to_world(50.7));
+    let z = -9.5;
+    let positions = vec![
+        DVec3::new(left, -50.0, z),
+        DVec3::new(right, -50.0, z),
+        DVec3::new(right, 50.0, z),
+        DVec3::new(left, 50.0, z),
+    ];
+    let mut mesh = TriangleMesh::new(positions, vec![DVec3::Z; 4], vec![[0, 1, 2], [0, 2, 3]]);
+    mesh.colors = vec![DVec3::Y, DVec3::X, DVec3::X, DVec3::Y];
+    scene.objects[0].shape = Shape::Mesh(mesh);
+    scene
+}
+
+/// Per-sample shading shades each covered sample at its own position, and
+/// per-pixel shading once at the centre: on the ramp, an edge pixel's red
+/// is the mean of r at its covered samples, or r at the centre times the
+/// share covered, worked out here from the standard locations; inside, the
+/// two agree. On the GPU (a pass per sample) and in the CPU reference.
+#[test]
+fn per_sample_shading_evaluates_each_sample_where_it_lies() {
+    let context = gpu();
+    let ramp = |x: f64| 0.8 * ((x - 10.3) / 40.4).clamp(0.0, 1.0);
+    let inside = |x: f64| x > 10.3 && x < 50.7;
+    for msaa in ["4", "4,per-sample", "8,per-sample"] {
+        let msaa: Msaa = msaa.parse().unwrap();
+        let positions = msaa.positions().unwrap();
+        let expected_red = |px: u32| {
+            let covered: Vec<f64> = positions
+                .iter()
+                .map(|(sx, _)| f64::from(px) + sx)
+                .filter(|&x| inside(x))
+                .collect();
+            let share = covered.len() as f64 / positions.len() as f64;
+            if msaa.per_sample {
+                covered.iter().map(|&x| ramp(x)).sum::<f64>() / positions.len() as f64
+            } else {
+                share * ramp(f64::from(px) + 0.5)
+            }
+        };
+        let mut scene = ramp_scene();
+        scene.render.msaa = msaa;
+        for shading in [Shading::Gouraud, Shading::Phong] {
+            let cpu = shadelab::render::render_cpu(&scene, shading)
+                .unwrap()
+                .0
+                .image;
+            let gpu_image = shadelab::render::render_gpu(&context, &scene, shading)
+                .unwrap()
+                .image;
+            for (name, image) in [("CPU", &cpu), ("GPU", &gpu_image)] {
+                for x in [10, 30, 50] {
+                    let got = f64::from(image.get(x, 23)[0]);
+                    let want = expected_red(x);
+                    // f32 interpolation across 40 pixels: 1e-5 is 1/150
+                    // of the 1.5e-3 by which the two rates differ at x = 10.
+                    assert!(
+                        (got - want).abs() < 1e-5,
+                        "{name} {shading} at {msaa}: pixel {x} red {got}, not {want}"
+                    );
+                }
+            }
+        }
+    }
+    // The oracle tells the rates apart where the test looks.
+    let per_pixel = 0.75 * ramp(10.5);
+    let per_sample = [10.375, 10.875, 10.625].map(ramp).iter().sum::<f64>() / 4.0;
+    assert!((per_pixel - per_sample).abs() > 1.5e-3);
 }
 
 /// The root mean square of the linear difference over every channel.
@@ -225,16 +291,18 @@ fn counts_the_device_lacks_and_msaa_with_the_ray_tracer_are_said_in_one_line() {
     // A count that parses but that the device lacks names the ones it has.
     let run = render("--msaa 3 -o x.png");
     assert!(run.stderr.contains("renders 1"), "{}", run.stderr);
-    // Per-sample shading on lavapipe is refused with the reason, and the
-    // CPU reference renders it.
-    let run = render("--msaa 4,per-sample -o x.png");
-    let lavapipe = run.stderr.contains("lavapipe");
+    // Per-sample shading takes every standard count on any device (a
+    // pass per sample), and no other.
+    let small = "--width 32 --height 24";
+    let run = render(&format!("--msaa 8,per-sample {small} -o ps8.png"));
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let run = render(&format!("--msaa 3,per-sample {small} -o ps3.png"));
+    assert_eq!(run.code, 2, "{}", run.stderr);
     assert!(
-        run.code == 0 || (run.code == 2 && lavapipe && run.stderr.contains("--backend cpu")),
+        run.stderr.contains("1, 2, 4, 8 or 16 shaded per sample"),
         "{}",
         run.stderr
     );
-    let small = "--width 32 --height 24";
     let run = render(&format!(
         "--backend cpu --msaa 4,per-sample {small} -o cpu4s.png"
     ));

@@ -15,16 +15,6 @@
 // can, Gouraud lights no vertex's back.
 layout(constant_id = 5) const bool BACK_FACES = true;
 
-// Per-sample MSAA (`--msaa N,per-sample`): the fragment inputs are read at
-// each sample's own position, which makes the stage run once per covered
-// sample (docs/lighting-model.md, "Samples per pixel"); else at the
-// pixel's centre, once per pixel.
-#ifdef PER_SAMPLE
-#define SAMPLE_IN sample in
-#else
-#define SAMPLE_IN in
-#endif
-
 layout(std140, set = 0, binding = 1) uniform FrameUniforms {
     vec4 ambient_k;  // rgb: Ia, w: the constant k of Il / (d + k)
 } frame;

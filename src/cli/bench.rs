@@ -195,10 +195,7 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     memory.check(&name, &scene, &gpu_modes, cpu_modes)?;
     let context = GpuContext::new(options)?;
     // Multisampled images are resolved as floats: 16-bit for a PNG.
-    let raster_target = match args.target.color_target() {
-        ColorTarget::Srgb8 if scene.render.msaa.is_multisampled() => ColorTarget::Float16,
-        other => other,
-    };
+    let raster_target = args.target.color_target().drawn_with(scene.render.msaa);
     let target_of = |shading: Shading| {
         if shading.raster_mode().is_some() {
             raster_target

@@ -40,13 +40,8 @@ pub fn run(args: InfoArgs, options: &GpuOptions) -> Result<(), Failure> {
                 },
             };
             let counts: Vec<String> = d.msaa_counts.iter().map(u32::to_string).collect();
-            let per_sample = if d.sample_rate_shading {
-                ", per-sample"
-            } else {
-                ""
-            };
             println!(
-                "{mark} {}: {} [{}] Vulkan {} - {}{note}; --msaa {}{per_sample}",
+                "{mark} {}: {} [{}] Vulkan {} - {}{note}; --msaa {}",
                 d.index,
                 d.name,
                 d.device_type,

@@ -220,13 +220,9 @@ pub(super) fn color_target(scene: &Scene, format: shadelab::output::ImageFormat)
     // colour on the way in.
     // Multisampled: the samples are averaged as floats, 16-bit for a PNG
     // (`gpu::raster`).
-    match (
-        scene.lighting_hook.is_some(),
-        ColorTarget::for_output(format),
-    ) {
-        (true, _) => ColorTarget::Float32,
-        (false, ColorTarget::Srgb8) if scene.render.msaa.is_multisampled() => ColorTarget::Float16,
-        (false, target) => target,
+    match scene.lighting_hook {
+        Some(_) => ColorTarget::Float32,
+        None => ColorTarget::for_output(format).drawn_with(scene.render.msaa),
     }
 }
 

@@ -55,10 +55,10 @@ pub struct DeviceInfo {
     /// counts its colour and depth targets both take, where it places
     /// them at Vulkan's standard locations (else 1 alone).
     pub msaa_counts: Vec<u32>,
-    /// Whether it shades every sample (`--msaa N,per-sample`): where it
-    /// offers sample-rate shading, except lavapipe, whose per-sample
-    /// images differ from the reference (`PER_SAMPLE_ON_LAVAPIPE`).
-    pub sample_rate_shading: bool,
+    /// The fraction of a pixel a viewport's origin keeps
+    /// (`viewportSubPixelBits`): per-sample passes shift it by sample
+    /// offsets, sixteenths of a pixel for 8 and 16 samples.
+    pub viewport_subpixel_bits: u32,
     /// `None` when shadelab can use the device, else why not.
     pub unusable_because: Option<String>,
     /// `None` when the GPU ray tracer runs on the device, else why not
@@ -186,7 +186,6 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
             instance.get_physical_device_features2(physical, &mut f2);
             instance.get_physical_device_queue_family_properties(physical)
         };
-        let sample_rate_shading = f2.features.sample_rate_shading == vk::TRUE;
         let props = props2.properties;
         let name = props
             .device_name_as_c_str()
@@ -230,8 +229,15 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
                 is_lavapipe: driver.driver_id == vk::DriverId::MESA_LLVMPIPE,
                 shader_float16: f12.shader_float16 == vk::TRUE,
                 msaa_counts: msaa_counts(&props.limits),
-                sample_rate_shading: sample_rate_shading
-                    && driver.driver_id != vk::DriverId::MESA_LLVMPIPE,
+                // lavapipe reports 0 bits, yet applies the viewport in
+                // floats and snaps after it, to 1/256 of a pixel; the edge
+                // test of tests/msaa.rs at 8 and 16 samples per sample
+                // fails if that stops being so.
+                viewport_subpixel_bits: if driver.driver_id == vk::DriverId::MESA_LLVMPIPE {
+                    props.limits.viewport_sub_pixel_bits.max(8)
+                } else {
+                    props.limits.viewport_sub_pixel_bits
+                },
                 unusable_because: missing.map(|m| format!("lacks {m}")),
                 no_ray_tracer_because: (!packet_tracing_supported(&subgroup)).then(|| {
                     "lacks subgroup shuffles in compute shaders, 4 to 64 invocations wide"
@@ -246,16 +252,6 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
     }
     Ok(out)
 }
-
-/// Why lavapipe does not shade per sample here. Measured with Mesa 25.0.7
-/// at 4 samples: where a triangle edge crosses a pixel, its per-sample
-/// values match neither the contract's (each sample at its own position)
-/// nor per-pixel shading, up to 0.12 off on `assets/vertex-colors.toml`
-/// and 4e-3 on the default scene, while inside triangles and with one
-/// triangle per pixel (a two-triangle quad) they agree to 5e-7. Per-pixel
-/// MSAA agrees with the reference everywhere. Until the cause is known the
-/// GPU refuses it there; the CPU reference renders it.
-pub const PER_SAMPLE_ON_LAVAPIPE: &str = "lavapipe's per-sample shading differs from the reference where triangle edges cross a pixel (docs/check.md); --msaa N shades per pixel on it, and --backend cpu renders per sample";
 
 /// The sample counts both the colour and the depth target take, where the
 /// device places samples at the standard locations the CPU reference uses.
@@ -484,11 +480,7 @@ impl GpuContext {
         } else {
             Vec::new()
         };
-        // Sample-rate shading, for `--msaa N,per-sample`, where offered.
-        let features = vk::PhysicalDeviceFeatures::default()
-            .sample_rate_shading(chosen.info.sample_rate_shading);
         let mut create = vk::DeviceCreateInfo::default()
-            .enabled_features(&features)
             .queue_create_infos(&queues)
             .enabled_extension_names(&extensions)
             .push_next(&mut f13)

@@ -233,7 +233,7 @@ mod tests {
             is_lavapipe: false,
             shader_float16: true,
             msaa_counts: vec![1],
-            sample_rate_shading: false,
+            viewport_subpixel_bits: 8,
             unusable_because: None,
             no_ray_tracer_because: None,
             no_ray_query_because: None,

@@ -15,6 +15,7 @@ mod raster_cull;
 mod raster_flat;
 mod raster_frame;
 pub mod raster_layout;
+mod raster_samples;
 mod raster_scene;
 mod ray_query;
 pub mod raytrace;

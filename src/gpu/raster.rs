@@ -20,12 +20,12 @@ use super::raster_layout::{
     DrawConstants, PatternDrawConstants, Specialization, Vertex, BINDINGS, SMOOTH_BINDINGS,
     TEXTURED_BINDINGS,
 };
+use super::raster_samples::{check_samples, SampleDrawing};
 use super::raster_scene::{build_geometry, specialization};
 use super::shader_catalog::{self as shaders, ShaderBlob};
 use super::timestamps::{ms_since, GpuTimings, Timestamps};
 use crate::camera::View;
 use crate::linear_image::LinearImage;
-use crate::msaa::Msaa;
 use crate::scene::{Interpolation, LightingHook, Scene};
 use crate::shading::RasterMode;
 
@@ -46,7 +46,8 @@ pub enum ColorTarget {
     /// samples are averaged as linear values, which an 8-bit sRGB target
     /// does not do on lavapipe (5 to 8 steps off at edges, measured), at
     /// half the bytes of 32-bit floats; its 11-bit mantissa keeps the PNG
-    /// within 1 in 255 of the 32-bit path's (tests/msaa.rs).
+    /// within 1 in 255 of the 32-bit path's (tests/msaa.rs); per-sample
+    /// passes, averaged on the host, too.
     Float16,
 }
 
@@ -57,6 +58,12 @@ impl ColorTarget {
             crate::output::ImageFormat::Png => ColorTarget::Srgb8,
             crate::output::ImageFormat::Exr => ColorTarget::Float32,
         }
+    }
+
+    /// The target drawn into when `self` is asked for at `msaa`: samples
+    /// are averaged as floats.
+    pub fn drawn_with(self, msaa: crate::msaa::Msaa) -> Self {
+        SampleDrawing::of(msaa).target(self)
     }
 
     pub fn format(self) -> vk::Format {
@@ -106,23 +113,19 @@ pub(crate) struct SurfaceFeatures {
     /// With `pattern`: some pattern is an image, sampled in the fragment
     /// stage from the texture buffers (`gpu::texture_table`).
     pub texture: bool,
-    /// Per-sample MSAA: Gouraud's and Phong's fragment inputs at each
-    /// sample's position (flat shading's colour is the face's anyway).
-    pub per_sample: bool,
 }
 
 /// The variant of `base` (`PHONG_FRAG`, ...) with the features it takes.
 fn variant(base: &str, screen: bool, colors: bool, pattern: bool) -> &'static ShaderBlob {
-    fragment_variant(base, (screen, colors, pattern), false, false)
+    fragment_variant(base, (screen, colors, pattern), false)
 }
 
 /// `variant`, and for a fragment stage its `_TEXTURE` variant where it
-/// samples images and its `_SAMPLE` variant where it runs per sample.
+/// samples images.
 fn fragment_variant(
     base: &str,
     (screen, colors, pattern): (bool, bool, bool),
     texture: bool,
-    per_sample: bool,
 ) -> &'static ShaderBlob {
     let mut name = base.to_string();
     for (on, suffix) in [
@@ -130,7 +133,6 @@ fn fragment_variant(
         (colors, "_COLOR"),
         (pattern, "_PATTERN"),
         (texture, "_TEXTURE"),
-        (per_sample, "_SAMPLE"),
     ] {
         if on {
             name.push_str(suffix);
@@ -153,7 +155,6 @@ fn shader_pair(
         colors,
         pattern,
         texture,
-        per_sample,
     } = features;
     match mode {
         RasterMode::Flat => (
@@ -162,16 +163,11 @@ fn shader_pair(
         ),
         RasterMode::Gouraud => (
             variant("GOURAUD_VERT", screen, colors, pattern),
-            fragment_variant(
-                "GOURAUD_FRAG",
-                (screen, false, pattern),
-                texture,
-                per_sample,
-            ),
+            fragment_variant("GOURAUD_FRAG", (screen, false, pattern), texture),
         ),
         RasterMode::Phong => (
             variant("PHONG_VERT", screen, colors, pattern),
-            fragment_variant("PHONG_FRAG", (screen, colors, pattern), texture, per_sample),
+            fragment_variant("PHONG_FRAG", (screen, colors, pattern), texture),
         ),
     }
 }
@@ -196,7 +192,7 @@ fn create_pipeline(
     mode: RasterMode,
     interpolation: Interpolation,
     spec: &Specialization,
-    (target, msaa): (ColorTarget, Msaa),
+    (target, drawing): (ColorTarget, SampleDrawing),
     lighting_hook: Option<&LightingHook>,
     features: SurfaceFeatures,
 ) -> Result<PipelineObjects, GpuError> {
@@ -301,12 +297,9 @@ fn create_pipeline(
         .cull_mode(vk::CullModeFlags::NONE)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
-    // Per sample: every covered sample shaded at its own position
-    // (docs/lighting-model.md, "Samples per pixel"); else once per pixel.
-    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-        .rasterization_samples(vk::SampleCountFlags::from_raw(msaa.samples))
-        .sample_shading_enable(msaa.per_sample && msaa.is_multisampled())
-        .min_sample_shading(1.0);
+    let multisample = vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(
+        vk::SampleCountFlags::from_raw(drawing.rasterization_samples()),
+    );
     // Reversed Z: nearer is greater. Strict comparison makes the first-drawn
     // of two coincident surfaces win, deterministically.
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
@@ -391,39 +384,6 @@ fn image_size_error(side_limit: u32, width: u32, height: u32) -> Option<GpuError
     })
 }
 
-/// Refuses a sample count the device does not render, or per-sample
-/// shading where it has none, naming what it offers.
-pub(crate) fn check_samples(info: &super::context::DeviceInfo, msaa: Msaa) -> Result<(), GpuError> {
-    let counts = &info.msaa_counts;
-    if !counts.contains(&msaa.samples) {
-        let mut listed: Vec<String> = counts.iter().map(u32::to_string).collect();
-        let last = listed.pop().unwrap_or_default();
-        let listed = if listed.is_empty() {
-            last
-        } else {
-            format!("{} or {last}", listed.join(", "))
-        };
-        return Err(GpuError::UnsupportedSamples {
-            asked: msaa.to_string(),
-            device: info.name.clone(),
-            why: format!("renders {listed} samples per pixel (`shadelab info` lists them; the CPU reference, --backend cpu, 1, 2, 4, 8 or 16)"),
-        });
-    }
-    if msaa.per_sample && msaa.is_multisampled() && !info.sample_rate_shading {
-        let why = if info.is_lavapipe {
-            super::context::PER_SAMPLE_ON_LAVAPIPE
-        } else {
-            "it offers no sample-rate shading; --msaa N shades per pixel, and --backend cpu renders per sample"
-        };
-        return Err(GpuError::UnsupportedSamples {
-            asked: msaa.to_string(),
-            device: info.name.clone(),
-            why: format!("shades no sample on its own: {why}"),
-        });
-    }
-    Ok(())
-}
-
 /// Renders `scene` at its `image` size in `mode`, into the float target.
 pub fn render(
     context: &Arc<GpuContext>,
@@ -445,13 +405,8 @@ pub fn render_to(
     check_image_size(context, width, height)?;
     let msaa = scene.render.msaa;
     check_samples(&context.info, msaa)?;
-    // Samples are resolved as linear floats (the average of linear values,
-    // then the sRGB encoding on the host): an 8-bit sRGB target is not
-    // averaged in linear light; for a PNG, 16-bit floats are enough.
-    let target = match target {
-        ColorTarget::Srgb8 if msaa.is_multisampled() => ColorTarget::Float16,
-        other => other,
-    };
+    let drawing = SampleDrawing::of(msaa);
+    let target = drawing.target(target);
     let view = View::new(scene, width, height);
     let geometry = build_geometry(scene, &view, mode == RasterMode::Flat);
     let spec = geometry.with_back_faces(specialization(scene));
@@ -464,7 +419,6 @@ pub fn render_to(
         colors: !geometry.vertex_colors.is_empty() || !geometry.face_colors.is_empty(),
         pattern: !geometry.vertex_uvs.is_empty(),
         texture: !geometry.textures.is_empty(),
-        per_sample: msaa.per_sample && msaa.is_multisampled(),
     };
     let key = format!(
         "raster {mode:?} {interpolation:?} {target:?} msaa {msaa} spec {:?} hook {:016x} {features:?}",
@@ -477,7 +431,7 @@ pub fn render_to(
             mode,
             interpolation,
             &spec,
-            (target, msaa),
+            (target, drawing),
             hook,
             features,
         )
@@ -489,7 +443,7 @@ pub fn render_to(
         context,
         (scene, &view, &geometry),
         (mode, features),
-        (target, msaa),
+        (target, drawing),
         &pipeline,
     )?;
     let timestamps = Timestamps::new(context)?;

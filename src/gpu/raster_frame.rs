@@ -18,6 +18,7 @@ use super::pipeline::PipelineObjects;
 use super::raster::{bindings_of, image_barrier, ColorTarget, SurfaceFeatures, DEPTH_FORMAT};
 use super::raster_flat::FlatMesh;
 use super::raster_layout::{DrawConstants, FrameUniforms, PatternConstants, PatternDrawConstants};
+use super::raster_samples::{averaged, pass_viewport_origin, SampleDrawing};
 use super::raster_scene::{lights, RasterGeometry as Geometry};
 use super::timestamps::Timestamps;
 use crate::camera::View;
@@ -36,8 +37,12 @@ pub(crate) struct Frame {
     uv_buffer: Option<Buffer>,
     index_buffer: Buffer,
     descriptors: Descriptors,
-    /// The resolved (or only) colour image, read back.
+    /// The resolved (or only) colour image, read back; with a pass per
+    /// sample, the first pass's.
     color: Image,
+    /// With a pass per sample, the other passes' images, read back after
+    /// the first's and averaged with it on the host.
+    pass_colors: Vec<Image>,
     /// Multisampled: the colour samples, averaged into `color` at the end
     /// of rendering.
     color_samples: Option<Image>,
@@ -45,6 +50,7 @@ pub(crate) struct Frame {
     readback: Buffer,
     target: ColorTarget,
     extent: vk::Extent2D,
+    drawing: SampleDrawing,
     // Read by the shaders through the descriptors.
     _light_buffer: Buffer,
     _frame_buffer: Buffer,
@@ -58,7 +64,7 @@ impl Frame {
         context: &Arc<GpuContext>,
         (scene, view, geometry): (&Scene, &View, &Geometry),
         (mode, features): (RasterMode, SurfaceFeatures),
-        (target, msaa): (ColorTarget, crate::msaa::Msaa),
+        (target, drawing): (ColorTarget, SampleDrawing),
         pipeline: &PipelineObjects,
     ) -> Result<Self, GpuError> {
         let (width, height) = (scene.image.width, scene.image.height);
@@ -160,20 +166,27 @@ impl Frame {
         )?;
 
         let extent = vk::Extent2D { width, height };
-        let color = Image::new(
-            context,
-            "color",
-            extent,
-            target.format(),
-            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
-            vk::ImageAspectFlags::COLOR,
-        )?;
-        let color_samples = if msaa.is_multisampled() {
+        let color_image = |name: &str| {
+            Image::new(
+                context,
+                name,
+                extent,
+                target.format(),
+                vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+                vk::ImageAspectFlags::COLOR,
+            )
+        };
+        let color = color_image("color")?;
+        let pass_colors = (1..drawing.passes())
+            .map(|pass| color_image(&format!("color of sample {pass}")))
+            .collect::<Result<Vec<_>, _>>()?;
+        let samples = drawing.rasterization_samples();
+        let color_samples = if samples > 1 {
             Some(Image::multisampled(
                 context,
                 "color samples",
                 extent,
-                (target.format(), msaa.samples),
+                (target.format(), samples),
                 vk::ImageUsageFlags::COLOR_ATTACHMENT,
                 vk::ImageAspectFlags::COLOR,
             )?)
@@ -184,7 +197,7 @@ impl Frame {
             context,
             "depth",
             extent,
-            (DEPTH_FORMAT, msaa.samples),
+            (DEPTH_FORMAT, samples),
             vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
             vk::ImageAspectFlags::DEPTH,
         )?;
@@ -192,7 +205,7 @@ impl Frame {
         let readback = Buffer::new(
             context,
             "readback",
-            u64::from(width) * u64::from(height) * pixel_bytes,
+            u64::from(width) * u64::from(height) * pixel_bytes * u64::from(drawing.passes()),
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
@@ -203,11 +216,13 @@ impl Frame {
             index_buffer,
             descriptors,
             color,
+            pass_colors,
             color_samples,
             depth,
             readback,
             target,
             extent,
+            drawing,
             _light_buffer: light_buffer,
             _frame_buffer: frame_buffer,
             _face_buffer: face_buffer,
@@ -232,7 +247,12 @@ impl Frame {
     ) {
         self.to_attachments(device, cmd);
         timestamps.start(cmd);
-        self.draw(device, cmd, pipeline, (scene, view, geometry));
+        for pass in 0..self.drawing.passes() {
+            if pass > 0 {
+                Self::between_passes(device, cmd);
+            }
+            self.draw(device, cmd, pipeline, (scene, view, geometry), pass);
+        }
         timestamps.stop(cmd);
         self.copy_back(device, cmd);
     }
@@ -279,13 +299,36 @@ impl Frame {
         if let Some(samples) = &self.color_samples {
             to_attachment.push(to_color_attachment(samples.raw));
         }
+        to_attachment.extend(self.pass_colors.iter().map(|c| to_color_attachment(c.raw)));
         device.cmd_pipeline_barrier2(
             cmd,
             &vk::DependencyInfo::default().image_memory_barriers(&to_attachment),
         );
     }
 
-    /// The attachments cleared and every draw of the scene.
+    /// A pass after the one before: its depth clear follows the last
+    /// pass's depth tests (each pass has a colour image of its own).
+    ///
+    /// # Safety
+    /// As `record`.
+    unsafe fn between_passes(device: &ash::Device, cmd: vk::CommandBuffer) {
+        let tests = vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
+        let barriers = [vk::MemoryBarrier2::default()
+            .src_stage_mask(tests)
+            .src_access_mask(vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE)
+            .dst_stage_mask(tests)
+            .dst_access_mask(
+                vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
+                    | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            )];
+        device.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().memory_barriers(&barriers),
+        );
+    }
+
+    /// The attachments cleared and every draw of the scene, in pass `pass`.
     ///
     /// # Safety
     /// As `record`.
@@ -295,6 +338,7 @@ impl Frame {
         cmd: vk::CommandBuffer,
         pipeline: &PipelineObjects,
         (scene, view, geometry): (&Scene, &View, &Geometry),
+        pass: u32,
     ) {
         let (color, depth) = (&self.color, &self.depth);
         let (vertex_buffer, index_buffer, descriptors) =
@@ -302,11 +346,14 @@ impl Frame {
         let extent = self.extent;
         let (width, height) = (extent.width, extent.height);
         let background = scene.image.background.as_vec3();
-
         let clear = vk::ClearValue {
             color: vk::ClearColorValue {
                 float32: [background.x, background.y, background.z, 1.0],
             },
+        };
+        let color = match pass {
+            0 => color,
+            _ => &self.pass_colors[pass as usize - 1],
         };
         // Multisampled: the samples are drawn, averaged into `color` at the
         // end (their own values are not kept).
@@ -349,12 +396,13 @@ impl Frame {
             .depth_attachment(&depth_attachment);
         device.cmd_begin_rendering(cmd, &rendering);
         device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.pipeline);
+        let shift = pass_viewport_origin(self.drawing, pass);
         device.cmd_set_viewport(
             cmd,
             0,
             &[vk::Viewport {
-                x: 0.0,
-                y: 0.0,
+                x: shift.0,
+                y: shift.1,
                 width: width as f32,
                 height: height as f32,
                 min_depth: 0.0,
@@ -421,46 +469,59 @@ impl Frame {
     /// # Safety
     /// As `record`.
     unsafe fn copy_back(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
-        let (color, readback) = (&self.color, &self.readback);
+        let readback = &self.readback;
         let (width, height) = (self.extent.width, self.extent.height);
-        let to_transfer = [image_barrier(
-            color.raw,
-            vk::ImageAspectFlags::COLOR,
-            (
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            ),
-            (
-                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-            ),
-            (
-                vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::TRANSFER_READ,
-            ),
-        )];
+        // One image, or each pass's one after another.
+        let colors: Vec<&Image> = std::iter::once(&self.color)
+            .chain(&self.pass_colors)
+            .collect();
+        let to_transfer: Vec<_> = colors
+            .iter()
+            .map(|color| {
+                image_barrier(
+                    color.raw,
+                    vk::ImageAspectFlags::COLOR,
+                    (
+                        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    ),
+                    (
+                        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                    ),
+                    (
+                        vk::PipelineStageFlags2::COPY,
+                        vk::AccessFlags2::TRANSFER_READ,
+                    ),
+                )
+            })
+            .collect();
         device.cmd_pipeline_barrier2(
             cmd,
             &vk::DependencyInfo::default().image_memory_barriers(&to_transfer),
         );
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(
-                vk::ImageSubresourceLayers::default()
-                    .aspect_mask(vk::ImageAspectFlags::COLOR)
-                    .layer_count(1),
-            )
-            .image_extent(vk::Extent3D {
-                width,
-                height,
-                depth: 1,
-            });
-        device.cmd_copy_image_to_buffer(
-            cmd,
-            color.raw,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            readback.raw,
-            &[region],
-        );
+        let image_bytes = u64::from(width) * u64::from(height) * self.target.bytes_per_pixel();
+        for (pass, color) in colors.iter().enumerate() {
+            let region = vk::BufferImageCopy::default()
+                .buffer_offset(pass as u64 * image_bytes)
+                .image_subresource(
+                    vk::ImageSubresourceLayers::default()
+                        .aspect_mask(vk::ImageAspectFlags::COLOR)
+                        .layer_count(1),
+                )
+                .image_extent(vk::Extent3D {
+                    width,
+                    height,
+                    depth: 1,
+                });
+            device.cmd_copy_image_to_buffer(
+                cmd,
+                color.raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                readback.raw,
+                &[region],
+            );
+        }
         let to_host = [vk::BufferMemoryBarrier2::default()
             .buffer(readback.raw)
             .size(vk::WHOLE_SIZE)
@@ -475,18 +536,25 @@ impl Frame {
     }
 
     /// The image read back, in linear values.
+    /// With a pass per sample, the passes' images averaged.
     pub(crate) fn image(&self) -> LinearImage {
         let (width, height) = (self.extent.width, self.extent.height);
-        match self.target {
-            ColorTarget::Float32 => {
-                LinearImage::from_rgba32f_bytes(width, height, self.readback.mapped())
-            }
-            ColorTarget::Srgb8 => {
-                LinearImage::from_srgba8_bytes(width, height, self.readback.mapped())
-            }
-            ColorTarget::Float16 => {
-                LinearImage::from_rgba16f_bytes(width, height, self.readback.mapped())
-            }
+        let image_bytes =
+            (u64::from(width) * u64::from(height) * self.target.bytes_per_pixel()) as usize;
+        let pass_image = |bytes: &[u8]| match self.target {
+            ColorTarget::Float32 => LinearImage::from_rgba32f_bytes(width, height, bytes),
+            ColorTarget::Srgb8 => LinearImage::from_srgba8_bytes(width, height, bytes),
+            ColorTarget::Float16 => LinearImage::from_rgba16f_bytes(width, height, bytes),
+        };
+        let mapped = self.readback.mapped();
+        if self.drawing.passes() == 1 {
+            return pass_image(mapped);
         }
+        let passes: Vec<LinearImage> = mapped
+            .chunks_exact(image_bytes)
+            .take(self.drawing.passes() as usize)
+            .map(pass_image)
+            .collect();
+        averaged(&passes)
     }
 }

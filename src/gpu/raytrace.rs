@@ -563,7 +563,7 @@ mod tests {
             is_lavapipe: false,
             shader_float16: false,
             msaa_counts: vec![1],
-            sample_rate_shading: false,
+            viewport_subpixel_bits: 8,
             unusable_because: None,
             no_ray_tracer_because: None,
             no_ray_query_because: (!ray_query).then(|| "lacks VK_KHR_ray_query".into()),

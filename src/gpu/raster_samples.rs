@@ -1,0 +1,224 @@
+//! How the GPU takes a raster render's samples (docs/lighting-model.md,
+//! "Samples per pixel"): one at the pixel's centre; the device's
+//! multisampling, shaded once per pixel; or, shaded at every sample, a pass
+//! per sample.
+//!
+//! Per-sample shading is not the pipeline's sample-rate shading: lavapipe's
+//! differs from the contract where a pixel's samples fall on different
+//! triangles (up to 0.12 on `assets/vertex-colors.toml`, Mesa 25.0.7).
+//! A pass per sample draws the scene shifted (the viewport's origin) so
+//! that sample k of every pixel lies at that pixel's centre: the rasteriser
+//! then covers,
+//! depth-tests and shades exactly at sample k, with the same fill rule,
+//! into an image of its own, and the host averages the N images. It needs
+//! no multisampling at all, so it takes every standard count, where the
+//! device places a viewport to a sixteenth of a pixel.
+
+use super::context::DeviceInfo;
+use super::error::GpuError;
+use super::raster::ColorTarget;
+use crate::linear_image::LinearImage;
+use crate::msaa::{self, Msaa};
+
+/// How the samples of a pixel are drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum SampleDrawing {
+    /// One sample, at the pixel's centre.
+    Single,
+    /// The device's multisampling at N samples: coverage and depth per
+    /// sample, the surface shaded once per pixel at its centre, the
+    /// samples averaged at the end of rendering.
+    Multisampled(u32),
+    /// N passes of one sample each (per-sample shading), summed.
+    Passes(u32),
+}
+
+impl SampleDrawing {
+    pub(crate) fn of(msaa: Msaa) -> Self {
+        match (msaa.samples, msaa.per_sample) {
+            (1, _) => SampleDrawing::Single,
+            (n, false) => SampleDrawing::Multisampled(n),
+            (n, true) => SampleDrawing::Passes(n),
+        }
+    }
+
+    /// The samples per pixel the rasteriser takes in one pass.
+    pub(crate) fn rasterization_samples(self) -> u32 {
+        match self {
+            SampleDrawing::Multisampled(n) => n,
+            SampleDrawing::Single | SampleDrawing::Passes(_) => 1,
+        }
+    }
+
+    /// How many times the scene is drawn.
+    pub(crate) fn passes(self) -> u32 {
+        match self {
+            SampleDrawing::Passes(n) => n,
+            SampleDrawing::Single | SampleDrawing::Multisampled(_) => 1,
+        }
+    }
+
+    /// The target drawn into for an image wanted in `wanted`. Samples are
+    /// averaged as linear floats: an 8-bit sRGB target is not averaged in
+    /// linear light on lavapipe (5 to 8 steps off at edges, measured), so a
+    /// multisampled PNG is drawn in 16-bit floats, and so are the passes.
+    pub(crate) fn target(self, wanted: ColorTarget) -> ColorTarget {
+        match (self, wanted) {
+            (SampleDrawing::Single, wanted) => wanted,
+            (_, ColorTarget::Srgb8) => ColorTarget::Float16,
+            (_, wanted) => wanted,
+        }
+    }
+}
+
+/// Refuses a sample count the device does not render, naming what it
+/// offers. A pass per sample takes every standard count on every device.
+pub(crate) fn check_samples(info: &DeviceInfo, msaa: Msaa) -> Result<(), GpuError> {
+    let counts = &info.msaa_counts;
+    let drawable = match SampleDrawing::of(msaa) {
+        SampleDrawing::Passes(n) => msaa::positions(n).is_some(),
+        _ => counts.contains(&msaa.samples),
+    };
+    if let (true, SampleDrawing::Passes(n)) = (drawable, SampleDrawing::of(msaa)) {
+        let needed = subpixel_bits_needed(n);
+        if info.viewport_subpixel_bits < needed {
+            return Err(GpuError::UnsupportedSamples {
+                asked: msaa.to_string(),
+                device: info.name.clone(),
+                why: format!(
+                    "places a viewport to 1/{} of a pixel, and shading per sample at {n} samples moves it by 1/{} (--msaa {n} shades per pixel; --backend cpu renders per sample)",
+                    1u32 << info.viewport_subpixel_bits,
+                    1u32 << needed
+                ),
+            });
+        }
+    }
+    if drawable {
+        return Ok(());
+    }
+    let mut listed: Vec<String> = counts.iter().map(u32::to_string).collect();
+    let last = listed.pop().unwrap_or_default();
+    let listed = if listed.is_empty() {
+        last
+    } else {
+        format!("{} or {last}", listed.join(", "))
+    };
+    Err(GpuError::UnsupportedSamples {
+        asked: msaa.to_string(),
+        device: info.name.clone(),
+        why: format!("renders {listed} samples per pixel, and 1, 2, 4, 8 or 16 shaded per sample (`shadelab info` lists them; the CPU reference, --backend cpu, 1, 2, 4, 8 or 16)"),
+    })
+}
+
+/// The viewport's origin for pass `pass` of `drawing`, in pixels: shifted
+/// so that the pass's sample lies at every pixel's centre (y down). The
+/// viewport transform follows clipping, so the shift is exact where the
+/// device keeps `subpixel_bits_needed` bits of it, where a shift of the
+/// clip-space matrix is not: at a 179 degree field of view, vertices far
+/// outside the image moved by rounding enough to flip samples on a silhouette.
+pub(crate) fn pass_viewport_origin(drawing: SampleDrawing, pass: u32) -> (f32, f32) {
+    let SampleDrawing::Passes(n) = drawing else {
+        return (0.0, 0.0);
+    };
+    let (x, y) = msaa::positions(n).expect("check_samples passed the count")[pass as usize];
+    ((0.5 - x) as f32, (0.5 - y) as f32)
+}
+
+/// The bits of a pixel's fraction the shifts of `samples` need: every
+/// standard position is a multiple of 2^-bits.
+pub(crate) fn subpixel_bits_needed(samples: u32) -> u32 {
+    let positions = msaa::positions(samples).unwrap_or_default();
+    (0..=8)
+        .find(|&bits| {
+            let scale = f64::from(1u32 << bits);
+            positions
+                .iter()
+                .all(|&(x, y)| (x * scale).fract() == 0.0 && (y * scale).fract() == 0.0)
+        })
+        .unwrap_or(8)
+}
+
+/// The average of the passes' images, sample by sample: the resolve.
+pub(crate) fn averaged(passes: &[LinearImage]) -> LinearImage {
+    let first = &passes[0];
+    let weight = 1.0 / passes.len() as f32;
+    let pixels = (0..first.pixels.len())
+        .map(|i| {
+            let mut sum = [0.0f32; 3];
+            for pass in passes {
+                for (s, v) in sum.iter_mut().zip(pass.pixels[i]) {
+                    *s += v;
+                }
+            }
+            sum.map(|s| s * weight)
+        })
+        .collect();
+    LinearImage {
+        width: first.width,
+        height: first.height,
+        pixels,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A point at sample k's position of a pixel lands on that pixel's
+    /// centre in pass k: the shift the passes rest on.
+    #[test]
+    fn each_pass_puts_its_sample_at_the_pixel_centres() {
+        for n in [2, 4, 8, 16] {
+            for (k, &(sx, sy)) in msaa::positions(n).unwrap().iter().enumerate() {
+                let (ox, oy) = pass_viewport_origin(SampleDrawing::Passes(n), k as u32);
+                let (px, py) = (10.0, 7.0);
+                assert_eq!(px + sx + f64::from(ox), px + 0.5, "{n} {k}");
+                assert_eq!(py + sy + f64::from(oy), py + 0.5, "{n} {k}");
+            }
+        }
+        assert_eq!(
+            pass_viewport_origin(SampleDrawing::Multisampled(4), 0),
+            (0.0, 0.0)
+        );
+    }
+
+    #[test]
+    fn the_shifts_need_sixteenths_at_8_and_16_samples() {
+        let needed: Vec<u32> = [1, 2, 4, 8, 16].map(subpixel_bits_needed).to_vec();
+        assert_eq!(needed, [1, 2, 3, 4, 4]);
+    }
+
+    #[test]
+    fn the_resolve_is_the_mean_of_the_passes() {
+        let pass = |v: f32| LinearImage::new(2, 1, [v, 2.0 * v, 0.0]);
+        let mean = averaged(&[pass(1.0), pass(0.0), pass(0.5), pass(0.5)]);
+        assert_eq!(mean.pixels, vec![[0.5, 1.0, 0.0]; 2]);
+    }
+
+    #[test]
+    fn every_standard_count_is_drawn_per_sample_on_any_device() {
+        assert_eq!(
+            SampleDrawing::of(Msaa {
+                samples: 1,
+                per_sample: true
+            }),
+            SampleDrawing::Single
+        );
+        assert_eq!(
+            SampleDrawing::of(Msaa {
+                samples: 8,
+                per_sample: true
+            })
+            .passes(),
+            8
+        );
+        assert_eq!(
+            SampleDrawing::of(Msaa {
+                samples: 4,
+                per_sample: false
+            })
+            .rasterization_samples(),
+            4
+        );
+    }
+}
