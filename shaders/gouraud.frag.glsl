@@ -5,6 +5,7 @@
 // times the intensity without its specular part, plus that part.
 #include "screen_linear.glsl"
 #include "raster_interface.glsl"
+#include "raster_output.glsl"
 #ifdef PATTERN
 #include "pattern.glsl"
 #endif
@@ -43,12 +44,12 @@ void main() {
 #else
     vec3 color = pattern_color(in_uv) * in_intensity + in_specular;
 #endif
-    out_color = vec4(color, 1.0);
+    WRITE_COLOR(color);
 #else
 #ifdef SCREEN_LINEAR
-    out_color = vec4(in_intensity / in_w, 1.0);
+    WRITE_COLOR(in_intensity / in_w);
 #else
-    out_color = vec4(in_intensity, 1.0);
+    WRITE_COLOR(in_intensity);
 #endif
 #endif
 }

@@ -5,6 +5,7 @@
 // the interpolated vertex colour (VERTEX_COLOR) and the pattern at the
 // interpolated texture coordinates (PATTERN).
 #include "raster_interface.glsl"
+#include "raster_output.glsl"
 #include "lighting.glsl"
 #include "raster_surface.glsl"
 #include "screen_linear.glsl"
@@ -49,5 +50,5 @@ void main() {
     // A triangle seen from behind is lit as its back: the normal negated
     // (docs/lighting-model.md, "Which side is lit").
     N = gl_FrontFacing ? N : -N;
-    out_color = vec4(shade(P, surface_normal(N), normalize(-P), SURFACE, frame.ambient_k.rgb, frame.ambient_k.w), 1.0);
+    WRITE_COLOR(shade(P, surface_normal(N), normalize(-P), SURFACE, frame.ambient_k.rgb, frame.ambient_k.w));
 }

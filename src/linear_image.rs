@@ -48,6 +48,27 @@ impl LinearImage {
         }
     }
 
+    /// An image from tightly packed RGBA 16-bit unsigned-normalised texels
+    /// in native byte order, each holding a value / `range` (a multisampled
+    /// PNG render's resolve); alpha is dropped.
+    pub fn from_scaled_rgba16_unorm_bytes(
+        width: u32,
+        height: u32,
+        bytes: &[u8],
+        range: f32,
+    ) -> Self {
+        let channel = |b: &[u8]| f32::from(u16::from_ne_bytes([b[0], b[1]])) / 65535.0 * range;
+        let pixels = bytes[..width as usize * height as usize * 8]
+            .chunks_exact(8)
+            .map(|t| [channel(&t[0..2]), channel(&t[2..4]), channel(&t[4..6])])
+            .collect();
+        Self {
+            width,
+            height,
+            pixels,
+        }
+    }
+
     /// An image from tightly packed 8-bit sRGB RGBA texels (the raster
     /// modes' 8-bit target), decoded to linear; alpha is dropped. Encoding
     /// it as PNG gives back the same bytes.

@@ -225,7 +225,7 @@ fn four_samples_come_nearer_a_sixteen_sample_image_than_one() {
 
 /// One sample is the single-sample path of before multisampling: a PNG
 /// renders straight into the 8-bit sRGB target (a multisampled one is
-/// resolved in 16-bit floats), and `--msaa 1` is the image of no flag at
+/// resolved in 16 bits), and `--msaa 1` is the image of no flag at
 /// all. (That its images are those of before, bit for bit, was checked on
 /// 108 images against the build before MSAA: issue 34's note.)
 #[test]
@@ -251,7 +251,11 @@ fn one_sample_takes_the_single_sample_path() {
         ("rgba8-srgb".into(), "1".into())
     );
     assert_eq!(
-        target(&["--msaa", "4", "-o", "four.png"]),
+        target(&["--shading", "phong", "--msaa", "4", "-o", "four.png"]),
+        ("rgba16-unorm/16".into(), "4".into())
+    );
+    assert_eq!(
+        target(&["--shading", "gouraud", "--msaa", "4", "-o", "four.png"]),
         ("rgba16f".into(), "4".into())
     );
     for mode in ["flat", "gouraud", "phong"] {
@@ -321,11 +325,16 @@ fn counts_the_device_lacks_and_msaa_with_the_ray_tracer_are_said_in_one_line() {
     assert_eq!(run.code, 2, "{}", run.stderr);
 }
 
-/// A multisampled render for a PNG resolves into 16-bit floats (an 8-bit
-/// sRGB target is not averaged in linear light on lavapipe): its PNG is the
-/// 32-bit path's within one 8-bit step on every channel of every pixel.
+/// A multisampled render for a PNG resolves in 16 bits (an 8-bit sRGB
+/// target is not averaged in linear light on lavapipe): scaled unsigned
+/// values where no sample can be negative (flat, Phong without vertex
+/// colours), else floats (Gouraud, whose intensities extrapolated to a
+/// pixel centre outside the triangle can go below 0: unsigned values put
+/// one default-scene pixel 8 steps off). Either way its PNG is the 32-bit
+/// path's within one 8-bit step on every channel of every pixel,
+/// background and highlights over 1 included.
 #[test]
-fn the_half_float_resolve_gives_the_float_path_png_within_one_step() {
+fn the_16_bit_resolves_give_the_float_path_png_within_one_step() {
     use shadelab::gpu::raster::ColorTarget;
     let context = gpu();
     let png_codes = |image: &LinearImage| -> Vec<u8> {
@@ -335,21 +344,24 @@ fn the_half_float_resolve_gives_the_float_path_png_within_one_step() {
             .flat_map(|p| p.map(shadelab::srgb::linear_to_srgb8))
             .collect()
     };
-    for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
+    for (shading, drawn) in [
+        (Shading::Flat, ColorTarget::ScaledUnorm16),
+        (Shading::Gouraud, ColorTarget::Float16),
+        (Shading::Phong, ColorTarget::ScaledUnorm16),
+    ] {
         let mut scene = default_scene();
         scene.render.msaa = Msaa {
             samples: 4,
             per_sample: false,
         };
+        let mode = shading.raster_mode().unwrap();
+        assert_eq!(ColorTarget::Srgb8.drawn_for(&scene, mode), drawn);
         let at = |target| {
             shadelab::render::render_gpu_to(&context, &scene, shading, false, target)
                 .unwrap()
                 .image
         };
-        let (half, full) = (
-            png_codes(&at(ColorTarget::Float16)),
-            png_codes(&at(ColorTarget::Float32)),
-        );
+        let (half, full) = (png_codes(&at(drawn)), png_codes(&at(ColorTarget::Float32)));
         let worst = half
             .iter()
             .zip(&full)
@@ -358,4 +370,9 @@ fn the_half_float_resolve_gives_the_float_path_png_within_one_step() {
             .unwrap();
         assert!(worst <= 1, "{shading}: {worst} steps apart");
     }
+    // Vertex colours can be extrapolated below 0 too: Phong takes floats.
+    let mut scene = ramp_scene();
+    scene.render.msaa = "4".parse().unwrap();
+    let phong = ColorTarget::Srgb8.drawn_for(&scene, shadelab::shading::RasterMode::Phong);
+    assert_eq!(phong, ColorTarget::Float16);
 }

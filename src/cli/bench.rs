@@ -194,14 +194,12 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     gpu_modes.push(Shading::Flat);
     memory.check(&name, &scene, &gpu_modes, cpu_modes)?;
     let context = GpuContext::new(options)?;
-    // Multisampled images are resolved as floats: 16-bit for a PNG.
-    let raster_target = args.target.color_target().drawn_with(scene.render.msaa);
-    let target_of = |shading: Shading| {
-        if shading.raster_mode().is_some() {
-            raster_target
-        } else {
-            ColorTarget::Float32
-        }
+    // The path's target; multisampled images are resolved in 16 bits for
+    // a PNG (`ColorTarget::drawn_for`), each mode's in its row.
+    let raster_target = args.target.color_target();
+    let target_of = |shading: Shading| match shading.raster_mode() {
+        Some(mode) => raster_target.drawn_for(&scene, mode),
+        None => ColorTarget::Float32,
     };
     let time = |shading: Shading, every_feature: bool| -> Result<(f64, f64, f64), Failure> {
         let target = target_of(shading);
@@ -305,7 +303,7 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     );
     let msaa = scene.render.msaa;
     let samples = if msaa.is_multisampled() {
-        format!(" at --msaa {msaa}, resolved")
+        format!(" at --msaa {msaa}, resolved in 16 bits (each mode's target in its row of --json)")
     } else {
         String::new()
     };

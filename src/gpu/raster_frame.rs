@@ -15,7 +15,9 @@ use super::descriptors::Descriptors;
 use super::error::GpuError;
 use super::image::Image;
 use super::pipeline::PipelineObjects;
-use super::raster::{bindings_of, image_barrier, ColorTarget, SurfaceFeatures, DEPTH_FORMAT};
+use super::raster::{
+    bindings_of, image_barrier, ColorTarget, SurfaceFeatures, DEPTH_FORMAT, SCALED_UNORM16_RANGE,
+};
 use super::raster_flat::FlatMesh;
 use super::raster_layout::{DrawConstants, FrameUniforms, PatternConstants, PatternDrawConstants};
 use super::raster_samples::{averaged, pass_viewport_origin, SampleDrawing};
@@ -345,7 +347,8 @@ impl Frame {
             (&self.vertex_buffer, &self.index_buffer, &self.descriptors);
         let extent = self.extent;
         let (width, height) = (extent.width, extent.height);
-        let background = scene.image.background.as_vec3();
+        // In the target's scale, as the fragment stages write.
+        let background = scene.image.background.as_vec3() * self.target.output_scale();
         let clear = vk::ClearValue {
             color: vk::ClearColorValue {
                 float32: [background.x, background.y, background.z, 1.0],
@@ -545,6 +548,12 @@ impl Frame {
             ColorTarget::Float32 => LinearImage::from_rgba32f_bytes(width, height, bytes),
             ColorTarget::Srgb8 => LinearImage::from_srgba8_bytes(width, height, bytes),
             ColorTarget::Float16 => LinearImage::from_rgba16f_bytes(width, height, bytes),
+            ColorTarget::ScaledUnorm16 => LinearImage::from_scaled_rgba16_unorm_bytes(
+                width,
+                height,
+                bytes,
+                SCALED_UNORM16_RANGE,
+            ),
         };
         let mapped = self.readback.mapped();
         if self.drawing.passes() == 1 {

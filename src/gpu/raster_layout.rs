@@ -54,6 +54,7 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (3, "SAMPLER_FIXED"),
     (4, "FIXED_SAMPLER"),
     (5, "BACK_FACES"),
+    (6, "OUTPUT_SCALE"),
 ];
 
 #[repr(C)]
@@ -146,7 +147,7 @@ impl PatternConstants {
 
 /// Values for `SPEC_CONSTANTS`, in order; each is 4 bytes (bools as VkBool32).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct Specialization {
     pub light_count: i32,
     pub use_specular: u32,
@@ -156,15 +157,26 @@ pub struct Specialization {
     /// Whether some draw may show its back (`raster_cull`): then Gouraud's
     /// vertex stage lights each vertex's back too.
     pub back_faces: u32,
+    /// What the fragment stages multiply their colour by: 1, or 1/16 for
+    /// the scaled 16-bit target (`ColorTarget::ScaledUnorm16`).
+    pub output_scale: f32,
 }
 
 impl Specialization {
-    pub fn map_entries() -> [vk::SpecializationMapEntry; 6] {
+    pub fn map_entries() -> [vk::SpecializationMapEntry; 7] {
         let entry = |index: usize| vk::SpecializationMapEntry {
             constant_id: u32::from(SPEC_CONSTANTS[index].0),
             offset: index as u32 * 4,
             size: 4,
         };
-        [entry(0), entry(1), entry(2), entry(3), entry(4), entry(5)]
+        [
+            entry(0),
+            entry(1),
+            entry(2),
+            entry(3),
+            entry(4),
+            entry(5),
+            entry(6),
+        ]
     }
 }

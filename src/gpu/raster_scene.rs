@@ -224,6 +224,7 @@ pub fn specialization(scene: &Scene) -> Specialization {
         fixed_sampler: fixed_sampler.unwrap_or(0),
         // Until the draws are known (`with_back_faces`): on.
         back_faces: 1,
+        output_scale: 1.0,
     }
 }
 
