@@ -223,7 +223,10 @@ fn four_samples_come_nearer_a_sixteen_sample_image_than_one() {
             eight_ps / one
         );
         assert!(four <= 0.6 * one, "{shading}: {four} against {one}");
-        assert!(four_ps <= four && eight_ps < four_ps, "{shading}: {four_ps} {eight_ps}");
+        assert!(
+            four_ps <= four && eight_ps < four_ps,
+            "{shading}: {four_ps} {eight_ps}"
+        );
     }
 }
 
