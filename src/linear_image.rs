@@ -33,21 +33,6 @@ impl LinearImage {
         }
     }
 
-    /// An image from tightly packed RGBA 16-bit float texels in native
-    /// byte order (a multisampled PNG render's resolve); alpha is dropped.
-    pub fn from_rgba16f_bytes(width: u32, height: u32, bytes: &[u8]) -> Self {
-        let channel = |b: &[u8]| half::f16::from_ne_bytes([b[0], b[1]]).to_f32();
-        let pixels = bytes[..width as usize * height as usize * 8]
-            .chunks_exact(8)
-            .map(|t| [channel(&t[0..2]), channel(&t[2..4]), channel(&t[4..6])])
-            .collect();
-        Self {
-            width,
-            height,
-            pixels,
-        }
-    }
-
     /// An image from tightly packed RGBA 16-bit unsigned-normalised texels
     /// in native byte order, each holding a value / `range` (a multisampled
     /// PNG render's resolve); alpha is dropped.

@@ -83,11 +83,16 @@ fn a_known_edge_covers_the_samples_the_standard_locations_say() {
 /// 40.4, times the material's 0.8. Lit by ambient light alone, Gouraud
 /// and Phong both show it.
 fn ramp_scene() -> Scene {
+    ramp_between(10.3, 50.7)
+}
+
+/// The ramp from window x = `left` to `right`.
+fn ramp_between(left: f64, right: f64) -> Scene {
     use glam::DVec3;
     use shadelab::scene::{Shape, TriangleMesh};
     let mut scene = edge_scene();
     let to_world = |window: f64| (window - 32.0) / 32.0 * 9.5 * 4.0 / 3.0;
-    let (left, right) = (to_world(10.3), to_world(50.7));
+    let (left, right) = (to_world(left), to_world(right));
     let z = -9.5;
     let positions = vec![
         DVec3::new(left, -50.0, z),
@@ -155,6 +160,40 @@ fn per_sample_shading_evaluates_each_sample_where_it_lies() {
     let per_pixel = 0.75 * ramp(10.5);
     let per_sample = [10.375, 10.875, 10.625].map(ramp).iter().sum::<f64>() / 4.0;
     assert!((per_pixel - per_sample).abs() > 1.5e-3);
+}
+
+/// Shaded once per pixel, a pixel whose centre the triangle misses takes
+/// the inputs extrapolated to the centre, and a colour below 0 there is
+/// made 0: the ramp's left edge at window x = 10.7 covers one of pixel
+/// 10's four samples (x = 10.875) but not its centre (10.5), where red
+/// extrapolates to 0.8 (10.5 - 10.7) / 40 < 0. So red is exactly 0 there
+/// per pixel, and per sample a quarter of red at 10.875.
+#[test]
+fn an_extrapolated_colour_below_zero_counts_as_none() {
+    let context = gpu();
+    let ramp = |x: f64| 0.8 * (x - 10.7) / 40.0;
+    for (msaa, want) in [("4", 0.0), ("4,per-sample", ramp(10.875) / 4.0)] {
+        let mut scene = ramp_between(10.7, 50.7);
+        scene.render.msaa = msaa.parse().unwrap();
+        for shading in [Shading::Gouraud, Shading::Phong] {
+            let cpu = shadelab::render::render_cpu(&scene, shading)
+                .unwrap()
+                .0
+                .image;
+            let gpu_image = shadelab::render::render_gpu(&context, &scene, shading)
+                .unwrap()
+                .image;
+            for (name, image) in [("CPU", &cpu), ("GPU", &gpu_image)] {
+                let [red, green, _] = image.get(10, 23);
+                assert!(
+                    (f64::from(red) - want).abs() < 1e-6,
+                    "{name} {shading} at {msaa}: red {red}, not {want}"
+                );
+                // Green, the reverse ramp, is above 0 and kept.
+                assert!(green > 0.05, "{name} {shading} at {msaa}: green {green}");
+            }
+        }
+    }
 }
 
 /// The root mean square of the linear difference over every channel.
@@ -263,7 +302,7 @@ fn one_sample_takes_the_single_sample_path() {
     );
     assert_eq!(
         target(&["--shading", "gouraud", "--msaa", "4", "-o", "four.png"]),
-        ("rgba16f".into(), "4".into())
+        ("rgba16-unorm/16".into(), "4".into())
     );
     for mode in ["flat", "gouraud", "phong"] {
         let plain = shadelab(
@@ -332,16 +371,14 @@ fn counts_the_device_lacks_and_msaa_with_the_ray_tracer_are_said_in_one_line() {
     assert_eq!(run.code, 2, "{}", run.stderr);
 }
 
-/// A multisampled render for a PNG resolves in 16 bits (an 8-bit sRGB
-/// target is not averaged in linear light on lavapipe): scaled unsigned
-/// values where no sample can be negative (flat, Phong without vertex
-/// colours), else floats (Gouraud, whose intensities extrapolated to a
-/// pixel centre outside the triangle can go below 0: unsigned values put
-/// one default-scene pixel 8 steps off). Either way its PNG is the 32-bit
-/// path's within one 8-bit step on every channel of every pixel,
-/// background and highlights over 1 included.
+/// A multisampled render for a PNG resolves in 16-bit unsigned values
+/// scaled by 1/16 (an 8-bit sRGB target is not averaged in linear light on
+/// lavapipe): its PNG is the 32-bit path's within one 8-bit step on every
+/// channel of every pixel, background and highlights over 1 included, and
+/// Gouraud's samples extrapolated below 0 too (made 0 on both paths:
+/// without that, one default-scene pixel was 8 steps off).
 #[test]
-fn the_16_bit_resolves_give_the_float_path_png_within_one_step() {
+fn the_16_bit_resolve_gives_the_float_path_png_within_one_step() {
     use shadelab::gpu::raster::ColorTarget;
     let context = gpu();
     let png_codes = |image: &LinearImage| -> Vec<u8> {
@@ -351,18 +388,14 @@ fn the_16_bit_resolves_give_the_float_path_png_within_one_step() {
             .flat_map(|p| p.map(shadelab::srgb::linear_to_srgb8))
             .collect()
     };
-    for (shading, drawn) in [
-        (Shading::Flat, ColorTarget::ScaledUnorm16),
-        (Shading::Gouraud, ColorTarget::Float16),
-        (Shading::Phong, ColorTarget::ScaledUnorm16),
-    ] {
+    for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
         let mut scene = default_scene();
         scene.render.msaa = Msaa {
             samples: 4,
             per_sample: false,
         };
-        let mode = shading.raster_mode().unwrap();
-        assert_eq!(ColorTarget::Srgb8.drawn_for(&scene, mode), drawn);
+        let drawn = ColorTarget::Srgb8.drawn_with(scene.render.msaa);
+        assert_eq!(drawn, ColorTarget::ScaledUnorm16);
         let at = |target| {
             shadelab::render::render_gpu_to(&context, &scene, shading, false, target)
                 .unwrap()
@@ -377,9 +410,4 @@ fn the_16_bit_resolves_give_the_float_path_png_within_one_step() {
             .unwrap();
         assert!(worst <= 1, "{shading}: {worst} steps apart");
     }
-    // Vertex colours can be extrapolated below 0 too: Phong takes floats.
-    let mut scene = ramp_scene();
-    scene.render.msaa = "4".parse().unwrap();
-    let phong = ColorTarget::Srgb8.drawn_for(&scene, shadelab::shading::RasterMode::Phong);
-    assert_eq!(phong, ColorTarget::Float16);
 }

@@ -194,11 +194,11 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     gpu_modes.push(Shading::Flat);
     memory.check(&name, &scene, &gpu_modes, cpu_modes)?;
     let context = GpuContext::new(options)?;
-    // The path's target; multisampled images are resolved in 16 bits for
-    // a PNG (`ColorTarget::drawn_for`), each mode's in its row.
-    let raster_target = args.target.color_target();
+    // Multisampled images are resolved in 16 bits for a PNG
+    // (`ColorTarget::drawn_with`).
+    let raster_target = args.target.color_target().drawn_with(scene.render.msaa);
     let target_of = |shading: Shading| match shading.raster_mode() {
-        Some(mode) => raster_target.drawn_for(&scene, mode),
+        Some(_) => raster_target,
         None => ColorTarget::Float32,
     };
     let time = |shading: Shading, every_feature: bool| -> Result<(f64, f64, f64), Failure> {
@@ -303,14 +303,18 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     );
     let msaa = scene.render.msaa;
     let samples = if msaa.is_multisampled() {
-        format!(" at --msaa {msaa}, resolved in 16 bits (each mode's target in its row of --json)")
+        format!(" at --msaa {msaa}, resolved")
     } else {
         String::new()
     };
     println!(
         "raster modes timed{samples} into the {} target (the path of render --out x.{}); the ray tracer writes rgba32f",
         raster_target.name(),
-        if raster_target == ColorTarget::Srgb8 { "png" } else { "exr" }
+        if args.target.color_target() == ColorTarget::Srgb8 {
+            "png"
+        } else {
+            "exr"
+        }
     );
     if let Some(path) = &hook_path {
         println!("lighting hook: {path} (the GPU modes; --cpu times the built-in formula)");

@@ -212,23 +212,17 @@ pub(super) fn effective_settings(
     })
 }
 
-/// The colour target of `scene` rendered in `shading` for an output
-/// `format` (the ray tracer ignores it).
-pub(super) fn color_target(
-    scene: &Scene,
-    shading: Shading,
-    format: shadelab::output::ImageFormat,
-) -> ColorTarget {
+/// The raster modes' colour target for an output `format`.
+pub(super) fn color_target(scene: &Scene, format: shadelab::output::ImageFormat) -> ColorTarget {
     // A PNG holds 8-bit sRGB: the raster modes render straight into it.
     // A lighting hook is the user's code, and may return NaN: the float
     // target keeps it to be counted, where the 8-bit one turns it into a
     // colour on the way in.
     // Multisampled: the samples are averaged in 16 bits for a PNG
-    // (`ColorTarget::drawn_for`).
-    match (&scene.lighting_hook, shading.raster_mode()) {
-        (None, Some(mode)) => ColorTarget::for_output(format).drawn_for(scene, mode),
-        (None, None) => ColorTarget::for_output(format),
-        (Some(_), _) => ColorTarget::Float32,
+    // (`ColorTarget::drawn_with`).
+    match scene.lighting_hook {
+        Some(_) => ColorTarget::Float32,
+        None => ColorTarget::for_output(format).drawn_with(scene.render.msaa),
     }
 }
 
@@ -392,7 +386,7 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
     }
     let out = output_path(&args, &stem, shading);
     let format = shadelab::output::ImageFormat::from_path(&out)?;
-    let target = color_target(&scene, shading, format);
+    let target = color_target(&scene, format);
     let mut device_ms = None;
     let mut context = None;
     if backend == Backend::Gpu {

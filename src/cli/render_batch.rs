@@ -308,7 +308,7 @@ impl Batch {
         let format = ImageFormat::from_path(Path::new(&case.file_name))?;
         let (rendered, device, driver) = match (backend, context) {
             (Backend::Gpu, Some(context)) => {
-                let target = color_target(scene, case.shading, format);
+                let target = color_target(scene, format);
                 let rendered = shadelab::render::render_gpu_to(
                     context,
                     scene,

@@ -510,6 +510,15 @@ fn shade_sample(
 }
 
 /// What one sample shows.
+/// `color` with every channel below 0 made 0 (NaN kept, to be counted):
+/// shaded once per pixel, a centre outside the triangle extrapolates the
+/// inputs, and light below 0 there counts as none (docs/lighting-model.md,
+/// "Samples per pixel"; the GPU's `AT_LEAST_ZERO`).
+fn at_least_zero(color: DVec3) -> DVec3 {
+    let clamp = |c: f64| if c < 0.0 { 0.0 } else { c };
+    DVec3::new(clamp(color.x), clamp(color.y), clamp(color.z))
+}
+
 #[derive(Clone)]
 struct Sample {
     color: DVec3,
@@ -649,13 +658,15 @@ pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
                                     .get_or_insert_with(|| {
                                         let centre =
                                             DVec2::new(f64::from(x) + 0.5, f64::from(y) + 0.5);
-                                        shade_sample(
+                                        let mut shaded = shade_sample(
                                             scene,
                                             &view,
                                             mode,
                                             t,
                                             (centre, barycentrics(t, centre)),
-                                        )
+                                        );
+                                        shaded.color = at_least_zero(shaded.color);
+                                        shaded
                                     })
                                     .clone()
                             };

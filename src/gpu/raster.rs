@@ -31,24 +31,6 @@ use crate::shading::RasterMode;
 
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
-/// Whether every sample of `scene` in `mode` is at least 0: flat shading's
-/// face colours, and Phong's formula, whose every term is (N.L and R.V
-/// enter only where positive), even where a pixel's centre lies outside
-/// the triangle that covers some of its samples and the inputs are
-/// extrapolated, unless a vertex colour is (extrapolated, it can go
-/// below 0). Gouraud's extrapolated intensities can too.
-fn never_negative(scene: &Scene, mode: RasterMode) -> bool {
-    let vertex_colors = scene
-        .objects
-        .iter()
-        .any(|o| matches!(&o.shape, crate::scene::Shape::Mesh(m) if !m.colors.is_empty()));
-    match mode {
-        RasterMode::Flat => true,
-        RasterMode::Phong => !vertex_colors && scene.lighting_hook.is_none(),
-        RasterMode::Gouraud => false,
-    }
-}
-
 /// The largest value `ColorTarget::ScaledUnorm16` holds.
 pub const SCALED_UNORM16_RANGE: f32 = 16.0;
 
@@ -63,17 +45,12 @@ pub enum ColorTarget {
     /// holds it. A quarter of the bytes to write and read back; the same
     /// PNG as the float target within 1 in 255 (tests/raster_modes.rs).
     Srgb8,
-    /// 16-bit float RGBA, linear: a multisampled render for a PNG whose
-    /// samples may be negative (`ScaledUnorm16` says when). Its samples
-    /// are averaged as linear values, which an 8-bit sRGB target does not
-    /// do on lavapipe (5 to 8 steps off at edges, measured); its 11-bit
-    /// mantissa keeps the PNG within 1 in 255 of the 32-bit path's
-    /// (tests/msaa.rs).
-    Float16,
     /// 16-bit unsigned-normalised RGBA holding linear values / 16: a
-    /// multisampled render for a PNG whose samples cannot be negative
-    /// (`ColorTarget::drawn_for`), as `Float16` but drawn 1.2x faster on
-    /// lavapipe (the 40k sphere at 4 samples, 35 against 43 ms). The
+    /// multisampled render for a PNG. Its samples are averaged as linear
+    /// values, which an 8-bit sRGB target does not do on lavapipe (5 to 8
+    /// steps off at edges, measured); 16-bit floats would, drawn 1.2x
+    /// slower there (the 40k sphere at 4 samples, 43 against 35 ms). No
+    /// sample is below 0 (`AT_LEAST_ZERO`, raster_output.glsl). The
     /// fragment stages write colour / 16 (`OUTPUT_SCALE`), so every
     /// sample up to 16 keeps its value, and one at 16 or more already
     /// makes the average of up to 16 samples 1 or more, white in a PNG as
@@ -91,10 +68,10 @@ impl ColorTarget {
         }
     }
 
-    /// The target drawn into when `self` is asked for `scene` in `mode`:
-    /// several samples are averaged as linear values.
-    pub fn drawn_for(self, scene: &Scene, mode: RasterMode) -> Self {
-        SampleDrawing::of(scene.render.msaa).target(self, never_negative(scene, mode))
+    /// The target drawn into when `self` is asked for at `msaa`: several
+    /// samples are averaged as linear values.
+    pub fn drawn_with(self, msaa: crate::msaa::Msaa) -> Self {
+        SampleDrawing::of(msaa).target(self)
     }
 
     /// What the fragment stages multiply their colour by for it
@@ -110,7 +87,6 @@ impl ColorTarget {
         match self {
             ColorTarget::Float32 => vk::Format::R32G32B32A32_SFLOAT,
             ColorTarget::Srgb8 => vk::Format::R8G8B8A8_SRGB,
-            ColorTarget::Float16 => vk::Format::R16G16B16A16_SFLOAT,
             ColorTarget::ScaledUnorm16 => vk::Format::R16G16B16A16_UNORM,
         }
     }
@@ -119,7 +95,7 @@ impl ColorTarget {
         match self {
             ColorTarget::Float32 => 16,
             ColorTarget::Srgb8 => 4,
-            ColorTarget::Float16 | ColorTarget::ScaledUnorm16 => 8,
+            ColorTarget::ScaledUnorm16 => 8,
         }
     }
 
@@ -128,7 +104,6 @@ impl ColorTarget {
         match self {
             ColorTarget::Float32 => "rgba32f",
             ColorTarget::Srgb8 => "rgba8-srgb",
-            ColorTarget::Float16 => "rgba16f",
             ColorTarget::ScaledUnorm16 => "rgba16-unorm/16",
         }
     }
@@ -448,11 +423,12 @@ pub fn render_to(
     let msaa = scene.render.msaa;
     check_samples(&context.info, msaa)?;
     let drawing = SampleDrawing::of(msaa);
-    let target = target.drawn_for(scene, mode);
+    let target = target.drawn_with(msaa);
     let view = View::new(scene, width, height);
     let geometry = build_geometry(scene, &view, mode == RasterMode::Flat);
     let spec = Specialization {
         output_scale: target.output_scale(),
+        at_least_zero: u32::from(matches!(drawing, SampleDrawing::Multisampled(_))),
         ..geometry.with_back_faces(specialization(scene))
     };
     let prepare_ms = ms_since(started);

@@ -547,7 +547,6 @@ impl Frame {
         let pass_image = |bytes: &[u8]| match self.target {
             ColorTarget::Float32 => LinearImage::from_rgba32f_bytes(width, height, bytes),
             ColorTarget::Srgb8 => LinearImage::from_srgba8_bytes(width, height, bytes),
-            ColorTarget::Float16 => LinearImage::from_rgba16f_bytes(width, height, bytes),
             ColorTarget::ScaledUnorm16 => LinearImage::from_scaled_rgba16_unorm_bytes(
                 width,
                 height,

@@ -55,6 +55,7 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (4, "FIXED_SAMPLER"),
     (5, "BACK_FACES"),
     (6, "OUTPUT_SCALE"),
+    (7, "AT_LEAST_ZERO"),
 ];
 
 #[repr(C)]
@@ -160,10 +161,13 @@ pub struct Specialization {
     /// What the fragment stages multiply their colour by: 1, or 1/16 for
     /// the scaled 16-bit target (`ColorTarget::ScaledUnorm16`).
     pub output_scale: f32,
+    /// Multisampled and shaded per pixel: a colour below 0 (extrapolated
+    /// inputs) is written as 0.
+    pub at_least_zero: u32,
 }
 
 impl Specialization {
-    pub fn map_entries() -> [vk::SpecializationMapEntry; 7] {
+    pub fn map_entries() -> [vk::SpecializationMapEntry; 8] {
         let entry = |index: usize| vk::SpecializationMapEntry {
             constant_id: u32::from(SPEC_CONSTANTS[index].0),
             offset: index as u32 * 4,
@@ -177,6 +181,7 @@ impl Specialization {
             entry(4),
             entry(5),
             entry(6),
+            entry(7),
         ]
     }
 }

@@ -61,13 +61,12 @@ impl SampleDrawing {
     /// The target drawn into for an image wanted in `wanted`. Samples are
     /// averaged as linear values: an 8-bit sRGB target is not averaged in
     /// linear light on lavapipe (5 to 8 steps off at edges, measured), so a
-    /// multisampled PNG is drawn in 16-bit values, scaled unsigned ones
-    /// where no sample can be negative, else floats.
-    pub(crate) fn target(self, wanted: ColorTarget, never_negative: bool) -> ColorTarget {
+    /// multisampled PNG is drawn in scaled 16-bit unsigned values, and so
+    /// are the passes.
+    pub(crate) fn target(self, wanted: ColorTarget) -> ColorTarget {
         match (self, wanted) {
             (SampleDrawing::Single, wanted) => wanted,
-            (_, ColorTarget::Srgb8) if never_negative => ColorTarget::ScaledUnorm16,
-            (_, ColorTarget::Srgb8) => ColorTarget::Float16,
+            (_, ColorTarget::Srgb8) => ColorTarget::ScaledUnorm16,
             (_, wanted) => wanted,
         }
     }

@@ -225,6 +225,7 @@ pub fn specialization(scene: &Scene) -> Specialization {
         // Until the draws are known (`with_back_faces`): on.
         back_faces: 1,
         output_scale: 1.0,
+        at_least_zero: 0,
     }
 }
 
