@@ -346,6 +346,14 @@ fn counts_the_device_lacks_and_msaa_with_the_ray_tracer_are_said_in_one_line() {
     let small = "--width 32 --height 24";
     let run = render(&format!("--msaa 8,per-sample {small} -o ps8.png"));
     assert_eq!(run.code, 0, "{}", run.stderr);
+    let info = shadelab(dir.path(), &["info"]);
+    let lavapipe = info.stdout.lines().find(|l| l.contains("llvmpipe"));
+    if let Some(line) = lavapipe {
+        assert!(
+            line.contains("--msaa 1 or 4 (per sample: 2, 4, 8, 16)"),
+            "{line}"
+        );
+    }
     let run = render(&format!("--msaa 3,per-sample {small} -o ps3.png"));
     assert_eq!(run.code, 2, "{}", run.stderr);
     assert!(

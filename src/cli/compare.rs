@@ -270,10 +270,13 @@ fn render_variants(
     // The list chosen for the scene keeps the sample counts this device
     // renders; a count asked for by name is the device's to refuse.
     let variants: Vec<Variant> = if chosen_for_the_scene {
-        let counts = &context.info.msaa_counts;
+        let info = &context.info;
         variants
             .into_iter()
-            .filter(|v| v.msaa.is_none_or(|m| counts.contains(&m.samples)))
+            .filter(|v| {
+                v.msaa
+                    .is_none_or(|m| shadelab::gpu::raster::renders_samples(info, m))
+            })
             .collect()
     } else {
         variants

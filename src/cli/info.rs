@@ -40,8 +40,29 @@ pub fn run(args: InfoArgs, options: &GpuOptions) -> Result<(), Failure> {
                 },
             };
             let counts: Vec<String> = d.msaa_counts.iter().map(u32::to_string).collect();
+            // Shaded per sample: a pass per sample, where a viewport can
+            // move by the standard positions (sixteenths of a pixel).
+            let per_sample = shadelab::msaa::STANDARD_COUNTS
+                .iter()
+                .filter(|&&n| {
+                    n > 1
+                        && shadelab::gpu::raster::renders_samples(
+                            d,
+                            shadelab::msaa::Msaa {
+                                samples: n,
+                                per_sample: true,
+                            },
+                        )
+                })
+                .map(u32::to_string)
+                .collect::<Vec<_>>();
+            let per_sample = if per_sample.is_empty() {
+                String::new()
+            } else {
+                format!(" (per sample: {})", per_sample.join(", "))
+            };
             println!(
-                "{mark} {}: {} [{}] Vulkan {} - {}{note}; --msaa {}",
+                "{mark} {}: {} [{}] Vulkan {} - {}{note}; --msaa {}{per_sample}",
                 d.index,
                 d.name,
                 d.device_type,

@@ -401,6 +401,12 @@ fn image_size_error(side_limit: u32, width: u32, height: u32) -> Option<GpuError
     })
 }
 
+/// Whether the device renders `msaa`: a count it multisamples, or shaded
+/// per sample, a standard count its viewport can be shifted by.
+pub fn renders_samples(info: &super::context::DeviceInfo, msaa: crate::msaa::Msaa) -> bool {
+    check_samples(info, msaa).is_ok()
+}
+
 /// Renders `scene` at its `image` size in `mode`, into the float target.
 pub fn render(
     context: &Arc<GpuContext>,
