@@ -29,7 +29,8 @@ pub(crate) enum SampleDrawing {
     /// sample, the surface shaded once per pixel at its centre, the
     /// samples averaged at the end of rendering.
     Multisampled(u32),
-    /// N passes of one sample each (per-sample shading), summed.
+    /// N passes of one sample each (per-sample shading), averaged on the
+    /// host.
     Passes(u32),
 }
 
