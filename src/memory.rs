@@ -379,6 +379,21 @@ mod tests {
     use super::*;
     use crate::scene::default_scene;
 
+    /// Several samples add per sample a float colour and a depth on the
+    /// GPU, or with a pass per sample a float colour image and its
+    /// read-back copy; one sample adds nothing, nor does the ray tracer.
+    #[test]
+    fn samples_cost_what_the_drawing_holds_per_sample() {
+        let msaa = |text: &str| text.parse::<Msaa>().unwrap();
+        let gpu = |m: &str, s| multisample_bytes(1000, s, Backend::Gpu, msaa(m));
+        assert_eq!(gpu("1", Shading::Phong), 0);
+        assert_eq!(gpu("4", Shading::Phong), 1000 * 4 * 20);
+        assert_eq!(gpu("8,per-sample", Shading::Gouraud), 1000 * 8 * 32);
+        assert_eq!(gpu("4", Shading::Raytrace), 0);
+        let cpu = multisample_bytes(1000, Shading::Flat, Backend::Cpu, msaa("16"));
+        assert_eq!(cpu, 1000 * 16 * 65);
+    }
+
     #[test]
     fn sizes_parse_with_binary_units() {
         assert_eq!(parse_size("512M"), Some(512 << 20));
