@@ -33,6 +33,22 @@ fn edge_scene() -> Scene {
     from_toml_str(&text, std::path::Path::new("."), "edge.toml").expect("the edge scene loads")
 }
 
+/// `scene` rendered in `shading` by the CPU reference and the GPU.
+fn both_backends(
+    context: &std::sync::Arc<shadelab::gpu::GpuContext>,
+    scene: &Scene,
+    shading: Shading,
+) -> [(&'static str, LinearImage); 2] {
+    let cpu = shadelab::render::render_cpu(scene, shading)
+        .unwrap()
+        .0
+        .image;
+    let gpu = shadelab::render::render_gpu(context, scene, shading)
+        .unwrap()
+        .image;
+    [("CPU", cpu), ("GPU", gpu)]
+}
+
 /// The share of a pixel's samples left of `frac` (a coverage of the
 /// columns `x < frac` of the pixel), from the standard locations.
 fn share_left_of(msaa: Msaa, frac: f64) -> f64 {
@@ -135,14 +151,7 @@ fn per_sample_shading_evaluates_each_sample_where_it_lies() {
         let mut scene = ramp_scene();
         scene.render.msaa = msaa;
         for shading in [Shading::Gouraud, Shading::Phong] {
-            let cpu = shadelab::render::render_cpu(&scene, shading)
-                .unwrap()
-                .0
-                .image;
-            let gpu_image = shadelab::render::render_gpu(&context, &scene, shading)
-                .unwrap()
-                .image;
-            for (name, image) in [("CPU", &cpu), ("GPU", &gpu_image)] {
+            for (name, image) in both_backends(&context, &scene, shading) {
                 for x in [10, 30, 50] {
                     let got = f64::from(image.get(x, 23)[0]);
                     let want = expected_red(x);
@@ -176,14 +185,7 @@ fn an_extrapolated_colour_below_zero_counts_as_none() {
         let mut scene = ramp_between(10.7, 50.7);
         scene.render.msaa = msaa.parse().unwrap();
         for shading in [Shading::Gouraud, Shading::Phong] {
-            let cpu = shadelab::render::render_cpu(&scene, shading)
-                .unwrap()
-                .0
-                .image;
-            let gpu_image = shadelab::render::render_gpu(&context, &scene, shading)
-                .unwrap()
-                .image;
-            for (name, image) in [("CPU", &cpu), ("GPU", &gpu_image)] {
+            for (name, image) in both_backends(&context, &scene, shading) {
                 let [red, green, _] = image.get(10, 23);
                 assert!(
                     (f64::from(red) - want).abs() < 1e-6,
