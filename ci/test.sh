@@ -26,6 +26,10 @@ cargo test --release
 # sample, depth-test and average the same points (docs/check.md).
 ./target/release/shadelab check assets/*.toml assets/hard/*.toml --shading flat,gouraud,phong \
     --msaa 4 --out target/check-msaa --images failures --junit target/check-msaa/assets.xml
+# And shaded per sample, a pass per sample on the GPU.
+./target/release/shadelab check assets/*.toml assets/hard/*.toml --shading flat,gouraud,phong \
+    --msaa 4,per-sample --out target/check-msaa-per-sample --images failures \
+    --junit target/check-msaa-per-sample/assets.xml
 # The ray tracer's packets at another subgroup size: lavapipe on 128-bit
 # vectors (as on a CPU without AVX) runs subgroups of 4 lanes, not 8.
 LP_NATIVE_VECTOR_WIDTH=128 ./target/release/shadelab check assets/*.toml --shading raytrace \
