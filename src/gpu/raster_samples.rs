@@ -74,42 +74,44 @@ impl SampleDrawing {
 }
 
 /// Refuses a sample count the device does not render, naming what it
-/// offers. A pass per sample takes every standard count on every device.
+/// offers. A pass per sample takes every standard count on every device
+/// that places a viewport finely enough.
 pub(crate) fn check_samples(info: &DeviceInfo, msaa: Msaa) -> Result<(), GpuError> {
-    let counts = &info.msaa_counts;
-    let drawable = match SampleDrawing::of(msaa) {
-        SampleDrawing::Passes(n) => msaa::positions(n).is_some(),
-        _ => counts.contains(&msaa.samples),
+    let refuse = |why: String| {
+        Err(GpuError::UnsupportedSamples {
+            asked: msaa.to_string(),
+            device: info.name.clone(),
+            why,
+        })
     };
-    if let (true, SampleDrawing::Passes(n)) = (drawable, SampleDrawing::of(msaa)) {
-        let needed = subpixel_bits_needed(n);
-        if info.viewport_subpixel_bits < needed {
-            return Err(GpuError::UnsupportedSamples {
-                asked: msaa.to_string(),
-                device: info.name.clone(),
-                why: format!(
-                    "places a viewport to 1/{} of a pixel, and shading per sample at {n} samples moves it by 1/{} (--msaa {n} shades per pixel; --backend cpu renders per sample)",
-                    1u32 << info.viewport_subpixel_bits,
-                    1u32 << needed
-                ),
-            });
+    match SampleDrawing::of(msaa) {
+        SampleDrawing::Passes(n) if msaa::positions(n).is_some() => {
+            let needed = subpixel_bits_needed(n);
+            if info.viewport_subpixel_bits >= needed {
+                return Ok(());
+            }
+            refuse(format!(
+                "places a viewport to 1/{} of a pixel, and shading per sample at {n} samples moves it by 1/{} (--msaa {n} shades per pixel; --backend cpu renders per sample)",
+                1u64 << info.viewport_subpixel_bits.min(16),
+                1u64 << needed
+            ))
+        }
+        SampleDrawing::Single | SampleDrawing::Multisampled(_)
+            if info.msaa_counts.contains(&msaa.samples) =>
+        {
+            Ok(())
+        }
+        _ => {
+            let mut listed: Vec<String> = info.msaa_counts.iter().map(u32::to_string).collect();
+            let last = listed.pop().unwrap_or_default();
+            let listed = if listed.is_empty() {
+                last
+            } else {
+                format!("{} or {last}", listed.join(", "))
+            };
+            refuse(format!("renders {listed} samples per pixel, and 1, 2, 4, 8 or 16 shaded per sample (`shadelab info` lists them; the CPU reference, --backend cpu, 1, 2, 4, 8 or 16)"))
         }
     }
-    if drawable {
-        return Ok(());
-    }
-    let mut listed: Vec<String> = counts.iter().map(u32::to_string).collect();
-    let last = listed.pop().unwrap_or_default();
-    let listed = if listed.is_empty() {
-        last
-    } else {
-        format!("{} or {last}", listed.join(", "))
-    };
-    Err(GpuError::UnsupportedSamples {
-        asked: msaa.to_string(),
-        device: info.name.clone(),
-        why: format!("renders {listed} samples per pixel, and 1, 2, 4, 8 or 16 shaded per sample (`shadelab info` lists them; the CPU reference, --backend cpu, 1, 2, 4, 8 or 16)"),
-    })
 }
 
 /// The viewport's origin for pass `pass` of `drawing`, in pixels: shifted
@@ -197,6 +199,42 @@ mod tests {
         let pass = |v: f32| LinearImage::new(2, 1, [v, 2.0 * v, 0.0]);
         let mean = averaged(&[pass(1.0), pass(0.0), pass(0.5), pass(0.5)]);
         assert_eq!(mean.pixels, vec![[0.5, 1.0, 0.0]; 2]);
+    }
+
+    /// A device takes the counts it multisamples, and per sample those
+    /// whose shifts its viewport keeps: 2 bits hold 2 samples' quarters,
+    /// not 8 samples' sixteenths.
+    #[test]
+    fn a_device_takes_what_it_multisamples_and_what_its_viewport_can_shift() {
+        let device = DeviceInfo {
+            index: 0,
+            name: "test device".into(),
+            driver: String::new(),
+            device_type: String::new(),
+            api_version: String::new(),
+            is_lavapipe: false,
+            shader_float16: false,
+            msaa_counts: vec![1, 4],
+            viewport_subpixel_bits: 2,
+            unusable_because: None,
+            no_ray_tracer_because: None,
+            no_ray_query_because: None,
+        };
+        let check = |text: &str| check_samples(&device, text.parse().unwrap());
+        for fine in ["1", "4", "2,per-sample"] {
+            assert!(check(fine).is_ok(), "{fine}");
+        }
+        let coarse = check("8,per-sample").unwrap_err().to_string();
+        assert!(
+            coarse.contains("1/4 of a pixel") && coarse.contains("1/16"),
+            "{coarse}"
+        );
+        let absent = check("8").unwrap_err().to_string();
+        assert!(
+            absent.contains("renders 1 or 4 samples per pixel"),
+            "{absent}"
+        );
+        assert!(check("3,per-sample").is_err());
     }
 
     #[test]
