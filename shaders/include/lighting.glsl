@@ -12,6 +12,10 @@
 //   counts as behind the terminator. A light in the surface's own plane
 //   (N.L = 0 exactly, a rounding error either side in f32) would otherwise
 //   switch the whole specular term on at random (assets/hard/grazing-light.toml).
+//   Near such a light the rounding of P (relative to its distance r from
+//   the eye) turns L by up to about 1e-7 r / d, so the bound grows to
+//   FACING_EPS r / d where the light is nearer than the eye
+//   (assets/hard/light-on-surface.toml, 8 samples a pixel).
 
 // 1e-5: ten times f32 rounding of a dot product of unit vectors, and only
 // 0.0006 degrees from the tangent plane.
@@ -39,7 +43,8 @@ bool light_faces(int j, vec3 P, vec3 N, out vec3 L, out float d, out float n_dot
     }
     L = to_light / d;
     n_dot_l = dot(N, L);
-    return n_dot_l > FACING_EPS;
+    // P is camera-relative: length(P) is its distance from the eye.
+    return n_dot_l > FACING_EPS * max(1.0, length(P) / d);
 }
 
 // Normalises an interpolated normal; one that has shrunk to zero stays zero.

@@ -3,7 +3,8 @@
 // A user's hook replaces this file (`--lighting FILE`) and is held to the
 // same interface (docs/lighting-hooks.md):
 //   N, V, L: unit normal, unit vector to the viewer, unit vector to the light
-//            (N.L > FACING_EPS: the light faces the surface; shadows decided)
+//            (N.L > FACING_EPS max(1, r / d): the light faces the surface;
+//            shadows decided)
 //   d:       the distance to the light
 //   intensity: the light's Il (RGB)
 //   m:       the material (color, ka, kd, ks, p)

@@ -6,7 +6,7 @@
 //! a zero normal receives the ambient term only; a light exactly at the
 //! shaded point contributes nothing; `p = 0` gives `S = 1` whenever the
 //! light faces the surface (x^0 = 1, also for x = 0); and a light faces it
-//! only when `N·L > FACING_EPS`, not by rounding.
+//! only when `N·L > FACING_EPS max(1, r / d)` ([`facing`]), not by rounding.
 
 use glam::DVec3;
 
@@ -16,6 +16,15 @@ use glam::DVec3;
 /// f32 turns into a rounding error of either sign; without this the GPU
 /// would switch the whole specular term on at random there.
 pub const FACING_EPS: f64 = 1e-5;
+
+/// Whether a light at distance `d` with `n_dot_l` faces a point `r` from
+/// the eye by more than rounding: `N·L > FACING_EPS · max(1, r / d)`. The
+/// GPU rounds a point relative to its distance from the eye, which near a
+/// light lying in the surface (`d` much below `r`) turns `L` by about
+/// 1e-7 `r / d` (assets/hard/light-on-surface.toml at 8 samples a pixel).
+pub fn facing(n_dot_l: f64, d: f64, r: f64) -> bool {
+    n_dot_l > FACING_EPS * (r / d).max(1.0)
+}
 
 use crate::scene::{Lighting, Material, PointLight};
 
@@ -59,19 +68,20 @@ pub fn shade(
         return lighting.ambient * surface.material.ka * surface.color();
     }
     let v = (eye - p).normalize();
-    shade_visible(lighting, lights, surface, p, n, v, |_, _| true)
+    shade_visible(lighting, lights, surface, (p, eye), n, v, |_, _| true)
 }
 
 /// `shade` with the unit vector toward the viewer `v` given (the ray tracer
-/// passes `-d`), and light `j` counted only if `visible(j, light)` says so.
+/// passes `-d`; `eye` is the camera's, for `facing`), and light `j` counted
+/// only if `visible(j, light)` says so.
 /// `visible` is asked, in light order, only for the lights that would add
-/// something (`N·L > FACING_EPS` and not at the point): the ray tracer casts
+/// something ([`facing`] and not at the point): the ray tracer casts
 /// shadow rays for exactly those.
 pub fn shade_visible(
     lighting: &Lighting,
     lights: &[PointLight],
     surface: Surface,
-    p: DVec3,
+    (p, eye): (DVec3, DVec3),
     n: DVec3,
     v: DVec3,
     mut visible: impl FnMut(usize, &PointLight) -> bool,
@@ -90,7 +100,7 @@ pub fn shade_visible(
         }
         let l = to_light / d;
         let n_dot_l = n.dot(l);
-        if n_dot_l <= FACING_EPS || !visible(j, light) {
+        if !facing(n_dot_l, d, (p - eye).length()) || !visible(j, light) {
             continue;
         }
         let il = if lighting.attenuation {
@@ -114,6 +124,18 @@ pub fn shade_visible(
 mod tests {
     use super::*;
     use crate::scene::Interpolation;
+
+    /// A light faces a point by more than FACING_EPS, or by FACING_EPS r/d
+    /// where it is nearer the point than the eye: 1e-4 faces a point 10
+    /// from the eye from 100 away, not from 0.01 away (that needs 1e-2).
+    #[test]
+    fn facing_grows_with_the_eye_distance_over_the_light_distance() {
+        assert!(facing(1e-4, 100.0, 10.0));
+        assert!(!facing(1e-4, 0.01, 10.0));
+        assert!(facing(2e-2, 0.01, 10.0));
+        assert!(!facing(FACING_EPS, 100.0, 10.0));
+        assert!(!facing(0.0, 1.0, 0.0));
+    }
 
     fn lighting() -> Lighting {
         Lighting {

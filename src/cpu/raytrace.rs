@@ -51,7 +51,7 @@ pub enum RayKind {
 ///   miss) and the part of it (u32: a box's face `2 axis + (0 for -, 1 for
 ///   +)`, else 0; `u32::MAX` on a miss); integers little-endian;
 /// - after a hit's ray record, for every light the shading asks about
-///   (`N·L > FACING_EPS`, light not at the point), in light order: the byte 3, the
+///   (`lighting::facing`, light not at the point), in light order: the byte 3, the
 ///   light index (u32) and 1 if it is visible (always, with shadows off) or
 ///   2 if its shadow ray is blocked.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -271,7 +271,8 @@ impl<'a> Tracer<'a> {
                 &scene.lighting,
                 &scene.lights,
                 surface,
-                p,
+                // Camera-relative: the eye is the origin.
+                (p, DVec3::ZERO),
                 facing_normal(n, ng, d),
                 -d,
                 |j, light| {
