@@ -9,8 +9,32 @@ use shadelab::shading::Shading;
 
 use super::Failure;
 
+/// The flags that override a scene's settings in every command that renders
+/// it whole (render, bench, warm, golden), applied in this order.
+#[derive(Args, Clone)]
+pub struct SceneFlags {
+    #[command(flatten)]
+    pub lighting: LightingArg,
+    #[command(flatten)]
+    pub traversal: TraversalArg,
+    #[command(flatten)]
+    pub msaa: MsaaArg,
+    #[command(flatten)]
+    pub depth: DepthArg,
+}
+
+impl SceneFlags {
+    /// Sets them on `scene`: the hook read, the names and counts parsed.
+    pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
+        self.lighting.apply(scene)?;
+        self.traversal.apply(scene)?;
+        self.msaa.apply(scene)?;
+        self.depth.apply(scene)
+    }
+}
+
 /// `--width` and `--height`, overriding the scene's `[image]` size.
-#[derive(Args)]
+#[derive(Args, Clone)]
 pub struct ImageSize {
     /// Image width in pixels (overrides the scene's [image] width).
     // Signed, so that `--width -5` is a range error like `--width 0`, not
@@ -48,7 +72,7 @@ impl ImageSize {
 
 /// `--lighting FILE`: the user's lighting hook, compiled into the GPU
 /// modes in place of the built-in formula.
-#[derive(Args)]
+#[derive(Args, Clone)]
 pub struct LightingArg {
     /// GLSL file defining `vec3 shade_light(vec3 N, vec3 V, vec3 L, float d,
     /// vec3 intensity, Surface m, float k)`, one light's contribution, used
@@ -193,7 +217,7 @@ impl MsaaArg {
 }
 
 /// `--depth`: the ray tracer's maximum depth, overriding the scene's.
-#[derive(Args)]
+#[derive(Args, Clone)]
 pub struct DepthArg {
     /// Ray tracing: maximum recursion depth (overrides the scene's
     /// render.depth).
@@ -233,7 +257,7 @@ pub fn check_runs(runs: usize) -> Result<usize, Failure> {
 
 /// `--traversal`: the GPU ray tracer's engine, overriding the scene's
 /// `render.traversal`.
-#[derive(Args)]
+#[derive(Args, Clone)]
 pub struct TraversalArg {
     /// The GPU ray tracer's engine: `bvh` (the compute shader's own BVH
     /// walk), `query` (VK_KHR_ray_query through an acceleration structure

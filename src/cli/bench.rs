@@ -20,9 +20,7 @@ use shadelab::memory::MemoryLimit;
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
-use super::args::{
-    check_runs, ray_trace_flags, DepthArg, ImageSize, LightingArg, ModeList, MsaaArg, TraversalArg,
-};
+use super::args::{check_runs, ray_trace_flags, ImageSize, ModeList, SceneFlags};
 use super::render::load_scene;
 use super::time_to_image::{self, TimeToImage};
 use super::Failure;
@@ -39,13 +37,7 @@ pub struct BenchArgs {
     #[command(flatten)]
     size: ImageSize,
     #[command(flatten)]
-    lighting: LightingArg,
-    #[command(flatten)]
-    traversal: TraversalArg,
-    #[command(flatten)]
-    msaa: MsaaArg,
-    #[command(flatten)]
-    depth: DepthArg,
+    settings: SceneFlags,
     /// Also time the CPU reference on the same work (the ray tracer's
     /// tracing alone, as the GPU's dispatch; the raster modes' whole
     /// render), and print the GPU's speed-up over it.
@@ -87,9 +79,9 @@ impl BenchArgs {
         };
         flag("--width", self.size.width.map(|v| v.to_string()));
         flag("--height", self.size.height.map(|v| v.to_string()));
-        flag("--depth", self.depth.depth.map(|v| v.to_string()));
-        flag("--traversal", self.traversal.traversal.clone());
-        let gpu = match &self.lighting.lighting {
+        flag("--depth", self.settings.depth.depth.map(|v| v.to_string()));
+        flag("--traversal", self.settings.traversal.traversal.clone());
+        let gpu = match &self.settings.lighting.lighting {
             Some(hook) => vec!["--lighting".into(), hook.into()],
             None => Vec::new(),
         };
@@ -177,18 +169,15 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     check_runs(args.runs)?;
     let modes = args.modes.modes();
     args.modes.warn_unused(&ray_trace_flags(
-        args.depth.depth,
-        &args.traversal,
+        args.settings.depth.depth,
+        &args.settings.traversal,
         args.cpu,
     ));
-    args.msaa.warn_unused(&modes);
+    args.settings.msaa.warn_unused(&modes);
     let (mut scene, name) = load_scene(args.scene.as_deref(), memory)?;
     args.size.apply(&mut scene)?;
-    args.lighting.apply(&mut scene)?;
-    args.traversal.apply(&mut scene)?;
-    args.msaa.apply(&mut scene)?;
+    args.settings.apply(&mut scene)?;
     let hook_path = scene.lighting_hook.as_ref().map(|h| h.path.clone());
-    args.depth.apply(&mut scene)?;
     let cpu_modes: &[Shading] = if args.cpu { &[Shading::Raytrace] } else { &[] };
     let mut gpu_modes = modes.clone();
     gpu_modes.push(Shading::Flat);

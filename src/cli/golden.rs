@@ -16,7 +16,7 @@ use shadelab::memory::MemoryLimit;
 use shadelab::metrics::{self, format_figure, Comparison, Settings, Thresholds, Verdict};
 use shadelab::output::{self, ImageFormat, ImageMetadata};
 
-use super::args::{DepthArg, ImageSize, LightingArg, ModeList, MsaaArg, TraversalArg};
+use super::args::{ImageSize, ModeList, SceneFlags};
 use super::diff::{compare_images, parse_thresholds, Judging, Preset, EDGE_THRESHOLD};
 use super::golden_report::{write_report, ReportCase};
 use super::render::RenderArgs;
@@ -76,13 +76,7 @@ pub struct GoldenArgs {
     #[command(flatten)]
     size: ImageSize,
     #[command(flatten)]
-    lighting: LightingArg,
-    #[command(flatten)]
-    traversal: TraversalArg,
-    #[command(flatten)]
-    msaa: MsaaArg,
-    #[command(flatten)]
-    depth: DepthArg,
+    settings: SceneFlags,
     #[command(flatten)]
     pub machine: super::args::MachineArgs,
 }
@@ -509,20 +503,8 @@ pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
         scenes: args.scenes.clone(),
         shading: args.modes.modes(),
         backend: "gpu".to_string(),
-        size: ImageSize {
-            width: args.size.width,
-            height: args.size.height,
-        },
-        lighting: LightingArg {
-            lighting: args.lighting.lighting.clone(),
-        },
-        traversal: TraversalArg {
-            traversal: args.traversal.traversal.clone(),
-        },
-        depth: DepthArg {
-            depth: args.depth.depth,
-        },
-        msaa: args.msaa.clone(),
+        size: args.size.clone(),
+        settings: args.settings.clone(),
         cutoff: None,
         samples: None,
         no_shadows: false,

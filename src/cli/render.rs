@@ -15,7 +15,7 @@ use shadelab::rt_scene::RayStats;
 use shadelab::scene::{self, Scene};
 use shadelab::shading::Shading;
 
-use super::args::{DepthArg, ImageSize, LightingArg, MsaaArg, TraversalArg};
+use super::args::{ImageSize, SceneFlags};
 use super::Failure;
 
 #[derive(Args)]
@@ -35,13 +35,7 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub(super) size: ImageSize,
     #[command(flatten)]
-    pub(super) lighting: LightingArg,
-    #[command(flatten)]
-    pub(super) traversal: TraversalArg,
-    #[command(flatten)]
-    pub(super) msaa: MsaaArg,
-    #[command(flatten)]
-    pub(super) depth: DepthArg,
+    pub(super) settings: SceneFlags,
     /// Ray tracing: adaptive depth cut-off on the ray weight.
     #[arg(long)]
     pub(super) cutoff: Option<f64>,
@@ -128,15 +122,12 @@ pub(super) fn apply_overrides(
     warn: bool,
 ) -> Result<(), Failure> {
     args.size.apply(scene)?;
-    if args.lighting.lighting.is_some() && args.backend == "cpu" {
+    if args.settings.lighting.lighting.is_some() && args.backend == "cpu" {
         return Err(Failure::usage(
             "--lighting is for the GPU backend; the CPU reference always evaluates the built-in formula".to_string(),
         ));
     }
-    args.lighting.apply(scene)?;
-    args.traversal.apply(scene)?;
-    args.msaa.apply(scene)?;
-    args.depth.apply(scene)?;
+    args.settings.apply(scene)?;
     if let Some(c) = args.cutoff {
         if !c.is_finite() || c < 0.0 {
             return Err(Failure::usage(format!(
@@ -158,7 +149,7 @@ pub(super) fn apply_overrides(
     }
     // Said once the flags are known to be valid: a bad one is the answer.
     if warn {
-        args.msaa.warn_unused(modes);
+        args.settings.msaa.warn_unused(modes);
     }
     if warn && !modes.contains(&Shading::Raytrace) {
         let given = ray_trace_options_given(args);
@@ -260,7 +251,8 @@ fn settings_line(settings: &serde_json::Value) -> String {
 /// The ray-tracing options on the command line, by flag: those every
 /// command shares (`args::ray_trace_flags`) and render's own.
 fn ray_trace_options_given(args: &RenderArgs) -> Vec<&'static str> {
-    let mut given = super::args::ray_trace_flags(args.depth.depth, &args.traversal, false);
+    let mut given =
+        super::args::ray_trace_flags(args.settings.depth.depth, &args.settings.traversal, false);
     for (flag, present) in [
         ("--cutoff", args.cutoff.is_some()),
         ("--samples", args.samples.is_some()),

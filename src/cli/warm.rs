@@ -14,7 +14,7 @@ use shadelab::gpu::{GpuContext, GpuOptions};
 use shadelab::memory::MemoryLimit;
 use shadelab::render::render_gpu;
 
-use super::args::{DepthArg, LightingArg, ModeList, MsaaArg, TraversalArg};
+use super::args::{ModeList, SceneFlags};
 use super::render::load_scene;
 use super::Failure;
 
@@ -28,13 +28,7 @@ pub struct WarmArgs {
     #[command(flatten)]
     modes: ModeList,
     #[command(flatten)]
-    lighting: LightingArg,
-    #[command(flatten)]
-    traversal: TraversalArg,
-    #[command(flatten)]
-    msaa: MsaaArg,
-    #[command(flatten)]
-    depth: DepthArg,
+    settings: SceneFlags,
     #[command(flatten)]
     pub machine: super::args::MachineArgs,
 }
@@ -42,11 +36,11 @@ pub struct WarmArgs {
 pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
     let modes = args.modes.modes();
     args.modes.warn_unused(&super::args::ray_trace_flags(
-        args.depth.depth,
-        &args.traversal,
+        args.settings.depth.depth,
+        &args.settings.traversal,
         false,
     ));
-    args.msaa.warn_unused(&modes);
+    args.settings.msaa.warn_unused(&modes);
     let started = Instant::now();
     let paths: Vec<Option<PathBuf>> = if args.scenes.is_empty() {
         vec![None]
@@ -58,10 +52,7 @@ pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result
         let (mut scene, name) = load_scene(path.as_deref(), memory)?;
         scene.image.width = WARM_SIZE;
         scene.image.height = WARM_SIZE;
-        args.lighting.apply(&mut scene)?;
-        args.traversal.apply(&mut scene)?;
-        args.msaa.apply(&mut scene)?;
-        args.depth.apply(&mut scene)?;
+        args.settings.apply(&mut scene)?;
         memory.check(&name, &scene, &modes, &[])?;
         scenes.push((scene, name));
     }
