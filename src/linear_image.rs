@@ -18,19 +18,31 @@ impl LinearImage {
         }
     }
 
-    /// An image from tightly packed RGBA 32-bit float texels in native byte
-    /// order (what the GPU renderers read back); alpha is dropped.
-    pub fn from_rgba32f_bytes(width: u32, height: u32, bytes: &[u8]) -> Self {
-        let channel = |b: &[u8]| f32::from_ne_bytes([b[0], b[1], b[2], b[3]]);
-        let pixels = bytes[..width as usize * height as usize * 16]
-            .chunks_exact(16)
-            .map(|t| [channel(&t[0..4]), channel(&t[4..8]), channel(&t[8..12])])
+    /// An image from tightly packed RGBA texels of `N`-byte channels,
+    /// each channel's bytes turned into a linear value by `channel`; alpha
+    /// is dropped.
+    fn from_rgba_texels<const N: usize>(
+        width: u32,
+        height: u32,
+        bytes: &[u8],
+        channel: impl Fn([u8; N]) -> f32,
+    ) -> Self {
+        let at = |t: &[u8], c: usize| channel(std::array::from_fn(|i| t[c * N + i]));
+        let pixels = bytes[..width as usize * height as usize * 4 * N]
+            .chunks_exact(4 * N)
+            .map(|t| [at(t, 0), at(t, 1), at(t, 2)])
             .collect();
         Self {
             width,
             height,
             pixels,
         }
+    }
+
+    /// An image from tightly packed RGBA 32-bit float texels in native byte
+    /// order (what the GPU renderers read back); alpha is dropped.
+    pub fn from_rgba32f_bytes(width: u32, height: u32, bytes: &[u8]) -> Self {
+        Self::from_rgba_texels(width, height, bytes, f32::from_ne_bytes)
     }
 
     /// An image from tightly packed RGBA 16-bit unsigned-normalised texels
@@ -42,16 +54,9 @@ impl LinearImage {
         bytes: &[u8],
         range: f32,
     ) -> Self {
-        let channel = |b: &[u8]| f32::from(u16::from_ne_bytes([b[0], b[1]])) / 65535.0 * range;
-        let pixels = bytes[..width as usize * height as usize * 8]
-            .chunks_exact(8)
-            .map(|t| [channel(&t[0..2]), channel(&t[2..4]), channel(&t[4..6])])
-            .collect();
-        Self {
-            width,
-            height,
-            pixels,
-        }
+        Self::from_rgba_texels(width, height, bytes, |b| {
+            f32::from(u16::from_ne_bytes(b)) / 65535.0 * range
+        })
     }
 
     /// An image from tightly packed 8-bit sRGB RGBA texels (the raster
@@ -59,15 +64,7 @@ impl LinearImage {
     /// it as PNG gives back the same bytes.
     pub fn from_srgba8_bytes(width: u32, height: u32, bytes: &[u8]) -> Self {
         let table: Vec<f32> = (0..=255).map(crate::srgb::srgb8_to_linear).collect();
-        let pixels = bytes[..width as usize * height as usize * 4]
-            .chunks_exact(4)
-            .map(|t| [t[0], t[1], t[2]].map(|v| table[usize::from(v)]))
-            .collect();
-        Self {
-            width,
-            height,
-            pixels,
-        }
+        Self::from_rgba_texels(width, height, bytes, |[v]: [u8; 1]| table[usize::from(v)])
     }
 
     /// Pixels with a NaN or infinite channel: a render that made one has
