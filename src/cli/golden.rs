@@ -10,15 +10,15 @@ use std::time::Instant;
 
 use clap::Args;
 use shadelab::gpu::GpuOptions;
-use shadelab::junit::{self, TestCase};
+use shadelab::junit;
 use shadelab::linear_image::LinearImage;
 use shadelab::memory::MemoryLimit;
-use shadelab::metrics::{self, format_figure, Comparison, Settings, Thresholds, Verdict};
+use shadelab::metrics::{self, Comparison, Settings, Thresholds, Verdict};
 use shadelab::output::{self, ImageFormat, ImageMetadata};
 
 use super::args::{ImageSize, ModeList, SceneFlags};
 use super::diff::{compare_images, parse_thresholds, Judging, Preset, EDGE_THRESHOLD};
-use super::golden_report::{write_report, ReportCase};
+use super::golden_report::{case_json, junit_cases, print_case, write_report, ReportCase};
 use super::render::RenderArgs;
 use super::render_batch::{non_finite_failure, Batch, CaseView, Made};
 use super::Failure;
@@ -653,114 +653,6 @@ fn describe_limits(preset: Preset, t: &Thresholds) -> String {
         parts.push(format!("psnr >= {psnr} dB"));
     }
     format!("{} ({})", preset.name(), parts.join(", "))
-}
-
-fn print_case(view: &CaseView, judged: &Judged, out: &Path) {
-    let label = format!("{}/{}", view.name, view.shading);
-    let word = judged.status.word();
-    let reference = judged
-        .reference
-        .as_ref()
-        .map(|p| p.display().to_string())
-        .unwrap_or_default();
-    match judged.status {
-        Status::Pass => {
-            let figures = judged
-                .comparison
-                .as_ref()
-                .map(|c| format!("max_abs {}", format_figure(c.stats.max_abs)))
-                .unwrap_or_default();
-            println!("{word:<8} {label}  {reference}  {figures}");
-        }
-        Status::Created if judged.failures.is_empty() => {
-            println!("{word:<8} {label}  {reference} (from this render)")
-        }
-        Status::Created => println!(
-            "{word:<8} {label}  {reference} (from this render; the shared one was: {})",
-            judged.failures.join("; ")
-        ),
-        Status::Updated => println!(
-            "{word:<8} {label}  {reference} (was: {})",
-            judged.failures.join("; ")
-        ),
-        Status::Error => println!(
-            "{word:<8} {label}  {}",
-            judged.error.as_ref().map_or("", |e| e.message.as_str())
-        ),
-        Status::Fail | Status::Missing => {
-            println!("{word:<8} {label}  {reference}");
-            for f in &judged.failures {
-                println!("         {f}");
-            }
-            if let Some(hint) = &judged.hint {
-                println!("         {hint}");
-            }
-            if !judged.written.is_empty() {
-                let names: Vec<String> = judged
-                    .written
-                    .iter()
-                    .map(|p| p.display().to_string())
-                    .collect();
-                println!(
-                    "         see {} and {}",
-                    names.join(", "),
-                    out.join("report.html").display()
-                );
-            }
-        }
-    }
-}
-
-fn case_json(c: &ReportCase) -> serde_json::Value {
-    let j = &c.judged;
-    serde_json::json!({
-        "scene": c.scene,
-        "shading": c.shading,
-        "file": c.file,
-        "status": j.status,
-        "reference": j.reference,
-        "reference_kind": j.reference_kind,
-        "failures": j.failures,
-        "verdicts": j.verdicts,
-        "figures": j.comparison,
-        "hint": j.hint,
-        "error": j.error.as_ref().map(|e| e.message.clone()),
-        "written": j.written,
-        "time_s": j.time_s,
-    })
-}
-
-fn junit_cases(cases: &[ReportCase]) -> Vec<TestCase> {
-    cases
-        .iter()
-        .map(|c| {
-            let j = &c.judged;
-            let mut lines = j.failures.clone();
-            lines.extend(j.hint.clone());
-            TestCase {
-                classname: c.scene.clone(),
-                name: c.shading.to_string(),
-                time_s: j.time_s,
-                failure: matches!(j.status, Status::Fail | Status::Missing)
-                    .then(|| lines.join("\n")),
-                error: (j.status == Status::Error).then(|| {
-                    j.error
-                        .as_ref()
-                        .map_or_else(String::new, |e| e.message.clone())
-                }),
-                output: match j.status {
-                    Status::Created | Status::Updated => format!(
-                        "{} {}",
-                        j.status.word().to_lowercase(),
-                        j.reference
-                            .as_ref()
-                            .map_or_else(String::new, |p| p.display().to_string())
-                    ),
-                    _ => String::new(),
-                },
-            }
-        })
-        .collect()
 }
 
 #[cfg(test)]

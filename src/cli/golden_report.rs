@@ -1,5 +1,6 @@
-//! `golden`'s `report.html`: every case in a table, then each one that did
-//! not pass (or was accepted) as its reference, its render and the FLIP
+//! `golden`'s reports: a case's lines on the terminal, the cases in JSON
+//! and JUnit, and `report.html`: every case in a table, then each one that
+//! did not pass (or was accepted) as its reference, its render and the FLIP
 //! heat map side by side. One self-contained page in `compare`'s style:
 //! images inline, no script, all text escaped.
 
@@ -7,11 +8,13 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use shadelab::compare::present::{escape, img, page_start, PAGE_END};
+use shadelab::junit::TestCase;
 use shadelab::metrics::format_figure;
 use shadelab::output::write_atomically;
 use shadelab::shading::Shading;
 
 use super::golden::{Judged, Status};
+use super::render_batch::CaseView;
 use super::Failure;
 
 /// A case as the report shows it.
@@ -46,6 +49,117 @@ fn figure_cells(j: &Judged) -> String {
         ),
         None => "<td>-</td><td>-</td><td>-</td>".to_string(),
     }
+}
+
+/// The case's lines on the terminal.
+pub(super) fn print_case(view: &CaseView, judged: &Judged, out: &Path) {
+    let label = format!("{}/{}", view.name, view.shading);
+    let word = judged.status.word();
+    let reference = judged
+        .reference
+        .as_ref()
+        .map(|p| p.display().to_string())
+        .unwrap_or_default();
+    match judged.status {
+        Status::Pass => {
+            let figures = judged
+                .comparison
+                .as_ref()
+                .map(|c| format!("max_abs {}", format_figure(c.stats.max_abs)))
+                .unwrap_or_default();
+            println!("{word:<8} {label}  {reference}  {figures}");
+        }
+        Status::Created if judged.failures.is_empty() => {
+            println!("{word:<8} {label}  {reference} (from this render)")
+        }
+        Status::Created => println!(
+            "{word:<8} {label}  {reference} (from this render; the shared one was: {})",
+            judged.failures.join("; ")
+        ),
+        Status::Updated => println!(
+            "{word:<8} {label}  {reference} (was: {})",
+            judged.failures.join("; ")
+        ),
+        Status::Error => println!(
+            "{word:<8} {label}  {}",
+            judged.error.as_ref().map_or("", |e| e.message.as_str())
+        ),
+        Status::Fail | Status::Missing => {
+            println!("{word:<8} {label}  {reference}");
+            for f in &judged.failures {
+                println!("         {f}");
+            }
+            if let Some(hint) = &judged.hint {
+                println!("         {hint}");
+            }
+            if !judged.written.is_empty() {
+                let names: Vec<String> = judged
+                    .written
+                    .iter()
+                    .map(|p| p.display().to_string())
+                    .collect();
+                println!(
+                    "         see {} and {}",
+                    names.join(", "),
+                    out.join("report.html").display()
+                );
+            }
+        }
+    }
+}
+
+/// The case in `--json`.
+pub(super) fn case_json(c: &ReportCase) -> serde_json::Value {
+    let j = &c.judged;
+    serde_json::json!({
+        "scene": c.scene,
+        "shading": c.shading,
+        "file": c.file,
+        "status": j.status,
+        "reference": j.reference,
+        "reference_kind": j.reference_kind,
+        "failures": j.failures,
+        "verdicts": j.verdicts,
+        "figures": j.comparison,
+        "hint": j.hint,
+        "error": j.error.as_ref().map(|e| e.message.clone()),
+        "written": j.written,
+        "time_s": j.time_s,
+    })
+}
+
+/// The cases in `--junit`.
+pub(super) fn junit_cases(cases: &[ReportCase]) -> Vec<TestCase> {
+    cases
+        .iter()
+        .map(|c| {
+            let j = &c.judged;
+            let mut lines = j.failures.clone();
+            lines.extend(j.hint.clone());
+            TestCase {
+                classname: c.scene.clone(),
+                name: c.shading.to_string(),
+                time_s: j.time_s,
+                failure: matches!(j.status, Status::Fail | Status::Missing)
+                    .then(|| lines.join("\n")),
+                error: (j.status == Status::Error).then(|| {
+                    j.error
+                        .as_ref()
+                        .map_or_else(String::new, |e| e.message.clone())
+                }),
+                output: match j.status {
+                    Status::Created | Status::Updated => format!(
+                        "{} {}",
+                        j.status.word().to_lowercase(),
+                        j.reference
+                            .as_ref()
+                            .map_or_else(String::new, |p| p.display().to_string())
+                    ),
+                    _ => String::new(),
+                },
+            }
+        })
+        .collect()
 }
 
 /// Writes the page to `path`.
