@@ -291,7 +291,8 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
                     polygon[k + 1].clone(),
                 ];
                 let ids = (object_index as u32, primitive);
-                if let Some(mut t) = screen_triangle(view, ids, verts, flat_color) {
+                let one_sample = !scene.render.msaa.is_multisampled();
+                if let Some(mut t) = screen_triangle(view, ids, verts, flat_color, one_sample) {
                     t.coloured = !mesh.colors.is_empty();
                     triangles.push(t);
                 }
@@ -306,6 +307,7 @@ fn screen_triangle(
     (object, primitive): (u32, u32),
     vertices: [ClipVertex; 3],
     flat_color: DVec3,
+    one_sample: bool,
 ) -> Option<Triangle> {
     let window = [0, 1, 2].map(|k| window_of(view, vertices[k].clip));
     let edges = Edges::new(window)?;
@@ -316,10 +318,11 @@ fn screen_triangle(
     if hi.x < 0.0 || hi.y < 0.0 || lo.x > w || lo.y > h {
         return None;
     }
-    // Pixels whose area meets [lo, hi]: any of their samples may fall
-    // inside (with one sample, only those whose centre can).
-    let first = |v: f64| v.floor().max(0.0) as u32;
-    let last = |v: f64, n: u32| (v.floor().max(-1.0) as i64).min(i64::from(n) - 1);
+    // Pixels whose centre (x + 0.5) can fall inside [lo, hi]; with several
+    // samples, those whose area [x, x + 1) meets it, as any sample may.
+    let (before, after) = if one_sample { (0.5, 0.5) } else { (1.0, 0.0) };
+    let first = |v: f64| (v - before).ceil().max(0.0) as u32;
+    let last = |v: f64, n: u32| ((v - after).floor().max(-1.0) as i64).min(i64::from(n) - 1);
     let (x1, y1) = (last(hi.x, view.width), last(hi.y, view.height));
     if x1 < 0 || y1 < 0 {
         return None;
@@ -509,7 +512,6 @@ fn shade_sample(
     }
 }
 
-/// What one sample shows.
 /// `color` with every channel below 0 made 0 (NaN kept, to be counted):
 /// shaded once per pixel, a centre outside the triangle extrapolates the
 /// inputs, and light below 0 there counts as none (docs/lighting-model.md,
@@ -519,6 +521,7 @@ fn at_least_zero(color: DVec3) -> DVec3 {
     DVec3::new(clamp(color.x), clamp(color.y), clamp(color.z))
 }
 
+/// What one sample shows.
 #[derive(Clone)]
 struct Sample {
     color: DVec3,
