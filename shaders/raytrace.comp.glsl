@@ -943,23 +943,28 @@ vec2 hit_uv(Hit hit, Surfel s) {
         return vec2(0.5 + atan(n.x, n.z) / TWO_PI, atan(length(n.xz), n.y) / (0.5 * TWO_PI));
     }
     if (kind == KIND_PLANE) {
+        // u along the plane's right, v down its image (its axes are right
+        // and up).
         PlaneGeometry g = plane_geometry(int(index));
         vec3 offset = s.p - g.center;
-        return vec2(dot(offset, g.u), dot(offset, g.v)) / (2.0 * g.half_size) + 0.5;
+        return vec2(dot(offset, g.u), -dot(offset, g.v)) / (2.0 * g.half_size) + 0.5;
     }
     // A box face: its axis is the normal's in the box's frame; its texture
-    // axes are the two others, in the order that makes u x v the normal.
+    // axes are two of the box's axes, each either way, that the host chose
+    // per face (texcoords::box_face_codes, in the record's last two words).
     BoxGeometry g = box_geometry(int(index));
     vec3 local = transpose(g.rotation) * s.normal;
     vec3 a = abs(local);
     int k = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
-    int b = (k + 1) % 3;
-    int c = (k + 2) % 3;
-    int ku = local[k] > 0.0 ? b : c;
-    int kv = local[k] > 0.0 ? c : b;
+    uint face = uint(2 * k) + (local[k] > 0.0 ? 1u : 0u);
+    uvec4 record = box_quads[uint(index) * BOX_QUADS + BOX_FACE_U / 4u];
+    uvec2 codes = (uvec2(record[BOX_FACE_U % 4u], record[BOX_FACE_V % 4u]) >> (3u * face)) & 7u;
+    int ku = int(codes.x & 3u);
+    int kv = int(codes.y & 3u);
+    vec2 signs = mix(vec2(1.0), vec2(-1.0), notEqual(codes & 4u, uvec2(0u)));
     vec3 offset = s.p - g.center;
-    return vec2(dot(offset, g.rotation[ku]) / (2.0 * g.half_extents[ku]),
-                dot(offset, g.rotation[kv]) / (2.0 * g.half_extents[kv])) + 0.5;
+    return vec2(signs.x * dot(offset, g.rotation[ku]) / (2.0 * g.half_extents[ku]),
+                -signs.y * dot(offset, g.rotation[kv]) / (2.0 * g.half_extents[kv])) + 0.5;
 }
 
 // Texels per unit of area of image `index` (its level 0, before its

@@ -371,6 +371,8 @@ fn quad_records_have_the_hosts_word_offsets() {
         ("BOX_AXIS_Z", word(offset_of!(GpuBox, axis_z))),
         ("BOX_MATERIAL", word(offset_of!(GpuBox, material_object))),
         ("BOX_OBJECT", word(offset_of!(GpuBox, material_object)) + 1),
+        ("BOX_FACE_U", word(offset_of!(GpuBox, material_object)) + 2),
+        ("BOX_FACE_V", word(offset_of!(GpuBox, material_object)) + 3),
         ("TRI_X", word(offset_of!(GpuTriangleGeometry, x))),
         ("TRI_INDEX", word(offset_of!(GpuTriangleGeometry, index))),
         ("TRI_Y", word(offset_of!(GpuTriangleGeometry, y))),

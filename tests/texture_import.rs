@@ -840,7 +840,7 @@ fn toml_texture_errors_name_the_line_and_key() {
     for (material, parts) in [
         (
             "texture = { file = \"floor.png\", size = 2 }",
-            &["line 5", "unknown key `size` in the `texture` table of [materials.m]", "file, scale, wrap, filter"][..],
+            &["line 5", "unknown key `size` in the `texture` table of [materials.m]", "file, scale, rotation, offset, wrap, filter"][..],
         ),
         ("texture = { scale = 2 }", &["line 5", "missing required key `file`"]),
         (

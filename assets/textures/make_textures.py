@@ -9,7 +9,10 @@ standard library alone, so that they can be made again and checked:
   colatitude down, as shadelab's sphere coordinates): ocean, continents
   from a sum of sines, ice caps;
 - crate.png (64 x 64): wooden planks with a frame, the texture of
-  ../models/crate.gltf, a cube whose six faces each show it once.
+  ../models/crate.gltf, a cube whose six faces each show it once;
+- orientation.png (32 x 32): a red F on a checked ground with a blue
+  top-left corner, which reads wrong when mirrored or turned
+  (../texture-orientation.toml shows which way it reads on each shape).
 """
 import base64
 import json
@@ -138,7 +141,24 @@ def crate_model():
         f.write("\n")
 
 
+def orientation():
+    # An F in a 32 x 32 grid: its stem at columns 9-13, rows 5-26; its top
+    # bar to column 24, its middle bar to column 20.
+    def pixel(x, y):
+        stem = 9 <= x <= 13 and 5 <= y <= 26
+        top = 9 <= x <= 24 and 5 <= y <= 9
+        middle = 9 <= x <= 20 and 14 <= y <= 17
+        if stem or top or middle:
+            return (200, 30, 30)
+        if x < 6 and y < 6:
+            return (40, 60, 200)
+        return (235, 235, 225) if (x // 4 + y // 4) % 2 == 0 else (190, 190, 180)
+
+    png(os.path.join(HERE, "orientation.png"), 32, 32, pixel)
+
+
 if __name__ == "__main__":
+    orientation()
     stone()
     planet()
     crate()

@@ -97,6 +97,9 @@ const uint BOX_AXIS_Y = 12u;
 const uint BOX_AXIS_Z = 16u;
 const uint BOX_MATERIAL = 20u;
 const uint BOX_OBJECT = 21u;
+// Each face's texture axes, 3 bits a face (texcoords::box_face_codes).
+const uint BOX_FACE_U = 22u;
+const uint BOX_FACE_V = 23u;
 
 // What the intersection test reads of a triangle, in BVH leaf order: 3
 // quads of words (rt_layout::GpuTriangleGeometry), so that the lanes of a

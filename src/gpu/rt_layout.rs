@@ -190,6 +190,8 @@ pub struct GpuBox {
     pub axis_x: [f32; 4],
     pub axis_y: [f32; 4],
     pub axis_z: [f32; 4],
+    /// Material, object, and each face's texture axes
+    /// (`texcoords::box_face_codes`).
     pub material_object: [u32; 4],
 }
 

@@ -14,6 +14,7 @@ use super::rt_layout::*;
 use super::texture_table::TextureTable;
 use crate::level_of_detail::uv_per_world_area;
 use crate::rt_scene::RtScene;
+use crate::scene::texcoords::box_face_codes;
 
 /// The storage buffers' contents.
 pub struct SceneRecords {
@@ -130,7 +131,11 @@ pub fn records(rt: &RtScene) -> Result<SceneRecords, GpuError> {
                 axis_x: v4(b.rotation.x_axis, 0.0),
                 axis_y: v4(b.rotation.y_axis, 0.0),
                 axis_z: v4(b.rotation.z_axis, 0.0),
-                material_object: ids(b.material, b.object),
+                material_object: {
+                    let [u, v] = box_face_codes(&b.rotation);
+                    let [material, object, ..] = ids(b.material, b.object);
+                    [material, object, u, v]
+                },
             })
             .collect(),
         triangles: order

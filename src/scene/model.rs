@@ -321,19 +321,24 @@ pub struct RenderSettings {
 }
 
 /// Two unit vectors `(u, v)` spanning the plane with unit normal `n`, with
-/// `u x v = n`. `u` is built from the world axis least aligned with `n`
-/// (X, then Y, then Z on ties), so a floor facing +Y gets edges along the
-/// world X and Z axes.
+/// `u x v = n`: the right and up of an image on the plane as a viewer on
+/// the side `n` points to sees it, so that a texture reads as in an image
+/// viewer (docs/scene-format.md, "Which way an image reads").
+///
+/// A face nearer vertical than horizontal (`|n.y| <= sqrt(1/2)`) keeps world
+/// up: `u = normalize(Y x n)`, horizontal. A floor or a ceiling (nearer
+/// horizontal) reads as a viewer looking along -Z sees it when they look
+/// down or up: `u = normalize(z x n)` with `z = -Z` on a floor, `+Z` on a
+/// ceiling, which is `+X` on a level face, the image's top toward -Z on a
+/// floor and +Z on a ceiling. Either way `v = n x u`. The plane's square
+/// has its edges along these axes.
 pub fn plane_axes(n: DVec3) -> (DVec3, DVec3) {
-    let a = n.abs();
-    let axis = if a.x <= a.y && a.x <= a.z {
-        DVec3::X
-    } else if a.y <= a.z {
+    let reference = if n.y.abs() <= std::f64::consts::FRAC_1_SQRT_2 {
         DVec3::Y
     } else {
-        DVec3::Z
+        DVec3::new(0.0, 0.0, -n.y.signum())
     };
-    let u = n.cross(axis).normalize();
+    let u = reference.cross(n).normalize();
     let v = n.cross(u);
     (u, v)
 }

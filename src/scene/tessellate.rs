@@ -75,8 +75,8 @@ pub fn tessellate_textured(shape: &Shape) -> TriangleMesh {
         Shape::Box { .. } => {
             let mut mesh = tessellate(shape);
             // Four corners per face, (-,-), (+,-), (+,+), (-,+) along the
-            // face's axes (`cuboid`).
-            let corners = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+            // face's axes (`cuboid`), `v` down the image (`box_uv`).
+            let corners = [(0.0, 1.0), (1.0, 1.0), (1.0, 0.0), (0.0, 0.0)];
             mesh.uvs = (0..6)
                 .flat_map(|_| corners.map(|(u, v)| DVec2::new(u, v)))
                 .collect();
@@ -467,7 +467,8 @@ mod tests {
         });
         let (u, v) = plane_axes(normal);
         assert_eq!(m.uvs[0], plane_uv(m.positions[0] - center, u, v, 3.0));
-        assert!((m.uvs[0] - DVec2::ZERO).length() < 1e-12);
-        assert!((m.uvs[24] - DVec2::ONE).length() < 1e-12);
+        // The first vertex is the bottom left corner, the last the top right.
+        assert!((m.uvs[0] - DVec2::new(0.0, 1.0)).length() < 1e-12);
+        assert!((m.uvs[24] - DVec2::new(1.0, 0.0)).length() < 1e-12);
     }
 }

@@ -22,7 +22,7 @@
 //! | `ka`, `kd`, `ks`, `p`, `kr`, `kt` | 0.2, 0.8, 0, 32, 0, 0 | >= 0 |
 //! | `ior` | `1.0` | > 0 |
 //! | `pattern` | none | `{ kind = "checker", scale = 8, colors = [[0.9, 0.9, 0.9], [0.15, 0.15, 0.15]] }`: scale > 0, two colours each >= 0 |
-//! | `texture` | none | `{ file = "floor.png", scale = 1, wrap = "repeat", filter = "trilinear" }`: `file` required (PNG or JPEG, sRGB, relative to the scene file), scale > 0, wrap `"repeat"`, `"clamp"` or `"mirror"`, filter `"nearest"`, `"bilinear"` or `"trilinear"`; not with `pattern` |
+//! | `texture` | none | `{ file = "floor.png", scale = 1, rotation = 0, offset = [0, 0], wrap = "repeat", filter = "trilinear" }`: `file` required (PNG or JPEG, sRGB, relative to the scene file), scale > 0 (tiles across a face), rotation in degrees counter-clockwise as the face is seen, offset in image widths, wrap `"repeat"`, `"clamp"` or `"mirror"`, filter `"nearest"`, `"bilinear"` or `"trilinear"`; not with `pattern` |
 //! | `render.depth` | `5` | 0..=64 |
 //! | `render.cutoff` | `0.001` | >= 0 |
 //! | `render.shadows` | `true` | |
@@ -246,8 +246,43 @@ struct MaterialRaw {
 struct TextureRaw {
     file: Spanned<String>,
     scale: Option<Spanned<Finite>>,
+    rotation: Option<Spanned<Finite>>,
+    offset: Option<Spanned<[Finite; 2]>>,
     wrap: Option<Spanned<String>>,
     filter: Option<Spanned<String>>,
+}
+
+/// A TOML texture's placement as the map from a surface's `(u, v)` to the
+/// image's: turned `rotation_deg` counter-clockwise about the image's
+/// centre as the face is seen (`v` runs down the image), then tiled `scale`
+/// times across, then moved by `offset` image widths:
+/// `uv' = scale (R (uv - 1/2) + 1/2) + offset`. Quarter turns are exact.
+fn placement(scale: f64, rotation_deg: f64, offset: [f64; 2]) -> UvTransform {
+    let degrees = rotation_deg.rem_euclid(360.0);
+    let turns = degrees / 90.0;
+    let (sin, cos) = if turns == turns.round() {
+        match turns as u32 % 4 {
+            0 => (0.0, 1.0),
+            1 => (1.0, 0.0),
+            2 => (0.0, -1.0),
+            _ => (-1.0, 0.0),
+        }
+    } else {
+        degrees.to_radians().sin_cos()
+    };
+    // Seen with v down, turning the image counter-clockwise by a turns the
+    // lookup by it: its top edge comes to the face's left at a quarter turn.
+    let (a, b, c, d) = (cos, -sin, sin, cos);
+    let tx = 0.5 - a * 0.5 - b * 0.5;
+    let ty = 0.5 - c * 0.5 - d * 0.5;
+    UvTransform([
+        scale * a,
+        scale * b,
+        scale * tx + offset[0],
+        scale * c,
+        scale * d,
+        scale * ty + offset[1],
+    ])
 }
 
 /// `pattern = { kind = "checker", scale = 8, colors = [[...], [...]] }`.
@@ -626,7 +661,13 @@ impl Ctx<'_> {
             key,
             name: file.clone(),
             sampler: filter.sampler(wrap),
-            transform: UvTransform([scale, 0.0, 0.0, 0.0, scale, 0.0]),
+            transform: placement(
+                scale,
+                raw.rotation.as_ref().map_or(0.0, |r| r.get_ref().0),
+                raw.offset
+                    .as_ref()
+                    .map_or([0.0; 2], |o| o.get_ref().map(|x| x.0)),
+            ),
         };
         let read = || {
             std::fs::read(&path).map(Cow::Owned).map_err(|e| {
