@@ -106,6 +106,7 @@ pub mod scene;
 mod shader_compile;
 pub mod shading;
 pub mod srgb;
+pub mod work_counter;
 
 pub use error::Error;
 pub use linear_image::LinearImage;

@@ -12,6 +12,7 @@ use crate::linear_image::LinearImage;
 use crate::rt_scene::RayStats;
 use crate::scene::{Scene, Traversal};
 use crate::shading::{RasterMode, Shading};
+use crate::work_counter::WorkCounter;
 
 /// Where a render spent its time, in milliseconds.
 #[derive(Debug, Clone, Copy, Default, serde::Serialize)]
@@ -151,6 +152,16 @@ pub struct Coverage {
 /// it in f64 with per-pixel coverage, and every caller (`render --backend
 /// cpu`, `check`, `compare`) should fail fast rather than run out of memory.
 pub fn render_cpu(scene: &Scene, shading: Shading) -> Result<(Rendered, Coverage), Error> {
+    render_cpu_counted(scene, shading, &WorkCounter::default())
+}
+
+/// [`render_cpu`], counting its rows into `counter` as they finish (for a
+/// caller to show progress).
+pub fn render_cpu_counted(
+    scene: &Scene,
+    shading: Shading,
+    counter: &WorkCounter,
+) -> Result<(Rendered, Coverage), Error> {
     let (width, height) = (scene.image.width, scene.image.height);
     if u64::from(width) * u64::from(height) > raster::MAX_PIXELS {
         return Err(Error::Usage(format!(
@@ -160,7 +171,7 @@ pub fn render_cpu(scene: &Scene, shading: Shading) -> Result<(Rendered, Coverage
     }
     refuse_beyond_f32(scene)?;
     let Some(mode) = shading.raster_mode() else {
-        return Ok(raytrace_cpu(scene));
+        return Ok(raytrace_cpu(scene, counter));
     };
     let msaa = scene.render.msaa;
     if msaa.positions().is_none() {
@@ -170,7 +181,7 @@ pub fn render_cpu(scene: &Scene, shading: Shading) -> Result<(Rendered, Coverage
         )));
     }
     let started = Instant::now();
-    let out = cpu::raster::render(scene, mode);
+    let out = cpu::raster::render_counted(scene, mode, counter);
     let rendered = Rendered {
         image: out.image,
         timings: Timings::cpu(started),
@@ -194,9 +205,9 @@ pub fn render_cpu(scene: &Scene, shading: Shading) -> Result<(Rendered, Coverage
 /// (within the image) holds more than one path signature: there a
 /// reflected, refracted or shadow edge, or a silhouette, passes close by,
 /// and another tracer's rounding may put it on the other side.
-fn raytrace_cpu(scene: &Scene) -> (Rendered, Coverage) {
+fn raytrace_cpu(scene: &Scene, counter: &WorkCounter) -> (Rendered, Coverage) {
     let started = Instant::now();
-    let out = cpu::raytrace::render(scene);
+    let out = cpu::raytrace::render_counted(scene, counter);
     let rendered = Rendered {
         image: out.image,
         timings: Timings::cpu(started),

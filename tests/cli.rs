@@ -873,7 +873,7 @@ fn ray_tracing_options_on_a_raster_mode_are_warned_about() {
     assert_eq!(run.code, 0, "{}", run.stderr);
     assert!(
         run.stderr.contains(
-            "warning: --depth, --samples are for the ray tracer; --shading phong ignores them"
+            "warning: --depth, --samples: --shading phong ignores them (only the ray tracer uses them)"
         ),
         "{}",
         run.stderr
@@ -904,7 +904,8 @@ fn ray_tracing_options_on_a_raster_mode_are_warned_about() {
     );
     assert_eq!(run.code, 0, "{}", run.stderr);
     assert!(
-        run.stderr.contains("--depth only changes the ray tracer"),
+        run.stderr
+            .contains("--depth: --shading flat,phong ignores it"),
         "{}",
         run.stderr
     );

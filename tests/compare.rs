@@ -70,6 +70,7 @@ fn compare(
         reference: ReferenceChoice::Global,
         metric: Metric::Rmse,
         budget: None,
+        skip: Default::default(),
     };
     let report = run(
         &gpu(),

@@ -125,6 +125,7 @@ fn fixture(dir: &Path) -> Report {
         shard: None,
         variants,
         budget: None,
+        not_run: Vec::new(),
     }
 }
 

@@ -7,8 +7,8 @@ use std::collections::BTreeSet;
 use std::path::Path;
 use std::process::Command;
 
-/// The flags `shadelab COMMAND --help` lists, less `--help` and the two
-/// machine flags the synopsis gives once for every command.
+/// The flags `shadelab COMMAND --help` lists, less `--help` and the three
+/// flags every command takes (`--device`, `--max-memory`, `--quiet`).
 fn help_flags(command: &str) -> BTreeSet<String> {
     let out = Command::new(env!("CARGO_BIN_EXE_shadelab"))
         .args([command, "--help"])
@@ -22,7 +22,7 @@ fn help_flags(command: &str) -> BTreeSet<String> {
             l.starts_with("--")
                 .then(|| l.split([' ', '<', '=']).next().unwrap().to_string())
         })
-        .filter(|f| !["--help", "--device", "--max-memory"].contains(&f.as_str()))
+        .filter(|f| !["--help", "--device", "--max-memory", "--quiet"].contains(&f.as_str()))
         .collect()
 }
 

@@ -440,7 +440,7 @@ fn counts_the_device_lacks_and_msaa_with_the_ray_tracer_are_said_in_one_line() {
     let run = render(&format!("--shading raytrace --msaa 4 {small} -o rt.png"));
     assert_eq!(run.code, 0, "{}", run.stderr);
     assert!(
-        run.stderr.contains("ray tracer ignores it"),
+        run.stderr.contains("--msaa: --shading raytrace ignores it"),
         "{}",
         run.stderr
     );

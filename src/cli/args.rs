@@ -107,6 +107,10 @@ pub struct MachineArgs {
     /// default: 3/4 of the machine's memory (or of its control group's).
     #[arg(long, value_name = "SIZE")]
     pub max_memory: Option<String>,
+    /// No progress on stderr (a bar on a terminal, else a line every few
+    /// seconds; SHADELAB_PROGRESS_SECONDS sets how many).
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
 impl MachineArgs {
@@ -115,6 +119,7 @@ impl MachineArgs {
         MachineArgs {
             device: self.device.clone().or_else(|| outer.device.clone()),
             max_memory: self.max_memory.clone().or_else(|| outer.max_memory.clone()),
+            quiet: self.quiet || outer.quiet,
         }
     }
 }
@@ -143,43 +148,6 @@ impl ModeList {
         }
         modes
     }
-
-    /// Warns that `given` (ray-tracing flags on the command line) change
-    /// nothing when no mode asked for ray traces.
-    pub fn warn_unused(&self, given: &[&str]) {
-        if !given.is_empty() && !self.shading.contains(&Shading::Raytrace) {
-            eprintln!(
-                "shadelab: warning: {} only {} the ray tracer, and --shading {} has no raytrace",
-                given.join(", "),
-                if given.len() == 1 {
-                    "changes"
-                } else {
-                    "change"
-                },
-                self.shading
-                    .iter()
-                    .map(|s| s.to_string())
-                    .collect::<Vec<_>>()
-                    .join(","),
-            );
-        }
-    }
-}
-
-/// The ray-tracing flags given on a command line, by name.
-pub fn ray_trace_flags(
-    depth: Option<u32>,
-    traversal: &TraversalArg,
-    cpu: bool,
-) -> Vec<&'static str> {
-    [
-        ("--depth", depth.is_some()),
-        ("--traversal", traversal.traversal.is_some()),
-        ("--cpu", cpu),
-    ]
-    .into_iter()
-    .filter_map(|(flag, given)| given.then_some(flag))
-    .collect()
 }
 
 /// `--msaa`: the raster modes' samples per pixel, overriding the scene's
@@ -194,16 +162,6 @@ pub struct MsaaArg {
 }
 
 impl MsaaArg {
-    /// Warns, in one line, that `--msaa` changes nothing when no mode in
-    /// `modes` rasterizes.
-    pub fn warn_unused(&self, modes: &[Shading]) {
-        if self.msaa.is_some() && !modes.iter().any(|m| m.raster_mode().is_some()) {
-            eprintln!(
-                "shadelab: warning: --msaa is for the raster modes; the ray tracer ignores it (its anti-aliasing is --samples)"
-            );
-        }
-    }
-
     /// Sets the samples on `scene`; text that is not a count is a usage
     /// error (the device's counts are checked where it renders).
     pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
@@ -257,7 +215,7 @@ pub fn check_runs(runs: usize) -> Result<usize, Failure> {
 
 /// `--traversal`: the GPU ray tracer's engine, overriding the scene's
 /// `render.traversal`.
-#[derive(Args, Clone)]
+#[derive(Args, Clone, Default)]
 pub struct TraversalArg {
     /// The GPU ray tracer's engine: `bvh` (the compute shader's own BVH
     /// walk), `query` (VK_KHR_ray_query through an acceleration structure

@@ -20,7 +20,8 @@ use shadelab::memory::MemoryLimit;
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
-use super::args::{check_runs, ray_trace_flags, ImageSize, ModeList, SceneFlags};
+use super::args::{check_runs, ImageSize, ModeList, SceneFlags};
+use super::ignored;
 use super::render::load_scene;
 use super::time_to_image::{self, TimeToImage};
 use super::Failure;
@@ -168,15 +169,16 @@ struct Row {
 pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
     check_runs(args.runs)?;
     let modes = args.modes.modes();
-    args.modes.warn_unused(&ray_trace_flags(
-        args.settings.depth.depth,
-        &args.settings.traversal,
-        args.cpu,
-    ));
-    args.settings.msaa.warn_unused(&modes);
+    let s = &args.settings;
+    let mut given = ignored::scene_flags_given(&s.traversal, &s.msaa, s.depth.depth);
+    if args.cpu {
+        given.push("--cpu");
+    }
     let (mut scene, name) = load_scene(args.scene.as_deref(), memory)?;
     args.size.apply(&mut scene)?;
     args.settings.apply(&mut scene)?;
+    // Said once the flags are known to be valid: a bad one is the answer.
+    ignored::warn(&given, &modes, ignored::Backends::Gpu);
     let hook_path = scene.lighting_hook.as_ref().map(|h| h.path.clone());
     let cpu_modes: &[Shading] = if args.cpu { &[Shading::Raytrace] } else { &[] };
     let mut gpu_modes = modes.clone();

@@ -17,6 +17,7 @@ use shadelab::shading::Shading;
 use super::args::{ImageSize, LightingArg, ModeList, MsaaArg, TraversalArg};
 use super::cases::{case_workers, in_order};
 use super::check_report::{CaseReport, KeepImages};
+use super::progress::Progress;
 use super::render::load_scene;
 use super::Failure;
 
@@ -59,9 +60,22 @@ pub struct CheckArgs {
     /// raytrace].
     #[arg(long)]
     flip_mean: Option<f64>,
+    /// Run only the cases of shard I of N (1 <= I <= N), dealt out by each
+    /// scene's path and mode so that a case stays on its shard when others
+    /// are added; the shard's record (check.json) goes into --out.
+    #[arg(long, value_name = "I/N", value_parser = super::shards::parse_shard)]
+    shard: Option<(usize, usize)>,
+    /// Join the records of these shard folders (each a shard's --out) into
+    /// one report: the images copied into --out, check.json, --junit and
+    /// --json as the whole run writes them.
+    #[arg(long, num_args = 1.., value_name = "DIR", conflicts_with_all = ["scenes", "shard"])]
+    merge: Vec<PathBuf>,
     #[command(flatten)]
     pub machine: super::args::MachineArgs,
 }
+
+/// The record a shard of `check` leaves in its --out for `--merge`.
+const RECORD: &str = "check.json";
 
 /// Why a case gave no outcome: it could not be checked (reported as a case
 /// that failed, the run goes on), or its images could not be written (the
@@ -88,10 +102,15 @@ fn io_failure(path: &Path, e: impl std::fmt::Display) -> Failure {
 }
 
 pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
+    if !args.merge.is_empty() {
+        return merge(&args);
+    }
     let modes = args.modes.modes();
-    args.modes
-        .warn_unused(&super::args::ray_trace_flags(None, &args.traversal, false));
-    args.msaa.warn_unused(&modes);
+    super::ignored::warn(
+        &super::ignored::scene_flags_given(&args.traversal, &args.msaa, None),
+        &modes,
+        super::ignored::Backends::Both,
+    );
     let limits_for = |shading: Shading, msaa: shadelab::msaa::Msaa| {
         let defaults = CheckThresholds::for_render(shading, msaa);
         CheckThresholds {
@@ -160,9 +179,15 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
         }
         scenes.push((scene, name));
     }
-    let jobs: Vec<(usize, Shading)> = (0..scenes.len())
+    // Every case of the whole run, in order; a shard keeps its own.
+    let keys = super::golden_keys::scene_keys(&args.scenes, None)?;
+    let (orders, jobs): (Vec<usize>, Vec<(usize, Shading)>) = (0..scenes.len())
         .flat_map(|i| modes.iter().map(move |&shading| (i, shading)))
-        .collect();
+        .enumerate()
+        .filter(|(_, (i, shading))| {
+            super::shards::on_shard(&format!("{}/{shading}", keys[*i]), args.shard)
+        })
+        .unzip();
     // No device: every case is an error, said once and in the JUnit file.
     let (context, no_device) = match GpuContext::new(options) {
         Ok(context) => (Some(context), None),
@@ -202,9 +227,20 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
         }
         Ok(())
     };
+    let progress = Progress::new("check", jobs.len() as u64);
+    let case_name = |k: usize| {
+        jobs.get(k).map_or_else(String::new, |&(i, shading)| {
+            format!("{} {shading}", scenes[i].1)
+        })
+    };
+    progress.set(0, &case_name(0));
     match &context {
         Some(context) => {
             let open_another = || GpuContext::new(options).ok();
+            let on_result = |k: usize, result| {
+                progress.set(k as u64 + 1, &case_name(k + 1));
+                on_result(k, result)
+            };
             in_order(context, open_another, &jobs, workers, run_case, on_result)?;
         }
         None => {
@@ -218,9 +254,32 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
             }
         }
     }
+    drop(progress);
     if let Some(path) = &args.junit {
         let xml = junit::render("shadelab check", &report.cases);
         write_atomically(path, xml.as_bytes())?;
+    }
+    if let Some((i, n)) = args.shard {
+        let cases: Vec<serde_json::Value> = report
+            .json
+            .iter()
+            .zip(&report.cases)
+            .zip(&orders)
+            .map(|((v, t), order)| {
+                let mut v = v.clone();
+                v["order"] = (*order).into();
+                v["junit"] = super::golden_report::junit_json(t);
+                v
+            })
+            .collect();
+        let record = serde_json::json!({
+            "shard": [i, n],
+            "run": {"modes": modes},
+            "out": args.out,
+            "cases": cases,
+        });
+        shadelab::output::prepare_output_folder(&args.out)?;
+        write_atomically(&args.out.join(RECORD), record.to_string().as_bytes())?;
     }
     if args.json {
         let value = serde_json::json!({
@@ -248,6 +307,88 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
         );
     }
     report.exit_status()
+}
+
+/// `--merge DIR...`: the shards' records joined in the whole run's order,
+/// their images copied into --out, and the JUnit file, the record and the
+/// summary written as the whole run writes them.
+fn merge(args: &CheckArgs) -> Result<(), Failure> {
+    if let Some(path) = &args.junit {
+        shadelab::output::prepare_output_path(path)?;
+    }
+    let shards = super::shards::read_shards(&args.merge, RECORD)?;
+    shadelab::output::prepare_output_folder(&args.out)?;
+    let cases = super::shards::merged_cases(&shards);
+    for (dir, shard) in &shards {
+        let shard_out = shard["out"].as_str().map(PathBuf::from);
+        for case in shard["cases"].as_array().into_iter().flatten() {
+            let Some(images) = case["images"].as_str().map(Path::new) else {
+                continue;
+            };
+            // `OUT/scene/mode`: its three images, where they were kept.
+            let relative = shard_out
+                .as_deref()
+                .and_then(|o| images.strip_prefix(o).ok())
+                .unwrap_or(images);
+            for what in ["expected", "actual", "diff"] {
+                let name = relative.with_file_name(format!(
+                    "{}-{what}.png",
+                    relative
+                        .file_name()
+                        .map_or_else(String::new, |n| n.to_string_lossy().into_owned())
+                ));
+                if dir.join(&name).is_file() {
+                    super::shards::copy_into(dir, &args.out, &name)?;
+                }
+            }
+        }
+    }
+    let junit: Vec<_> = cases
+        .iter()
+        .map(|v| super::golden_report::junit_from_json(&v["junit"]))
+        .collect();
+    if let Some(path) = &args.junit {
+        write_atomically(path, junit::render("shadelab check", &junit).as_bytes())?;
+    }
+    let failed = cases
+        .iter()
+        .filter(|v| v["passed"] == false && v.get("error").is_none())
+        .count();
+    let errors = cases.iter().filter(|v| v.get("error").is_some()).count();
+    let record = serde_json::json!({"shard": null, "run": shards[0].1["run"], "out": args.out, "cases": cases});
+    write_atomically(&args.out.join(RECORD), record.to_string().as_bytes())?;
+    if args.json {
+        let value = serde_json::json!({"cases": cases, "failed": failed, "errors": errors});
+        println!("{value}");
+    } else {
+        println!(
+            "{} of {} cases passed{}; merged from {} shards into {}",
+            cases.len() - failed - errors,
+            cases.len(),
+            if errors > 0 {
+                format!(", {errors} could not run")
+            } else {
+                String::new()
+            },
+            shards.len(),
+            args.out.display()
+        );
+    }
+    if failed + errors == 0 {
+        return Ok(());
+    }
+    Err(Failure {
+        code: 1,
+        message: format!(
+            "{failed} of {} cases failed their thresholds{}",
+            cases.len(),
+            if errors > 0 {
+                format!(" and {errors} could not run")
+            } else {
+                String::new()
+            }
+        ),
+    })
 }
 
 /// The images as compared: in units of `o.judgement.scale`, so that a scene lit at

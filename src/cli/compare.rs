@@ -34,7 +34,7 @@ pub struct CompareArgs {
     #[arg(long, default_value_t = 3)]
     runs: usize,
     /// Render only part I of N of the variant list, e.g. 2/4.
-    #[arg(long, value_name = "I/N", value_parser = parse_shard)]
+    #[arg(long, value_name = "I/N", value_parser = super::shards::parse_shard)]
     shard: Option<(usize, usize)>,
     /// Join the reports in these shard folders into one report in --out.
     #[arg(long, num_args = 1.., value_name = "DIR", conflicts_with_all = ["scene", "variants", "shard"])]
@@ -67,15 +67,10 @@ pub struct CompareArgs {
     pub machine: super::args::MachineArgs,
 }
 
-fn parse_shard(text: &str) -> Result<(usize, usize), String> {
-    let bad = || format!("--shard {text} is invalid; expected I/N with 1 <= I <= N, e.g. 2/4");
-    let (i, n) = text.split_once('/').ok_or_else(bad)?;
-    let (i, n): (usize, usize) = (i.parse().map_err(|_| bad())?, n.parse().map_err(|_| bad())?);
-    if i == 0 || n == 0 || i > n {
-        return Err(bad());
-    }
-    Ok((i, n))
-}
+/// The exit status of a comparison that finished without some of its
+/// variants (over the memory limit, or failed): the report is whole
+/// otherwise.
+pub const NOT_EVERY_VARIANT_RAN: u8 = 4;
 
 fn write_report(report: &Report, dir: &Path) -> Result<(), Failure> {
     let json = serde_json::to_string_pretty(report).expect("reports serialise");
@@ -170,6 +165,18 @@ pub fn run_command(
             ),
         });
     }
+    if !report.not_run.is_empty() {
+        let names: Vec<&str> = report.not_run.iter().map(|v| v.name.as_str()).collect();
+        return Err(Failure {
+            code: NOT_EVERY_VARIANT_RAN,
+            message: format!(
+                "{} of {} variants not run ({}); the report has the others and why",
+                names.len(),
+                names.len() + report.variants.len(),
+                names.join(", ")
+            ),
+        });
+    }
     Ok(())
 }
 
@@ -253,10 +260,23 @@ fn render_variants(
     if variants.is_empty() {
         return Err(Failure::usage("--variants names no variant".into()));
     }
+    refuse_repeats(&variants)?;
+    let mut modes: Vec<Shading> = Vec::new();
+    for v in &variants {
+        if !modes.contains(&v.shading) {
+            modes.push(v.shading);
+        }
+    }
+    let given = super::ignored::scene_flags_given(&Default::default(), &args.msaa, None);
+    super::ignored::warn(&given, &modes, super::ignored::Backends::Gpu);
+    // The references alone must fit: without them no variant is measured.
+    memory.check(&name, &scene, &[], &[Shading::Raytrace])?;
     // Each variant (its tessellation may differ) against the references:
-    // the global one traced on the CPU, a local one per mode.
+    // the global one traced on the CPU, a local one per mode. One over the
+    // limit is left out with the reason, and the others run.
     // Only a tessellation override changes the geometry; copying the scene
     // for the others would double the memory this check guards.
+    let mut over_the_limit = std::collections::BTreeMap::new();
     for variant in &variants {
         let varied = match (variant.segments, variant.msaa) {
             (None, None) => std::borrow::Cow::Borrowed(&scene),
@@ -264,7 +284,13 @@ fn render_variants(
         };
         let modes = [variant.shading];
         let references = [variant.shading, Shading::Raytrace];
-        memory.check(&name, &varied, &modes, &references)?;
+        if let Err(e) = memory.check(&name, &varied, &modes, &references) {
+            // None fits: the run is refused, as a render over the limit is.
+            if over_the_limit.len() + 1 == variants.len() {
+                return Err(e.into());
+            }
+            over_the_limit.insert(variant.to_string(), e.to_string());
+        }
     }
     let context = GpuContext::new(options)?;
     // The list chosen for the scene keeps the sample counts this device
@@ -281,17 +307,14 @@ fn render_variants(
     } else {
         variants
     };
-    let bar = indicatif::ProgressBar::new(0);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}")
-            .expect("a valid template"),
-    );
+    let progress = super::progress::Progress::new("compare", 0);
     let compare_options = CompareOptions {
         runs: args.runs,
         shard: args.shard,
         reference: reference_of(args),
         metric: metric_of(args),
         budget: args.budget,
+        skip: over_the_limit,
     };
     let report = run(
         &context,
@@ -301,13 +324,42 @@ fn render_variants(
         &compare_options,
         &args.out,
         |done, total, what| {
-            bar.set_length(total as u64);
-            bar.set_position(done as u64);
-            bar.set_message(what.to_string());
+            progress.set_total(total as u64);
+            progress.set(done as u64, what);
         },
     )?;
-    bar.finish_and_clear();
+    drop(progress);
+    if report.variants.is_empty() {
+        let reasons: Vec<String> = report
+            .not_run
+            .iter()
+            .map(|v| format!("{}: {}", v.name, v.reason))
+            .collect();
+        return Err(Failure {
+            code: NOT_EVERY_VARIANT_RAN,
+            message: format!("no variant ran ({})", reasons.join("; ")),
+        });
+    }
     Ok(report)
+}
+
+/// Refuses a variant given twice (by its canonical name, or by the file its
+/// image would be written to).
+fn refuse_repeats(variants: &[Variant]) -> Result<(), Failure> {
+    for (k, v) in variants.iter().enumerate() {
+        let (name, stem) = (
+            v.to_string(),
+            shadelab::compare::report::file_stem(&v.to_string()),
+        );
+        if let Some(earlier) = variants[..k].iter().find(|e| {
+            e.to_string() == name || shadelab::compare::report::file_stem(&e.to_string()) == stem
+        }) {
+            return Err(Failure::usage(format!(
+                "--variants names {name} twice (as {earlier} and {v}); give each variant once"
+            )));
+        }
+    }
+    Ok(())
 }
 
 fn merge_folders(args: &CompareArgs) -> Result<Report, Failure> {
@@ -405,6 +457,9 @@ fn print_table(report: &Report, dir: &Path) {
             local,
             if v.pareto { "*" } else { "" }
         );
+    }
+    for v in &report.not_run {
+        println!("{:<40} not run: {}", v.name, v.reason);
     }
     if let Some(budget) = &report.budget {
         println!("{}", budget_line(report, budget));

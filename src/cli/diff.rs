@@ -79,7 +79,9 @@ fn check_limit(name: &str, value: f64) -> Result<f64, Failure> {
 }
 
 /// Limits named by what they compare (`--preset`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "kebab-case")]
 pub(super) enum Preset {
     /// A GPU render against a reference renderer's image of the same

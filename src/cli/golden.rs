@@ -18,9 +18,14 @@ use shadelab::output::{self, ImageFormat, ImageMetadata};
 
 use super::args::{ImageSize, ModeList, SceneFlags};
 use super::diff::{compare_images, parse_thresholds, Judging, Preset, EDGE_THRESHOLD};
-use super::golden_report::{case_json, junit_cases, print_case, write_report, ReportCase};
-use super::render::RenderArgs;
-use super::render_batch::{non_finite_failure, Batch, CaseView, Made};
+use super::golden_keys;
+use super::golden_report::{
+    case_figure_html, case_json, case_row_html, junit_cases, junit_from_json, junit_json,
+    print_case, write_page, PageHead, ReportCase,
+};
+use super::render::{image_metadata, RenderArgs};
+use super::render_batch::{file_name, non_finite_failure, Batch, CaseView, Made};
+use super::shards;
 use super::Failure;
 
 #[derive(Args)]
@@ -31,12 +36,27 @@ pub struct GoldenArgs {
     modes: ModeList,
     /// The folder of stored references: DIR/KEY/NAME (this driver's, looked
     /// for first), then DIR/NAME (shared by every driver).
-    #[arg(long, value_name = "DIR")]
-    references: PathBuf,
-    /// Each reference's file name, from {scene} (the scene file's name
-    /// without its extension) and {mode}; .png or .exr.
+    #[arg(long, value_name = "DIR", required_unless_present = "merge")]
+    references: Option<PathBuf>,
+    /// Each reference's file name, from {scene} (the scene file's path
+    /// below --root, without its extension: its name alone where every
+    /// scene is in one folder) and {mode}; .png or .exr.
     #[arg(long, value_name = "PATTERN", default_value = "{scene}-{mode}.png")]
     name: String,
+    /// Run only the cases of shard I of N (1 <= I <= N): cases are dealt out
+    /// by their scene's path and mode, so a case stays on its shard when
+    /// others are added. Each shard's --out holds its record for --merge.
+    #[arg(long, value_name = "I/N", value_parser = shards::parse_shard)]
+    shard: Option<(usize, usize)>,
+    /// Join the records of these shard folders (each a shard's --out) into
+    /// one report in --out: report.html, golden.json, --junit and --json,
+    /// as the whole run writes them.
+    #[arg(long, num_args = 1.., value_name = "DIR", conflicts_with_all = ["scenes", "shard", "create", "bless"])]
+    merge: Vec<PathBuf>,
+    /// The folder the scenes' paths in reference names are taken from
+    /// [default: the deepest folder that holds every scene].
+    #[arg(long, value_name = "DIR")]
+    root: Option<PathBuf>,
     /// Make the references that are missing from this run's renders (else a
     /// missing reference fails its case).
     #[arg(long)]
@@ -109,11 +129,6 @@ impl Status {
             Status::Updated => "UPDATED",
             Status::Error => "ERROR",
         }
-    }
-
-    /// Whether the case leaves the run green.
-    fn ok(self) -> bool {
-        matches!(self, Status::Pass | Status::Created | Status::Updated)
     }
 }
 
@@ -206,12 +221,18 @@ fn find_reference(references: &Path, key: &str, file: &str) -> Option<(PathBuf, 
     }
 }
 
-/// `NAME-actual.png` for `NAME.png`.
+/// `NAME-actual.png` for `NAME.png`, in NAME's folder (`hard/x-phong.png`
+/// gives `hard/x-phong-actual.png`).
 fn beside(file: &str, what: &str, ext: &str) -> String {
-    let stem = Path::new(file)
+    let path = Path::new(file);
+    let stem = path
         .file_stem()
         .map_or_else(|| file.to_string(), |s| s.to_string_lossy().into_owned());
-    format!("{stem}-{what}.{ext}")
+    let name = format!("{stem}-{what}.{ext}");
+    match path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        Some(folder) => folder.join(name).to_string_lossy().into_owned(),
+        None => name,
+    }
 }
 
 fn png_of(image: &LinearImage) -> Result<Vec<u8>, Failure> {
@@ -222,11 +243,15 @@ fn png_of(image: &LinearImage) -> Result<Vec<u8>, Failure> {
     )?)
 }
 
-/// Where the reference was made, from the `shadelab:settings` of a PNG
-/// that `render` or `golden` wrote: `device (driver)`.
-fn made_on(reference_bytes: &[u8]) -> Option<String> {
+/// What made a reference: the `shadelab:settings` of a PNG that `render`
+/// or `golden` wrote.
+fn made_with(reference_bytes: &[u8]) -> Option<serde_json::Value> {
     let text = output::png_text(reference_bytes, "shadelab:settings")?;
-    let settings: serde_json::Value = serde_json::from_str(&text).ok()?;
+    serde_json::from_str(&text).ok()
+}
+
+/// Where the reference was made, from its settings: `device (driver)`.
+fn made_on(settings: &serde_json::Value) -> Option<String> {
     let device = settings["device"].as_str()?;
     let driver = settings["driver"].as_str().unwrap_or("no driver");
     Some(format!("{device} ({driver})"))
@@ -244,8 +269,8 @@ impl Plan<'_> {
     fn target(&self, file: &str, found: Option<&Path>) -> PathBuf {
         match (self.args.per_driver, found) {
             (false, Some(found)) => found.to_path_buf(),
-            (false, None) => self.args.references.join(file),
-            (true, _) => self.args.references.join(&self.key).join(file),
+            (false, None) => self.args.references().join(file),
+            (true, _) => self.args.references().join(&self.key).join(file),
         }
     }
 
@@ -264,10 +289,17 @@ impl Plan<'_> {
         ] {
             let _ = std::fs::remove_file(self.args.out.join(stale));
         }
-        let made = match made {
+        let mut made = match made {
             Ok(made) => made,
             Err(failure) => return Judged::error(failure, time()),
         };
+        // What made the reference, as it will say: its key and the hook's
+        // source, beside render's settings.
+        made.settings["golden_scene"] = view.name.into();
+        if let Some(source) = &made.hook_source {
+            made.settings["lighting_fnv1a"] = golden_keys::fnv1a(source).into();
+        }
+        made.metadata = image_metadata(view.name, &made.device, &made.settings);
         // An image with NaN is never a reference, nor blessed into one.
         if let Some(failure) = non_finite_failure(&made) {
             return Judged::error(failure, time());
@@ -290,7 +322,7 @@ impl Plan<'_> {
         let bytes = output::encode_with(&made.rendered.image, Path::new(file), &made.metadata)?;
         let actual = output::decode_image(&bytes, format)
             .map_err(|e| Failure::usage(format!("cannot decode the render of {file}: {e}")))?;
-        let found = find_reference(&self.args.references, &self.key, file);
+        let found = find_reference(self.args.references(), &self.key, file);
         let mut judged = Judged::new(Status::Pass, found.clone());
         let Some((reference_path, _)) = &found else {
             if self.args.create || self.bless {
@@ -307,8 +339,8 @@ impl Plan<'_> {
                 judged.status = Status::Missing;
                 judged.failures.push(format!(
                     "no reference {} (nor {}); run with --create to make it from this render",
-                    self.args.references.join(file).display(),
-                    self.args.references.join(&self.key).join(file).display()
+                    self.args.references().join(file).display(),
+                    self.args.references().join(&self.key).join(file).display()
                 ));
                 judged.pictures = Some(self.keep_pictures(
                     file,
@@ -356,17 +388,31 @@ impl Plan<'_> {
         if let Err(why) = &compared {
             judged.failures.push(why.clone());
         }
-        if let Some(there) = made_on(&reference_bytes) {
+        let reference_settings = made_with(&reference_bytes);
+        let mut hints = Vec::new();
+        if let Some(settings) = &reference_settings {
+            let differences = golden_keys::settings_differences(settings, &made.settings);
+            if !differences.is_empty() {
+                hints.push(format!(
+                    "the reference was made with other settings ({}): run with the reference's, or accept this render with --bless",
+                    differences.join(", ")
+                ));
+            }
+        }
+        if let Some(there) = reference_settings.as_ref().and_then(made_on) {
             let here = format!(
                 "{} ({})",
                 made.device,
                 made.driver.as_deref().unwrap_or("no driver")
             );
             if there != here {
-                judged.hint = Some(format!(
+                hints.push(format!(
                     "the reference was made on {there}, this render on {here}: where a driver's images differ, keep references per driver (--per-driver --bless)"
                 ));
             }
+        }
+        if !hints.is_empty() {
+            judged.hint = Some(hints.join("; "));
         }
         let heat = judged
             .comparison
@@ -476,7 +522,17 @@ fn bless_from_env() -> bool {
         .unwrap_or(false)
 }
 
+impl GoldenArgs {
+    /// `--references`, which clap requires unless merging.
+    fn references(&self) -> &Path {
+        self.references.as_deref().unwrap_or(Path::new("."))
+    }
+}
+
 pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
+    if !args.merge.is_empty() {
+        return merge(&args);
+    }
     let started = Instant::now();
     let thresholds: Thresholds = parse_thresholds(args.preset.thresholds(), &args.threshold)?;
     let judging = Judging {
@@ -492,10 +548,10 @@ pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
             )));
         }
     }
-    if args.references.exists() && !args.references.is_dir() {
+    if args.references().exists() && !args.references().is_dir() {
         return Err(Failure::usage(format!(
             "--references {} is not a folder",
-            args.references.display()
+            args.references().display()
         )));
     }
     let bless = args.bless || bless_from_env();
@@ -514,8 +570,11 @@ pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
         json: args.json,
         stats: false,
         machine: args.machine.clone(),
+        scene_names: Some(golden_keys::scene_keys(&args.scenes, args.root.as_deref())?),
+        shard: args.shard,
     };
     Batch::check_flags(&render_args)?;
+    refuse_shared_references(&render_args)?;
     output::prepare_output_folder(&args.out)?;
     if let Some(path) = &args.junit {
         output::prepare_output_path(path)?;
@@ -538,63 +597,169 @@ pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
     if !args.json {
         println!(
             "references {} (this driver's: {}); limits {}",
-            args.references.display(),
-            args.references.join(&plan.key).display(),
+            args.references().display(),
+            args.references().join(&plan.key).display(),
             describe_limits(args.preset, &plan.judging.thresholds)
         );
     }
-    let mut cases: Vec<ReportCase> = Vec::new();
+    let mut cases: Vec<(usize, ReportCase)> = Vec::new();
     let handle =
         |view: &CaseView, made: Result<Made, Failure>| plan.judge(view, made, Instant::now());
     let report = |view: &CaseView, judged: Judged| {
         if !args.json {
             print_case(view, &judged, &args.out);
         }
-        cases.push(ReportCase {
-            scene: view.name.to_string(),
-            shading: view.shading,
-            file: view.file_name.to_string(),
-            judged,
-        });
+        cases.push((
+            view.order,
+            ReportCase {
+                scene: view.name.to_string(),
+                shading: view.shading,
+                file: view.file_name.to_string(),
+                judged,
+            },
+        ));
         Ok(())
     };
-    batch.run(&render_args, handle, report)?;
+    batch.run("golden", &render_args, handle, report)?;
 
-    let count = |s: Status| cases.iter().filter(|c| c.judged.status == s).count();
+    let limits = describe_limits(args.preset, &plan.judging.thresholds);
+    let junit = junit_cases(&cases.iter().map(|(_, c)| c).collect::<Vec<_>>());
+    let records: Vec<serde_json::Value> = cases
+        .iter()
+        .zip(&junit)
+        .map(|((order, c), t)| {
+            let mut v = case_json(c);
+            v["order"] = (*order).into();
+            v["junit"] = junit_json(t);
+            v["html_row"] = case_row_html(c).into();
+            v["html_figure"] = case_figure_html(c).into();
+            v
+        })
+        .collect();
+    let run = RunRecord {
+        shard: args.shard,
+        references: args.references().to_path_buf(),
+        key: plan.key.clone(),
+        device,
+        driver,
+        preset: args.preset,
+        thresholds: serde_json::to_value(plan.judging.thresholds).unwrap_or_default(),
+        limits,
+        bless,
+        wall_ms: shadelab::gpu::ms_since(started),
+    };
+    let first_error = cases.iter().find_map(|(_, c)| c.judged.error.clone());
+    conclude(&args, &run, records, first_error)
+}
+
+/// What a golden run (or a shard of one) was, beside its cases: the
+/// record's head in `golden.json`, and the page's.
+struct RunRecord {
+    shard: Option<(usize, usize)>,
+    references: PathBuf,
+    key: String,
+    device: String,
+    driver: String,
+    preset: Preset,
+    thresholds: serde_json::Value,
+    limits: String,
+    bless: bool,
+    wall_ms: f64,
+}
+
+/// The file a golden run leaves in `--out` for `--merge`: every case, with
+/// its JUnit case and its rows of the page.
+const RECORD: &str = "golden.json";
+
+/// Writes the page, the JUnit file, the record and the JSON (or the
+/// summary line), and gives the exit status, from the cases' records in
+/// the whole run's order: a run's, or a merge of shards'.
+fn conclude(
+    args: &GoldenArgs,
+    run: &RunRecord,
+    records: Vec<serde_json::Value>,
+    first_error: Option<Failure>,
+) -> Result<(), Failure> {
+    let status_of = |v: &serde_json::Value| v["status"].as_str().unwrap_or("error").to_string();
+    let count = |s: Status| {
+        let word = s.word().to_lowercase();
+        records.iter().filter(|v| status_of(v) == word).count()
+    };
+    let rows: Vec<String> = records
+        .iter()
+        .map(|v| v["html_row"].as_str().unwrap_or_default().to_string())
+        .collect();
+    let figures: Vec<String> = records
+        .iter()
+        .filter_map(|v| v["html_figure"].as_str().map(str::to_string))
+        .collect();
     let html = args.out.join("report.html");
-    write_report(
-        &html,
-        &cases,
-        &args.references,
-        &plan.key,
-        &device,
-        &driver,
-        &describe_limits(args.preset, &plan.judging.thresholds),
-    )?;
+    let head = PageHead {
+        references: &run.references,
+        key: &run.key,
+        device: &run.device,
+        driver: &run.driver,
+        limits: &run.limits,
+    };
+    write_page(&html, &head, count(Status::Pass), &rows, &figures)?;
     if let Some(path) = &args.junit {
-        let xml = junit::render("shadelab golden", &junit_cases(&cases));
+        let junit: Vec<_> = records
+            .iter()
+            .map(|v| junit_from_json(&v["junit"]))
+            .collect();
+        let xml = junit::render("shadelab golden", &junit);
         output::write_atomically(path, xml.as_bytes())?;
     }
+    // What a run of these cases was, for `--merge` to check that shards
+    // belong together: the same references, limits and driver's key.
+    let identity = serde_json::json!({
+        "references": run.references,
+        "key": run.key,
+        "thresholds": run.thresholds,
+    });
+    let record = serde_json::json!({
+        "shard": run.shard.map(|(i, n)| [i, n]),
+        "run": identity,
+        "device": run.device,
+        "driver": run.driver,
+        "limits": run.limits,
+        "preset": run.preset,
+        "cases": records,
+    });
+    output::write_atomically(&args.out.join(RECORD), record.to_string().as_bytes())?;
+    let total = records.len();
     let summary = format!(
-        "{} passed, {} failed, {} missing, {} created, {} updated, {} errors of {} cases",
+        "{} passed, {} failed, {} missing, {} created, {} updated, {} errors of {total} cases",
         count(Status::Pass),
         count(Status::Fail),
         count(Status::Missing),
         count(Status::Created),
         count(Status::Updated),
         count(Status::Error),
-        cases.len()
     );
     if args.json {
+        let cases: Vec<serde_json::Value> = records
+            .iter()
+            .map(|v| {
+                let mut v = v.clone();
+                if let Some(o) = v.as_object_mut() {
+                    for internal in ["order", "junit", "html_row", "html_figure"] {
+                        o.remove(internal);
+                    }
+                }
+                v
+            })
+            .collect();
         let value = serde_json::json!({
-            "references": args.references,
-            "key": plan.key,
-            "device": device,
-            "driver": driver,
-            "preset": args.preset,
-            "thresholds": plan.judging.thresholds,
-            "bless": bless,
-            "cases": cases.iter().map(case_json).collect::<Vec<_>>(),
+            "references": run.references,
+            "key": run.key,
+            "device": run.device,
+            "driver": run.driver,
+            "preset": run.preset,
+            "thresholds": run.thresholds,
+            "bless": run.bless,
+            "shard": run.shard.map(|(i, n)| format!("{i}/{n}")),
+            "cases": cases,
             "passed": count(Status::Pass),
             "failed": count(Status::Fail),
             "missing": count(Status::Missing),
@@ -602,19 +767,20 @@ pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
             "updated": count(Status::Updated),
             "errors": count(Status::Error),
             "report": html,
-            "wall_ms": shadelab::gpu::ms_since(started),
+            "wall_ms": run.wall_ms,
         });
         println!("{value}");
     } else {
         println!("golden: {summary}; report {}", html.display());
     }
-    let not_ok: Vec<&ReportCase> = cases.iter().filter(|c| !c.judged.status.ok()).collect();
-    if not_ok.is_empty() {
+    let ok = count(Status::Pass) + count(Status::Created) + count(Status::Updated);
+    let not_ok = total - ok;
+    if not_ok == 0 {
         return Ok(());
     }
     // Every case an error (no device, no scene): that error's status.
-    if not_ok.len() == cases.len() && not_ok.iter().all(|c| c.judged.status == Status::Error) {
-        if let Some(error) = not_ok[0].judged.error.clone() {
+    if count(Status::Error) == total {
+        if let Some(error) = first_error {
             return Err(error);
         }
     }
@@ -625,12 +791,79 @@ pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
     };
     Err(Failure {
         code: 1,
-        message: format!(
-            "{} of {} cases did not pass ({summary}){hint}",
-            not_ok.len(),
-            cases.len()
-        ),
+        message: format!("{not_ok} of {total} cases did not pass ({summary}){hint}"),
     })
+}
+
+/// `--merge DIR...`: the shards' records joined into one report in
+/// `--out`, as the whole run would have written it; their pictures copied
+/// beside it.
+fn merge(args: &GoldenArgs) -> Result<(), Failure> {
+    let started = Instant::now();
+    output::prepare_output_folder(&args.out)?;
+    if let Some(path) = &args.junit {
+        output::prepare_output_path(path)?;
+    }
+    let shards = shards::read_shards(&args.merge, RECORD)?;
+    let records = shards::merged_cases(&shards);
+    for (dir, shard) in &shards {
+        for case in shard["cases"].as_array().into_iter().flatten() {
+            for written in case["written"].as_array().into_iter().flatten() {
+                let Some(path) = written.as_str().map(Path::new) else {
+                    continue;
+                };
+                // Recorded as the shard wrote it: under its --out.
+                let name = path
+                    .strip_prefix(dir)
+                    .ok()
+                    .or_else(|| path.file_name().map(Path::new))
+                    .unwrap_or(path);
+                shards::copy_into(dir, &args.out, name)?;
+            }
+        }
+    }
+    let first = &shards[0].1;
+    let text = |k: &str| first[k].as_str().unwrap_or_default().to_string();
+    let run = RunRecord {
+        shard: None,
+        references: PathBuf::from(first["run"]["references"].as_str().unwrap_or_default()),
+        key: first["run"]["key"].as_str().unwrap_or_default().to_string(),
+        device: text("device"),
+        driver: text("driver"),
+        preset: serde_json::from_value(first["preset"].clone()).unwrap_or(Preset::StoredReference),
+        thresholds: first["run"]["thresholds"].clone(),
+        limits: text("limits"),
+        bless: false,
+        wall_ms: shadelab::gpu::ms_since(started),
+    };
+    let first_error = records
+        .iter()
+        .find_map(|v| v["error"].as_str().map(|m| Failure::usage(m.to_string())));
+    conclude(args, &run, records, first_error)
+}
+
+/// Refuses, before any work, two cases that would read and write one
+/// reference (two scenes whose paths differ only in their extension, one
+/// scene given twice, a `--name` that leaves the mode out).
+fn refuse_shared_references(args: &RenderArgs) -> Result<(), Failure> {
+    let names = args.scene_names.as_deref().unwrap_or_default();
+    let mut cases = Vec::new();
+    for (k, name) in names.iter().enumerate() {
+        let scene = args.scenes.get(k).map_or_else(
+            || "the default scene".to_string(),
+            |p| p.display().to_string(),
+        );
+        for shading in args.modes() {
+            let file = file_name(args.name_pattern(), name, shading);
+            cases.push((file, format!("{scene} ({shading})")));
+        }
+    }
+    match golden_keys::first_clash(&cases) {
+        Some((file, first, second)) => Err(Failure::usage(format!(
+            "{first} and {second} would share the reference {file}; give each scene its own path below --root (or its own file name)"
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// The limits for people: the preset's name, then each limit.

@@ -129,7 +129,7 @@ pub(super) fn case_json(c: &ReportCase) -> serde_json::Value {
 }
 
 /// The cases in `--junit`.
-pub(super) fn junit_cases(cases: &[ReportCase]) -> Vec<TestCase> {
+pub(super) fn junit_cases(cases: &[&ReportCase]) -> Vec<TestCase> {
     cases
         .iter()
         .map(|c| {
@@ -162,125 +162,159 @@ pub(super) fn junit_cases(cases: &[ReportCase]) -> Vec<TestCase> {
         .collect()
 }
 
-/// Writes the page to `path`.
-#[allow(clippy::too_many_arguments)]
-pub(super) fn write_report(
+/// A case's row of the page's table.
+pub(super) fn case_row_html(c: &ReportCase) -> String {
+    let j = &c.judged;
+    let class = if j.status == Status::Pass {
+        ""
+    } else {
+        " class=\"fail\""
+    };
+    let mut why = j.failures.join("; ");
+    if let Some(e) = &j.error {
+        why = e.message.clone();
+    }
+    format!(
+        "<tr{class}><td class=\"name\">{}</td><td class=\"name\">{}</td><td class=\"flag\">{}</td>{}<td class=\"name\">{}</td><td class=\"name\">{}</td></tr>\n",
+        escape(&c.scene),
+        c.shading,
+        j.status.word(),
+        figure_cells(j),
+        escape(&reference_cell(j)),
+        escape(&why)
+    )
+}
+
+/// A case's pictures on the page (reference, render, FLIP, scaled error),
+/// for a case that has them: one that did not pass, or was accepted.
+pub(super) fn case_figure_html(c: &ReportCase) -> Option<String> {
+    let j = &c.judged;
+    let p = j.pictures.as_ref()?;
+    let mut h = format!(
+        "<h2>{}/{}: {}</h2>\n<figure class=\"variant\">",
+        escape(&c.scene),
+        c.shading,
+        j.status.word()
+    );
+    let label = |what: &str| format!("{} {what}", c.file);
+    match &p.expected {
+        Some(bytes) => h.push_str(&img(bytes, p.width, p.height, &label("reference"), "image")),
+        None => h.push_str("<span>(no reference)</span>"),
+    }
+    h.push_str(&img(
+        &p.actual,
+        p.width,
+        p.height,
+        &label("render"),
+        "image",
+    ));
+    if let Some(bytes) = &p.heatmap {
+        h.push_str(&img(
+            bytes,
+            p.width,
+            p.height,
+            &label("FLIP heat map"),
+            "image",
+        ));
+    }
+    if let Some((bytes, _)) = &p.error {
+        h.push_str(&img(
+            bytes,
+            p.width,
+            p.height,
+            &label("error, scaled"),
+            "image",
+        ));
+    }
+    let mut caption = vec![format!(
+        "reference <code>{}</code>",
+        escape(
+            &j.reference
+                .as_ref()
+                .map_or_else(|| "none".into(), |p| p.display().to_string())
+        )
+    )];
+    if let Some((_, scale)) = &p.error {
+        caption.push(format!(
+            "left to right: the reference, this render, FLIP (0 to 1), the error scaled so that its largest ({}) is pale yellow",
+            format_figure(*scale)
+        ));
+    }
+    caption.extend(j.failures.iter().map(|f| escape(f)));
+    caption.extend(j.hint.iter().map(|f| escape(f)));
+    let _ = writeln!(
+        h,
+        "<figcaption>{}</figcaption></figure>",
+        caption.join("<br>")
+    );
+    Some(h)
+}
+
+/// What the page's head says of the run.
+pub(super) struct PageHead<'a> {
+    pub references: &'a Path,
+    pub key: &'a str,
+    pub device: &'a str,
+    pub driver: &'a str,
+    pub limits: &'a str,
+}
+
+/// Writes the page to `path`: `passed` of `rows.len()` cases, each case's
+/// table row, then the figures of those that have them (a run's, or a
+/// merge of shards', in the whole run's order).
+pub(super) fn write_page(
     path: &Path,
-    cases: &[ReportCase],
-    references: &Path,
-    key: &str,
-    device: &str,
-    driver: &str,
-    limits: &str,
+    head: &PageHead,
+    passed: usize,
+    rows: &[String],
+    figures: &[String],
 ) -> Result<(), Failure> {
-    let passed = cases
-        .iter()
-        .filter(|c| c.judged.status == Status::Pass)
-        .count();
-    let title = format!("shadelab golden: {passed} of {} cases passed", cases.len());
+    let title = format!("shadelab golden: {passed} of {} cases passed", rows.len());
     let mut h = page_start(&title);
     let _ = writeln!(
         h,
         "<p class=\"meta\">references {} (this driver's: {}); device {} ({}); limits {}.</p>",
-        escape(&references.display().to_string()),
-        escape(&references.join(key).display().to_string()),
-        escape(device),
-        escape(driver),
-        escape(limits)
+        escape(&head.references.display().to_string()),
+        escape(&head.references.join(head.key).display().to_string()),
+        escape(head.device),
+        escape(head.driver),
+        escape(head.limits)
     );
     h.push_str("<table>\n<tr><th>scene</th><th>mode</th><th>result</th><th>max_abs</th><th>pixels over 0.01</th><th>FLIP mean</th><th>reference</th><th>why</th></tr>\n");
-    for c in cases {
-        let j = &c.judged;
-        let class = if j.status == Status::Pass {
-            ""
-        } else {
-            " class=\"fail\""
-        };
-        let mut why = j.failures.join("; ");
-        if let Some(e) = &j.error {
-            why = e.message.clone();
-        }
-        let _ = writeln!(
-            h,
-            "<tr{class}><td class=\"name\">{}</td><td class=\"name\">{}</td><td class=\"flag\">{}</td>{}<td class=\"name\">{}</td><td class=\"name\">{}</td></tr>",
-            escape(&c.scene),
-            c.shading,
-            j.status.word(),
-            figure_cells(j),
-            escape(&reference_cell(j)),
-            escape(&why)
-        );
+    for row in rows {
+        h.push_str(row);
     }
     h.push_str("</table>\n");
-    let shown: Vec<&ReportCase> = cases
-        .iter()
-        .filter(|c| c.judged.pictures.is_some())
-        .collect();
-    if !shown.is_empty() {
+    if !figures.is_empty() {
         h.push_str("<h2>Against the references</h2>\n<p class=\"meta\">Each case: the reference, this render, the FLIP error between them (black none, through purple and orange, to pale yellow for 1), and the per-pixel error scaled so that its largest is pale yellow (where they differ, however little).</p>\n");
     }
-    for c in shown {
-        let j = &c.judged;
-        let p = j.pictures.as_ref().expect("filtered on pictures");
-        let _ = write!(
-            h,
-            "<h2>{}/{}: {}</h2>\n<figure class=\"variant\">",
-            escape(&c.scene),
-            c.shading,
-            j.status.word()
-        );
-        let label = |what: &str| format!("{} {what}", c.file);
-        match &p.expected {
-            Some(bytes) => h.push_str(&img(bytes, p.width, p.height, &label("reference"), "image")),
-            None => h.push_str("<span>(no reference)</span>"),
-        }
-        h.push_str(&img(
-            &p.actual,
-            p.width,
-            p.height,
-            &label("render"),
-            "image",
-        ));
-        if let Some(bytes) = &p.heatmap {
-            h.push_str(&img(
-                bytes,
-                p.width,
-                p.height,
-                &label("FLIP heat map"),
-                "image",
-            ));
-        }
-        if let Some((bytes, _)) = &p.error {
-            h.push_str(&img(
-                bytes,
-                p.width,
-                p.height,
-                &label("error, scaled"),
-                "image",
-            ));
-        }
-        let mut caption = vec![format!(
-            "reference <code>{}</code>",
-            escape(
-                &j.reference
-                    .as_ref()
-                    .map_or_else(|| "none".into(), |p| p.display().to_string())
-            )
-        )];
-        if let Some((_, scale)) = &p.error {
-            caption.push(format!(
-                "left to right: the reference, this render, FLIP (0 to 1), the error scaled so that its largest ({}) is pale yellow",
-                format_figure(*scale)
-            ));
-        }
-        caption.extend(j.failures.iter().map(|f| escape(f)));
-        caption.extend(j.hint.iter().map(|f| escape(f)));
-        let _ = writeln!(
-            h,
-            "<figcaption>{}</figcaption></figure>",
-            caption.join("<br>")
-        );
+    for figure in figures {
+        h.push_str(figure);
     }
     h.push_str(PAGE_END);
     Ok(write_atomically(path, h.as_bytes())?)
+}
+
+/// A JUnit case as a shard record keeps it, and back.
+pub(super) fn junit_json(t: &TestCase) -> serde_json::Value {
+    serde_json::json!({
+        "classname": t.classname,
+        "name": t.name,
+        "time_s": t.time_s,
+        "failure": t.failure,
+        "error": t.error,
+        "output": t.output,
+    })
+}
+
+pub(super) fn junit_from_json(v: &serde_json::Value) -> TestCase {
+    let text = |k: &str| v.get(k).and_then(|x| x.as_str()).map(str::to_string);
+    TestCase {
+        classname: text("classname").unwrap_or_default(),
+        name: text("name").unwrap_or_default(),
+        time_s: v.get("time_s").and_then(|x| x.as_f64()).unwrap_or(0.0),
+        failure: text("failure"),
+        error: text("error"),
+        output: text("output").unwrap_or_default(),
+    }
 }

@@ -9,10 +9,14 @@ mod compare;
 mod diff;
 mod diff_folders;
 mod golden;
+mod golden_keys;
 mod golden_report;
+mod ignored;
 mod info;
+mod progress;
 mod render;
 mod render_batch;
+mod shards;
 mod time_to_image;
 mod warm;
 
@@ -109,9 +113,21 @@ fn parser_error_in_house_style(rendered: &str) -> String {
     let mut message = String::new();
     let mut tips = Vec::new();
     let mut usage = None;
+    // Lines right after the error's, up to a blank one, belong to it (the
+    // missing arguments clap lists under "were not provided:").
+    let mut in_error = false;
     for line in rendered.lines().map(str::trim) {
+        if line.is_empty() {
+            in_error = false;
+            continue;
+        }
         if let Some(m) = line.strip_prefix("error: ") {
             message = m.to_string();
+            in_error = true;
+        } else if in_error && !line.starts_with("tip: ") && !line.starts_with("Usage: ") {
+            let sep = if message.ends_with(':') { " " } else { ", " };
+            message.push_str(sep);
+            message.push_str(line);
         } else if let Some(tip) = line.strip_prefix("tip: ") {
             if !tip.contains("use '--") {
                 tips.push(tip.to_string());
@@ -164,6 +180,7 @@ pub fn run() -> ExitCode {
         Command::Diff(_) => args::MachineArgs::default(),
     };
     let machine = own.or(&cli.machine);
+    progress::set_quiet(machine.quiet);
     let mut gpu_options = shadelab::gpu::GpuOptions::from_env();
     if machine.device.is_some() {
         gpu_options.device = machine.device;
@@ -211,6 +228,12 @@ mod tests {
         assert_eq!(
             lines[1],
             "usage: shadelab render --shading <SHADING> [SCENE]; see `shadelab render --help`"
+        );
+        let missing = "error: the following required arguments were not provided:\n  --references <DIR>\n  --out <DIR>\n\nUsage: shadelab golden --references <DIR> [SCENES]...\n\nFor more information, try '--help'.\n";
+        let text = parser_error_in_house_style(missing);
+        assert_eq!(
+            text.lines().next(),
+            Some("shadelab: error: the following required arguments were not provided: --references <DIR>, --out <DIR>")
         );
         let dash = "error: unexpected argument '-x' found\n\n  tip: to pass '-x' as a value, use '-- -x'\n";
         assert_eq!(

@@ -16,6 +16,7 @@ use shadelab::scene::{self, Scene};
 use shadelab::shading::Shading;
 
 use super::args::{ImageSize, SceneFlags};
+use super::ignored::{self, Backends};
 use super::Failure;
 
 #[derive(Args)]
@@ -68,6 +69,14 @@ pub struct RenderArgs {
     pub(super) stats: bool,
     #[command(flatten)]
     pub machine: super::args::MachineArgs,
+    /// A batch: each scene's `{scene}` in file names, given by the caller
+    /// (`golden`'s keys), in place of the file's stem made unique.
+    #[arg(skip)]
+    pub(super) scene_names: Option<Vec<String>>,
+    /// A batch: only the cases of shard I of N (`golden --shard`), dealt
+    /// out by `{scene}/{mode}`.
+    #[arg(skip)]
+    pub(super) shard: Option<(usize, usize)>,
 }
 
 /// Loads `path` (the default scene when `None`), refusing a glTF file whose
@@ -149,20 +158,12 @@ pub(super) fn apply_overrides(
     }
     // Said once the flags are known to be valid: a bad one is the answer.
     if warn {
-        args.settings.msaa.warn_unused(modes);
-    }
-    if warn && !modes.contains(&Shading::Raytrace) {
-        let given = ray_trace_options_given(args);
-        if !given.is_empty() {
-            let listed: Vec<String> = modes.iter().map(|m| m.to_string()).collect();
-            eprintln!(
-                "shadelab: warning: {} {} for the ray tracer; --shading {} ignores {}",
-                given.join(", "),
-                if given.len() == 1 { "is" } else { "are" },
-                listed.join(","),
-                if given.len() == 1 { "it" } else { "them" },
-            );
-        }
+        let backends = match args.backend.as_str() {
+            "cpu" => Backends::Cpu,
+            "auto" => Backends::Both,
+            _ => Backends::Gpu,
+        };
+        ignored::warn(&options_given(args), modes, backends);
     }
     Ok(())
 }
@@ -248,11 +249,11 @@ fn settings_line(settings: &serde_json::Value) -> String {
         .unwrap_or_default()
 }
 
-/// The ray-tracing options on the command line, by flag: those every
-/// command shares (`args::ray_trace_flags`) and render's own.
-fn ray_trace_options_given(args: &RenderArgs) -> Vec<&'static str> {
-    let mut given =
-        super::args::ray_trace_flags(args.settings.depth.depth, &args.settings.traversal, false);
+/// The options on the command line that a mode or a backend may ignore,
+/// by flag: those every command shares and render's own.
+fn options_given(args: &RenderArgs) -> Vec<&'static str> {
+    let s = &args.settings;
+    let mut given = ignored::scene_flags_given(&s.traversal, &s.msaa, s.depth.depth);
     for (flag, present) in [
         ("--cutoff", args.cutoff.is_some()),
         ("--samples", args.samples.is_some()),
@@ -412,7 +413,10 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
         let info = &context.info;
         (rendered, info.name.clone(), Some(info.driver.clone()))
     } else {
-        let (rendered, _) = shadelab::render::render_cpu(&scene, shading)?;
+        let label = format!("{shading} on the CPU reference (bands of rows)");
+        let (rendered, _) = super::progress::counted(&label, |counter| {
+            shadelab::render::render_cpu_counted(&scene, shading, counter)
+        })?;
         (rendered, "CPU reference (f64)".to_string(), None)
     };
     let settings = effective_settings(

@@ -15,6 +15,7 @@ use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
 use super::cases::{case_workers, in_order};
+use super::progress::Progress;
 use super::render::{
     apply_overrides, color_target, effective_settings, image_metadata, load_scene, print_stats,
     RenderArgs,
@@ -31,6 +32,8 @@ struct PlannedScene {
 
 /// One image to make: which scene, which mode, where, on which backend.
 struct PlannedCase {
+    /// Its place in the whole batch (of every shard).
+    order: usize,
     scene: usize,
     shading: Shading,
     /// Its file's name, from `--name`.
@@ -52,7 +55,7 @@ struct CaseDone {
 }
 
 /// The file name `pattern` gives for a scene and a mode.
-fn file_name(pattern: &str, scene: &str, shading: Shading) -> String {
+pub(super) fn file_name(pattern: &str, scene: &str, shading: Shading) -> String {
     pattern
         .replace("{scene}", scene)
         .replace("{mode}", &shading.to_string())
@@ -61,7 +64,12 @@ fn file_name(pattern: &str, scene: &str, shading: Shading) -> String {
 /// Refuses a `--name` pattern that would give two cases one file, names a
 /// placeholder other than `{scene}` and `{mode}`, or is not a .png/.exr
 /// file name in the folder itself.
-fn check_pattern(pattern: &str, scenes: usize, modes: usize) -> Result<(), Failure> {
+fn check_pattern(
+    pattern: &str,
+    scenes: usize,
+    modes: usize,
+    first: (&str, Shading),
+) -> Result<(), Failure> {
     let bad = |why: &str| Err(Failure::usage(format!("--name {pattern:?} {why}")));
     let stripped = pattern.replace("{scene}", "").replace("{mode}", "");
     if stripped.contains(['{', '}']) {
@@ -76,7 +84,12 @@ fn check_pattern(pattern: &str, scenes: usize, modes: usize) -> Result<(), Failu
     if modes > 1 && !pattern.contains("{mode}") {
         return bad("needs {mode}: there is more than one mode");
     }
-    ImageFormat::from_path(Path::new(&file_name(pattern, "scene", Shading::Phong)))?;
+    let example = file_name(pattern, first.0, first.1);
+    if ImageFormat::from_path(Path::new(&example)).is_err() {
+        return bad(&format!(
+            "would write {example}: expected a file name ending in .png (8-bit sRGB) or .exr (linear float)"
+        ));
+    }
     Ok(())
 }
 
@@ -87,7 +100,7 @@ fn plan_scenes(args: &RenderArgs, modes: &[Shading], memory: &MemoryLimit) -> Ve
         args.scenes.iter().cloned().map(Some).collect()
     };
     let mut planned: Vec<PlannedScene> = Vec::new();
-    for path in paths {
+    for (k, path) in paths.into_iter().enumerate() {
         let loaded = load_scene(path.as_deref(), memory).and_then(|(mut scene, stem)| {
             apply_overrides(&mut scene, args, modes, false)?;
             Ok((scene, stem))
@@ -102,7 +115,9 @@ fn plan_scenes(args: &RenderArgs, modes: &[Shading], memory: &MemoryLimit) -> Ve
                 (Err(failure), stem)
             }
         };
-        if planned.iter().any(|p| p.name == name) {
+        if let Some(given) = args.scene_names.as_ref().and_then(|names| names.get(k)) {
+            name = given.clone();
+        } else if planned.iter().any(|p| p.name == name) {
             name = format!("{name}-{}", planned.len() + 1);
         }
         planned.push(PlannedScene { path, name, scene });
@@ -158,6 +173,8 @@ pub(super) struct CaseView<'a> {
     pub shading: Shading,
     /// The file name `--name` gives it.
     pub file_name: &'a str,
+    /// Its place in the whole batch (of every shard).
+    pub order: usize,
     pub backend_choice: Option<&'a Choice>,
 }
 
@@ -171,6 +188,8 @@ pub(super) struct Made {
     pub settings: serde_json::Value,
     pub metadata: shadelab::output::ImageMetadata,
     pub lighting_hook: bool,
+    /// The lighting hook's GLSL, where there is one.
+    pub hook_source: Option<String>,
 }
 
 impl Batch {
@@ -180,7 +199,23 @@ impl Batch {
     /// in every case, and leaves no folder behind.
     pub fn check_flags(args: &RenderArgs) -> Result<(), Failure> {
         let modes = args.modes();
-        check_pattern(args.name_pattern(), args.scenes.len().max(1), modes.len())?;
+        let first_scene = match (&args.scene_names, args.scenes.first()) {
+            (Some(names), _) if !names.is_empty() => names[0].clone(),
+            (_, Some(path)) => path
+                .file_stem()
+                .map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned()),
+            _ => "default".to_string(),
+        };
+        let first = (
+            first_scene.as_str(),
+            modes.first().copied().unwrap_or(Shading::Phong),
+        );
+        check_pattern(
+            args.name_pattern(),
+            args.scenes.len().max(1),
+            modes.len(),
+            first,
+        )?;
         apply_overrides(&mut shadelab::scene::default_scene(), args, &modes, true)
     }
 
@@ -195,10 +230,17 @@ impl Batch {
         let modes = args.modes();
         let scenes = plan_scenes(args, &modes, memory);
         let mut cases = Vec::new();
+        let mut order = 0;
         for (i, scene) in scenes.iter().enumerate() {
             for &shading in &modes {
+                order += 1;
+                let key = format!("{}/{shading}", scene.name);
+                if !super::shards::on_shard(&key, args.shard) {
+                    continue;
+                }
                 let (planned, choice) = plan_case(args, scene, shading, memory);
                 cases.push(PlannedCase {
+                    order: order - 1,
                     scene: i,
                     shading,
                     file_name: file_name(args.name_pattern(), &scene.name, shading),
@@ -265,6 +307,7 @@ impl Batch {
             path: scene.path.as_deref(),
             shading: case.shading,
             file_name: &case.file_name,
+            order: case.order,
             backend_choice: case.choice.as_ref(),
         }
     }
@@ -272,8 +315,10 @@ impl Batch {
     /// Renders every case, two at a time where that fits, and hands each
     /// image (or why there is none) to `handle` on the worker, then its
     /// result to `report` in the cases' order.
+    /// `what` names the work in progress lines (`render`, `golden`).
     pub fn run<T: Send>(
         &self,
+        what: &str,
         args: &RenderArgs,
         handle: impl Fn(&CaseView, Result<Made, Failure>) -> T + Sync,
         mut report: impl FnMut(&CaseView, T) -> Result<(), Failure>,
@@ -284,13 +329,25 @@ impl Batch {
             handle(&self.view(k), made)
         };
         let shared = self.context.clone();
+        let progress = Progress::new(what, jobs.len() as u64);
+        let case_name = |k: usize| {
+            if k < self.cases.len() {
+                self.view(k).file_name.to_string()
+            } else {
+                String::new()
+            }
+        };
+        progress.set(0, &case_name(0));
         in_order(
             &self.context,
             || Some(shared.clone()),
             &jobs,
             self.workers,
             run_case,
-            |k, t| report(&self.view(k), t),
+            |k, t| {
+                progress.set(k as u64 + 1, &case_name(k + 1));
+                report(&self.view(k), t)
+            },
         )
     }
 
@@ -348,6 +405,7 @@ impl Batch {
             settings,
             metadata,
             lighting_hook: scene.lighting_hook.is_some(),
+            hook_source: scene.lighting_hook.as_ref().map(|h| h.source.clone()),
         })
     }
 }
@@ -453,7 +511,7 @@ pub fn run(args: &RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Res
         values.push(done.value);
         Ok(())
     };
-    batch.run(args, handle, report)?;
+    batch.run("render", args, handle, report)?;
 
     let (total, failed) = (batch.len(), failures.len());
     if args.json {
@@ -549,15 +607,18 @@ mod tests {
 
     #[test]
     fn patterns_that_would_overwrite_or_misname_are_refused() {
-        assert!(check_pattern("{scene}-{mode}.png", 3, 4).is_ok());
-        assert!(check_pattern("{mode}.exr", 1, 4).is_ok());
-        assert!(check_pattern("{scene}.png", 3, 1).is_ok());
-        let message = |p: &str, s, m| check_pattern(p, s, m).err().map(|f| f.message);
+        let first = ("room", Shading::Phong);
+        assert!(check_pattern("{scene}-{mode}.png", 3, 4, first).is_ok());
+        assert!(check_pattern("{mode}.exr", 1, 4, first).is_ok());
+        assert!(check_pattern("{scene}.png", 3, 1, first).is_ok());
+        let message = |p: &str, s, m| check_pattern(p, s, m, first).err().map(|f| f.message);
         assert!(message("{scene}.png", 1, 2).is_some_and(|m| m.contains("needs {mode}")));
         assert!(message("{mode}.png", 2, 1).is_some_and(|m| m.contains("needs {scene}")));
         assert!(message("{scene}-{shading}.png", 1, 1).is_some_and(|m| m.contains("placeholder")));
         assert!(message("a/{scene}.png", 1, 1).is_some_and(|m| m.contains("not a path")));
-        assert!(message("{scene}.jpg", 1, 1).is_some());
+        // The file it would write, named: the scene's, not a placeholder's.
+        let jpg = message("{scene}-{mode}.jpg", 1, 1).unwrap_or_default();
+        assert!(jpg.contains("would write room-phong.jpg"), "{jpg}");
         assert_eq!(
             file_name("{scene}_{mode}.exr", "room", Shading::Gouraud),
             "room_gouraud.exr"

@@ -35,12 +35,6 @@ pub struct WarmArgs {
 
 pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
     let modes = args.modes.modes();
-    args.modes.warn_unused(&super::args::ray_trace_flags(
-        args.settings.depth.depth,
-        &args.settings.traversal,
-        false,
-    ));
-    args.settings.msaa.warn_unused(&modes);
     let started = Instant::now();
     let paths: Vec<Option<PathBuf>> = if args.scenes.is_empty() {
         vec![None]
@@ -56,6 +50,13 @@ pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result
         memory.check(&name, &scene, &modes, &[])?;
         scenes.push((scene, name));
     }
+    // Said once the flags are known to be valid: a bad one is the answer.
+    let s = &args.settings;
+    super::ignored::warn(
+        &super::ignored::scene_flags_given(&s.traversal, &s.msaa, s.depth.depth),
+        &modes,
+        super::ignored::Backends::Gpu,
+    );
     let context = GpuContext::new(options)?;
     for (scene, _) in &scenes {
         for &shading in &modes {

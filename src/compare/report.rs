@@ -204,6 +204,19 @@ pub struct Report {
     /// Present when `--budget` was given.
     #[serde(default)]
     pub budget: Option<Budget>,
+    /// The variants asked for that did not run (over the memory limit, or
+    /// failed), each with why; empty in reports written before.
+    #[serde(default)]
+    pub not_run: Vec<NotRun>,
+}
+
+/// A variant the run left out, and why.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NotRun {
+    /// Its canonical name, as a result's.
+    pub name: String,
+    pub variant: Variant,
+    pub reason: String,
 }
 
 impl Report {
@@ -344,6 +357,7 @@ mod tests {
                 result("raytrace", 9.0, 0.02, Some(0.15)),
             ],
             budget: None,
+            not_run: Vec::new(),
         }
     }
 

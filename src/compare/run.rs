@@ -9,7 +9,8 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::report::{
-    file_stem, pareto_front, Budget, Errors, Metric, ReferenceChoice, Report, Timing, VariantResult,
+    file_stem, pareto_front, Budget, Errors, Metric, NotRun, ReferenceChoice, Report, Timing,
+    VariantResult,
 };
 use super::variant::Variant;
 use crate::error::Error;
@@ -33,6 +34,9 @@ pub struct CompareOptions {
     pub metric: Metric,
     /// `--budget E`: name the fastest variant with at most this error.
     pub budget: Option<f64>,
+    /// Variants not to run (by canonical name), each with why (over the
+    /// memory limit): reported as not run.
+    pub skip: std::collections::BTreeMap<String, String>,
 }
 
 /// The variants of shard `(i, n)`: the i-th of n contiguous chunks of
@@ -109,9 +113,46 @@ pub fn median_and_spread(mut values: Vec<f64>) -> (f64, f64) {
     (median, values[n - 1] - values[0])
 }
 
+/// What one variant's renders gave: its first render's timings, the timed
+/// runs' GPU and frame times, its last image and engine, and the CPU
+/// reference's image of it.
+type Measured = (
+    crate::render::Timings,
+    Vec<f64>,
+    Vec<f64>,
+    LinearImage,
+    Option<crate::scene::Traversal>,
+    crate::render::Rendered,
+);
+
+fn measure(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    shading: Shading,
+    runs: usize,
+) -> Result<Measured, Error> {
+    // The warm-up: the variant's time to image, its pipeline built.
+    let first = render_gpu(context, scene, shading)?.timings;
+    let (mut gpu, mut frame) = (Vec::new(), Vec::new());
+    let mut image = None;
+    let mut traversal = None;
+    for _ in 0..runs.max(1) {
+        let r = render_gpu(context, scene, shading)?;
+        gpu.push(r.timings.work_ms());
+        frame.push(r.timings.total_ms);
+        image = Some(r.image);
+        traversal = r.traversal;
+    }
+    let image = image.expect("at least one run");
+    let (cpu, _) = render_cpu(scene, shading)?;
+    Ok((first, gpu, frame, image, traversal, cpu))
+}
+
 /// Runs the comparison and writes `reference.png` and, per variant,
 /// `<stem>.png` and `<stem>-heat.png` into `dir`. `progress(done, total,
-/// name)` is called before each step.
+/// name)` is called before each step. A variant `options.skip` names (over
+/// the memory limit), or one whose render fails, is reported as not run,
+/// and the others go on.
 pub fn run(
     context: &Arc<GpuContext>,
     scene: &Scene,
@@ -128,6 +169,7 @@ pub fn run(
         .iter()
         .map(|v| v.apply(scene))
         .collect::<Result<Vec<_>, _>>()?;
+    let mut not_run = Vec::new();
     let total = chosen.len() + 2;
     progress(0, total, "reference");
     let (reference, _) = render_cpu(&reference_scene(scene), Shading::Raytrace)?;
@@ -139,20 +181,27 @@ pub fn run(
     for (k, (variant, scene_v)) in chosen.iter().zip(&scenes).enumerate() {
         let name = variant.to_string();
         progress(k + 2, total, &name);
-        // The warm-up: the variant's time to image, its pipeline built.
-        let first = render_gpu(context, scene_v, variant.shading)?.timings;
-        let (mut gpu, mut frame) = (Vec::new(), Vec::new());
-        let mut image = None;
-        let mut traversal = None;
-        for _ in 0..options.runs.max(1) {
-            let r = render_gpu(context, scene_v, variant.shading)?;
-            gpu.push(r.timings.work_ms());
-            frame.push(r.timings.total_ms);
-            image = Some(r.image);
-            traversal = r.traversal;
+        if let Some(reason) = options.skip.get(&name).cloned() {
+            not_run.push(NotRun {
+                name,
+                variant: variant.clone(),
+                reason,
+            });
+            continue;
         }
-        let image = image.expect("at least one run");
-        let (cpu, _) = render_cpu(scene_v, variant.shading)?;
+        let measured = measure(context, scene_v, variant.shading, options.runs);
+        let (first, gpu, frame, image, traversal, cpu) = match measured {
+            Ok(m) => m,
+            Err(e) => {
+                // One variant's failure is its own: the others still run.
+                not_run.push(NotRun {
+                    name,
+                    variant: variant.clone(),
+                    reason: e.to_string(),
+                });
+                continue;
+            }
+        };
         // Three FLIPs (single-threaded each, most of a variant's time
         // outside the GPU), side by side.
         let ((implementation_error, _), ((model_error, model_flip), (local_error, _))) =
@@ -208,6 +257,7 @@ pub fn run(
         shard: options.shard,
         variants: results,
         budget: None,
+        not_run,
     };
     mark_pareto(&mut report);
     set_budget(&mut report, options.budget);
@@ -281,9 +331,11 @@ pub fn merge(mut shards: Vec<Report>) -> Result<Report, String> {
         return Err(format!("got {} of {} shards", shards.len(), n.unwrap_or(0)));
     }
     let budget = first.budget.as_ref().map(|b| b.max_error);
+    let not_run = shards.iter().flat_map(|s| s.not_run.clone()).collect();
     let mut merged = Report {
         shard: None,
         variants: shards.into_iter().flat_map(|s| s.variants).collect(),
+        not_run,
         ..first
     };
     mark_pareto(&mut merged);

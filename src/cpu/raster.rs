@@ -21,6 +21,7 @@ use crate::level_of_detail::flat_lambda;
 use crate::linear_image::LinearImage;
 use crate::scene::{tessellate, tessellate_textured, ImageTexture, Interpolation, Material, Scene};
 use crate::shading::RasterMode;
+use crate::work_counter::WorkCounter;
 
 /// Sub-pixel grid of the coverage test: 1/256 pixel.
 const SUBPIXEL: f64 = 256.0;
@@ -604,6 +605,11 @@ struct Band {
 /// own, shaded once per pixel at its centre (or, per sample, at its own
 /// position), and the samples' linear values averaged.
 pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
+    render_counted(scene, mode, &WorkCounter::default())
+}
+
+/// [`render`], counting its bands of rows into `counter` as they finish.
+pub fn render_counted(scene: &Scene, mode: RasterMode, counter: &WorkCounter) -> CpuRender {
     let (width, height) = (scene.image.width, scene.image.height);
     let view = View::new(scene, width, height);
     let triangles = setup_triangles(scene, &view, mode);
@@ -618,6 +624,7 @@ pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
         DVec2::new(f64::from(x) + ox, f64::from(y) + oy)
     };
     let per_sample = msaa.per_sample && n > 1;
+    counter.begin(u64::from(height.div_ceil(BAND_ROWS)));
     let bands: Vec<Band> = (0..height.div_ceil(BAND_ROWS))
         .into_par_iter()
         .map(|band| {
@@ -722,6 +729,7 @@ pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
                     (sum / n as f64).as_vec3().to_array()
                 })
                 .collect();
+            counter.add(1);
             Band {
                 pixels,
                 object_ids: (0..count).map(|i| ids[i * n]).collect(),

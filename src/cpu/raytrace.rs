@@ -17,6 +17,7 @@ use crate::camera::View;
 use crate::linear_image::LinearImage;
 use crate::rt_scene::{sample_grid, RayStats, RtScene};
 use crate::scene::Scene;
+use crate::work_counter::WorkCounter;
 
 /// The ray-traced image and, per pixel, what its rays saw.
 pub struct RayTraced {
@@ -379,15 +380,22 @@ fn add_stats(a: RayStats, b: RayStats) -> RayStats {
 
 /// Ray traces `scene` at its image size with its `[render]` settings.
 pub fn render(scene: &Scene) -> RayTraced {
+    render_counted(scene, &WorkCounter::default())
+}
+
+/// [`render`], counting its rows into `counter` as they finish.
+pub fn render_counted(scene: &Scene, counter: &WorkCounter) -> RayTraced {
     let (width, height) = (scene.image.width, scene.image.height);
     let rt = RtScene::new(scene);
     let tracer = Tracer::new(&rt, View::new(scene, width, height));
     let started = std::time::Instant::now();
+    counter.begin(u64::from(height));
     let rows: Vec<(Vec<PixelTrace>, RayStats)> = (0..height)
         .into_par_iter()
         .map(|y| {
             let mut stats = RayStats::default();
             let row = (0..width).map(|x| tracer.pixel(x, y, &mut stats)).collect();
+            counter.add(1);
             (row, stats)
         })
         .collect();

@@ -229,7 +229,12 @@ pub fn render_with(
     let (width, height) = (scene.image.width, scene.image.height);
     check_image_size(context, width, height)?;
     let view = View::new(scene, width, height);
-    let traversal = engine_for(scene.render.traversal, &context.info)?;
+    // `auto` with a hook takes the BVH engine, which is the one a hook can
+    // run on (below), where a GPU's `auto` would take ray queries.
+    let traversal = match (scene.render.traversal, &scene.lighting_hook) {
+        (Traversal::Auto, Some(_)) => Traversal::Bvh,
+        (asked, _) => engine_for(asked, &context.info)?,
+    };
     if let (Traversal::Query, Some(hook)) = (traversal, &scene.lighting_hook) {
         return Err(GpuError::LightingHook(format!(
             "{} cannot run with --traversal query: a hook's module is checked by naga, which cannot \

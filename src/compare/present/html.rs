@@ -105,6 +105,18 @@ pub(crate) fn page(
         report.variants.len(),
         report.variants.iter().filter(|v| v.pareto).count()
     );
+    if !report.not_run.is_empty() {
+        let _ = writeln!(
+            h,
+            "<p class=\"not-run\">Not run: {}.</p>",
+            report
+                .not_run
+                .iter()
+                .map(|v| format!("<code>{}</code> ({})", escape(&v.name), escape(&v.reason)))
+                .collect::<Vec<_>>()
+                .join("; ")
+        );
+    }
 
     h.push_str("<h2>Speed against error</h2>\n<div class=\"plot\">\n");
     h.push_str(&inline_svg(plot_svg));
@@ -231,6 +243,15 @@ fn table(h: &mut String, report: &Report) {
             h,
             "<td class=\"flag\">{}</td></tr>",
             if v.pareto { "&#9733; front" } else { "" }
+        );
+    }
+    // The variants left out, in the same table, with why.
+    for v in &report.not_run {
+        let _ = writeln!(
+            h,
+            "<tr class=\"not-run\"><td class=\"name\">{}</td><td colspan=\"19\">not run: {}</td></tr>",
+            escape(&v.name),
+            escape(&v.reason)
         );
     }
     h.push_str("</tbody>\n</table>\n");

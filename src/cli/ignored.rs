@@ -1,0 +1,180 @@
+//! The one place that warns about options a run ignores: a flag that no
+//! case, or only some of the cases, of a command uses (a ray-tracing flag
+//! with raster modes, `--msaa` with the ray tracer, `--traversal` on the
+//! CPU reference). Every command lists the flags it was given and the
+//! modes and backends it runs, and this says once, in one form, what each
+//! flag changes nothing in.
+
+use shadelab::shading::Shading;
+
+/// Where a command's images are made.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Backends {
+    /// The GPU alone (render's default, golden, compare, bench, warm).
+    Gpu,
+    /// The CPU reference alone (`render --backend cpu`).
+    Cpu,
+    /// Both, each case on the one it is compared with or chosen for
+    /// (`check`; `render --backend auto`).
+    Both,
+}
+
+/// Which cases use a flag.
+fn used_by(flag: &str, shading: Shading, cpu: bool) -> bool {
+    match flag {
+        "--msaa" => shading.raster_mode().is_some(),
+        // The CPU reference has one way of finding hits.
+        "--traversal" => shading == Shading::Raytrace && !cpu,
+        _ => shading == Shading::Raytrace,
+    }
+}
+
+/// Why a flag changes nothing in the cases that ignore it.
+fn why(flag: &str, cpu_alone: bool) -> &'static str {
+    match flag {
+        "--msaa" => "it is for the raster modes; the ray tracer's anti-aliasing is --samples",
+        "--traversal" if cpu_alone => {
+            "it chooses the GPU ray tracer's engine; the CPU reference has one"
+        }
+        "--traversal" => "it chooses the GPU ray tracer's engine",
+        _ => "only the ray tracer uses it",
+    }
+}
+
+/// The warnings for `given` (flags on the command line) over a run of
+/// `modes` on `backends`: one line for the flags that the same cases
+/// ignore for the same reason, naming those cases (every mode it runs, or
+/// the ones that ignore them).
+pub fn warnings(given: &[&str], modes: &[Shading], backends: Backends) -> Vec<String> {
+    // (the modes that ignore them, why) -> the flags.
+    type Ignoring = (Vec<Shading>, &'static str);
+    let mut groups: Vec<(Ignoring, Vec<&str>)> = Vec::new();
+    for &flag in given {
+        // A case ignores a flag where no backend it runs on uses it.
+        let ignoring: Vec<Shading> = modes
+            .iter()
+            .copied()
+            .filter(|&m| match backends {
+                Backends::Gpu => !used_by(flag, m, false),
+                Backends::Cpu => !used_by(flag, m, true),
+                Backends::Both => !used_by(flag, m, false) && !used_by(flag, m, true),
+            })
+            .collect();
+        if ignoring.is_empty() {
+            continue;
+        }
+        let key = (ignoring, why(flag, backends == Backends::Cpu));
+        match groups.iter_mut().find(|(k, _)| *k == key) {
+            Some((_, flags)) => flags.push(flag),
+            None => groups.push((key, vec![flag])),
+        }
+    }
+    groups
+        .into_iter()
+        .map(|((ignoring, why), flags)| {
+            let names: Vec<String> = ignoring.iter().map(|m| m.to_string()).collect();
+            let it = if flags.len() == 1 { "it" } else { "them" };
+            let who = if ignoring.len() == modes.len() {
+                let on = if backends == Backends::Cpu {
+                    " on the CPU reference"
+                } else {
+                    ""
+                };
+                format!("--shading {}{on} ignores {it}", names.join(","))
+            } else {
+                format!("the {} images ignore {it}", names.join(", "))
+            };
+            let why = if flags.len() == 1 {
+                why.to_string()
+            } else {
+                why.replace("uses it", "uses them")
+                    .replace("it is for", "they are for")
+                    .replace("it chooses", "they choose")
+            };
+            format!("shadelab: warning: {}: {who} ({why})", flags.join(", "))
+        })
+        .collect()
+}
+
+/// Prints [`warnings`] on stderr.
+pub fn warn(given: &[&str], modes: &[Shading], backends: Backends) {
+    for line in warnings(given, modes, backends) {
+        eprintln!("{line}");
+    }
+}
+
+/// The flags of `SceneFlags` (and check's own of the same names) given, by
+/// name: the ones a mode or a backend may ignore (`--lighting` is refused
+/// where it cannot run, not ignored).
+pub fn scene_flags_given(
+    traversal: &super::args::TraversalArg,
+    msaa: &super::args::MsaaArg,
+    depth: Option<u32>,
+) -> Vec<&'static str> {
+    [
+        ("--depth", depth.is_some()),
+        ("--traversal", traversal.traversal.is_some()),
+        ("--msaa", msaa.msaa.is_some()),
+    ]
+    .into_iter()
+    .filter_map(|(flag, given)| given.then_some(flag))
+    .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const ALL: [Shading; 4] = [
+        Shading::Flat,
+        Shading::Gouraud,
+        Shading::Phong,
+        Shading::Raytrace,
+    ];
+
+    #[test]
+    fn a_flag_some_modes_ignore_is_named_with_them() {
+        let lines = warnings(&["--msaa"], &ALL, Backends::Gpu);
+        assert_eq!(
+            lines,
+            ["shadelab: warning: --msaa: the raytrace images ignore it (it is for the raster modes; the ray tracer's anti-aliasing is --samples)"]
+        );
+        let lines = warnings(
+            &["--depth"],
+            &[Shading::Flat, Shading::Phong],
+            Backends::Gpu,
+        );
+        assert_eq!(
+            lines,
+            ["shadelab: warning: --depth: --shading flat,phong ignores it (only the ray tracer uses it)"]
+        );
+        let lines = warnings(
+            &["--depth", "--samples", "--msaa"],
+            &[Shading::Phong],
+            Backends::Gpu,
+        );
+        assert_eq!(
+            lines,
+            ["shadelab: warning: --depth, --samples: --shading phong ignores them (only the ray tracer uses them)"]
+        );
+        // Used by every case: nothing to say.
+        assert!(warnings(
+            &["--depth", "--traversal"],
+            &[Shading::Raytrace],
+            Backends::Gpu
+        )
+        .is_empty());
+        assert!(warnings(&["--msaa"], &[Shading::Flat], Backends::Both).is_empty());
+    }
+
+    #[test]
+    fn the_cpu_reference_ignores_the_engine() {
+        let lines = warnings(&["--traversal"], &[Shading::Raytrace], Backends::Cpu);
+        assert_eq!(
+            lines,
+            ["shadelab: warning: --traversal: --shading raytrace on the CPU reference ignores it (it chooses the GPU ray tracer's engine; the CPU reference has one)"]
+        );
+        // check renders on both: the GPU side uses it.
+        assert!(warnings(&["--traversal"], &[Shading::Raytrace], Backends::Both).is_empty());
+    }
+}
