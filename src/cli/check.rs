@@ -239,7 +239,7 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
             let open_another = || GpuContext::new(options).ok();
             let on_result = |k: usize, result| {
                 progress.set(k as u64 + 1, &case_name(k + 1));
-                on_result(k, result)
+                progress.suspend(|| on_result(k, result))
             };
             in_order(context, open_another, &jobs, workers, run_case, on_result)?;
         }

@@ -328,6 +328,7 @@ fn render_variants(
             progress.set(done as u64, what);
         },
     )?;
+    progress.finish();
     drop(progress);
     if report.variants.is_empty() {
         let reasons: Vec<String> = report

@@ -101,6 +101,25 @@ impl Progress {
         }
     }
 
+    /// Runs `print` with the bar hidden, so that lines printed to the same
+    /// terminal do not run into it.
+    pub fn suspend<T>(&self, print: impl FnOnce() -> T) -> T {
+        match &self.inner {
+            Inner::Bar(bar) => bar.suspend(print),
+            _ => print(),
+        }
+    }
+
+    /// Every unit done.
+    pub fn finish(&self) {
+        let total = match &self.inner {
+            Inner::Quiet => return,
+            Inner::Bar(bar) => bar.length().unwrap_or(0),
+            Inner::Log { state, .. } => state.0.lock().unwrap_or_else(|e| e.into_inner()).total,
+        };
+        self.set(total, "");
+    }
+
     /// Changes the total (a list that grew or shrank once known).
     pub fn set_total(&self, total: u64) {
         match &self.inner {
@@ -113,8 +132,9 @@ impl Progress {
     }
 }
 
-/// Runs `work`, which counts its units (the CPU reference's rows) into the
-/// counter it is given, and shows them as `what`'s progress meanwhile.
+/// Runs `work`, which counts its phases' units (the CPU reference's
+/// triangles, then its rows) into the counter it is given, and shows them
+/// as `what`'s progress meanwhile, a phase at a time.
 pub fn counted<T>(what: &str, work: impl FnOnce(&shadelab::work_counter::WorkCounter) -> T) -> T {
     if QUIET.load(Ordering::Relaxed) {
         return work(&Default::default());
@@ -123,11 +143,22 @@ pub fn counted<T>(what: &str, work: impl FnOnce(&shadelab::work_counter::WorkCou
     let finished = AtomicBool::new(false);
     std::thread::scope(|scope| {
         scope.spawn(|| {
-            let progress = Progress::new(what, 0);
-            while !finished.load(Ordering::Relaxed) {
-                let (done, total) = counter.read();
-                progress.set_total(total);
-                progress.set(done, "");
+            let mut shown: Option<(&str, Progress)> = None;
+            loop {
+                // Read before the flag: the last pass shows the final count.
+                let last_pass = finished.load(Ordering::Relaxed);
+                let (phase, done, total) = counter.read();
+                if !phase.is_empty() && shown.as_ref().is_none_or(|(p, _)| *p != phase) {
+                    // A new phase: a new count, timed from its start.
+                    shown = Some((phase, Progress::new(&format!("{what}, {phase}"), total)));
+                }
+                if let Some((_, progress)) = &shown {
+                    progress.set_total(total);
+                    progress.set(done, "");
+                }
+                if last_pass {
+                    break;
+                }
                 std::thread::sleep(Duration::from_millis(100));
             }
         });
@@ -168,22 +199,28 @@ fn spawn_ticker(
         let started = Instant::now();
         let (lock, wake) = &*state;
         let mut last_line = Instant::now();
-        let mut last_done = u64::MAX;
+        // What the last line said, and whether there was one.
+        let mut last: Option<(u64, u64, String)> = None;
         let mut s = lock.lock().unwrap_or_else(|e| e.into_inner());
         loop {
-            if s.finished {
-                return;
-            }
-            // Every `interval` while the work runs; with 0, at every step.
-            let print = if interval.is_zero() {
-                s.done != last_done
+            let now = (s.done, s.total, s.now.clone());
+            let changed = last.as_ref() != Some(&now);
+            // Every `interval` while the work runs; with 0, at every step;
+            // and where a line was said, the last state too, once done.
+            let print = if s.finished {
+                changed && (last.is_some() || interval.is_zero())
+            } else if interval.is_zero() {
+                changed
             } else {
                 last_line.elapsed() >= interval
             };
             if print {
                 eprintln!("{}", log_line(&what, &s, started.elapsed()));
                 last_line = Instant::now();
-                last_done = s.done;
+                last = Some(now);
+            }
+            if s.finished {
+                return;
             }
             let wait = if interval.is_zero() {
                 Duration::from_secs(1)

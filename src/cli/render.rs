@@ -413,7 +413,7 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
         let info = &context.info;
         (rendered, info.name.clone(), Some(info.driver.clone()))
     } else {
-        let label = format!("{shading} on the CPU reference (bands of rows)");
+        let label = format!("{shading} on the CPU reference");
         let (rendered, _) = super::progress::counted(&label, |counter| {
             shadelab::render::render_cpu_counted(&scene, shading, counter)
         })?;

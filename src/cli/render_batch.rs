@@ -346,7 +346,7 @@ impl Batch {
             run_case,
             |k, t| {
                 progress.set(k as u64 + 1, &case_name(k + 1));
-                report(&self.view(k), t)
+                progress.suspend(|| report(&self.view(k), t))
             },
         )
     }

@@ -154,8 +154,19 @@ fn is_top_left(a: DVec2, b: DVec2) -> bool {
     (d.y == 0.0 && d.x > 0.0) || d.y < 0.0
 }
 
-fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle> {
+fn setup_triangles(
+    scene: &Scene,
+    view: &View,
+    mode: RasterMode,
+    counter: &WorkCounter,
+) -> Vec<Triangle> {
     let clip_from_rel = view.clip_from_relative();
+    let total: u64 = scene
+        .objects
+        .iter()
+        .map(|o| crate::scene::tessellate::counts(&o.shape).1)
+        .sum();
+    counter.begin("triangles set up", total);
     let mut triangles = Vec::new();
     let mut next_primitive = 0u32;
     for (object_index, object) in scene.objects.iter().enumerate() {
@@ -250,7 +261,10 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
                 }
             })
             .collect();
-        for tri in &mesh.triangles {
+        for (k, tri) in mesh.triangles.iter().enumerate() {
+            if k % 65536 == 65535 {
+                counter.add(65536);
+            }
             let primitive = next_primitive;
             next_primitive += 1;
             let [a, b, c] = tri.map(|i| vertices[i as usize].clone());
@@ -299,6 +313,7 @@ fn setup_triangles(scene: &Scene, view: &View, mode: RasterMode) -> Vec<Triangle
                 }
             }
         }
+        counter.add(mesh.triangles.len() as u64 % 65536);
     }
     triangles
 }
@@ -612,7 +627,7 @@ pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
 pub fn render_counted(scene: &Scene, mode: RasterMode, counter: &WorkCounter) -> CpuRender {
     let (width, height) = (scene.image.width, scene.image.height);
     let view = View::new(scene, width, height);
-    let triangles = setup_triangles(scene, &view, mode);
+    let triangles = setup_triangles(scene, &view, mode, counter);
     let background = scene.image.background;
     let msaa = scene.render.msaa;
     let offsets = msaa
@@ -624,7 +639,7 @@ pub fn render_counted(scene: &Scene, mode: RasterMode, counter: &WorkCounter) ->
         DVec2::new(f64::from(x) + ox, f64::from(y) + oy)
     };
     let per_sample = msaa.per_sample && n > 1;
-    counter.begin(u64::from(height.div_ceil(BAND_ROWS)));
+    counter.begin("bands of rows", u64::from(height.div_ceil(BAND_ROWS)));
     let bands: Vec<Band> = (0..height.div_ceil(BAND_ROWS))
         .into_par_iter()
         .map(|band| {

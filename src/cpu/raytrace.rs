@@ -389,7 +389,7 @@ pub fn render_counted(scene: &Scene, counter: &WorkCounter) -> RayTraced {
     let rt = RtScene::new(scene);
     let tracer = Tracer::new(&rt, View::new(scene, width, height));
     let started = std::time::Instant::now();
-    counter.begin(u64::from(height));
+    counter.begin("rows", u64::from(height));
     let rows: Vec<(Vec<PixelTrace>, RayStats)> = (0..height)
         .into_par_iter()
         .map(|y| {
