@@ -23,9 +23,10 @@ use crate::gpu::GpuContext;
 use crate::linear_image::LinearImage;
 use crate::metrics::flip::{flip, FlipStats, PIXELS_PER_DEGREE};
 use crate::metrics::stats::ErrorStats;
-use crate::render::{render_cpu, render_gpu};
+use crate::render::{render_cpu_counted, render_gpu};
 use crate::scene::Scene;
 use crate::shading::Shading;
+use crate::work_counter::WorkCounter;
 
 /// The limits a GPU render must keep against the CPU reference.
 ///
@@ -294,13 +295,33 @@ pub fn check(
     shading: Shading,
     limits: &CheckThresholds,
 ) -> Result<CheckOutcome, Error> {
+    check_counted(
+        context,
+        scene,
+        reference,
+        shading,
+        limits,
+        &WorkCounter::default(),
+    )
+}
+
+/// [`check`], the CPU reference counting its phases into `counter` (for a
+/// caller to show progress).
+pub fn check_counted(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    reference: &Scene,
+    shading: Shading,
+    limits: &CheckThresholds,
+    counter: &WorkCounter,
+) -> Result<CheckOutcome, Error> {
     // Side by side: the GPU render leaves a core idle for much of its time
     // (pipeline creation and code generation run on one thread), which the
     // CPU reference fills.
     let started = std::time::Instant::now();
     let (actual, reference_render) = rayon::join(
         || render_gpu(context, scene, shading),
-        || render_cpu(reference, shading),
+        || render_cpu_counted(reference, shading, counter),
     );
     let renders_ms = started.elapsed().as_secs_f64() * 1e3;
     let actual = actual?;

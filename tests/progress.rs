@@ -71,10 +71,13 @@ fn check_and_golden_say_how_many_cases_are_done() {
         &EVERY_STEP,
     );
     assert_eq!(check.code, 0, "{}", check.stderr);
+    // The first case named as it starts, the end said; the steps between
+    // may pass unseen where the two cases end together.
     assert!(
         check
             .stderr
-            .contains("shadelab: check: 1 of 2 done, running default phong"),
+            .contains("shadelab: check: 0 of 2 done, running default flat")
+            && check.stderr.contains("shadelab: check: 2 of 2 done"),
         "{}",
         check.stderr
     );
@@ -87,8 +90,36 @@ fn check_and_golden_say_how_many_cases_are_done() {
     assert!(
         golden
             .stderr
-            .contains("shadelab: golden: 1 of 2 done, running default-phong.png"),
+            .contains("shadelab: golden: 0 of 2 done, running default-flat.png")
+            && golden.stderr.contains("shadelab: golden: 2 of 2 done"),
         "{}",
         golden.stderr
+    );
+}
+
+/// `check` says where the running case's CPU reference is, within the case.
+#[test]
+fn check_says_where_a_cases_cpu_reference_is() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    sphere_scene(d);
+    let args = [
+        "check",
+        "sphere.toml",
+        "--shading",
+        "flat",
+        "--out",
+        "c",
+        "--images",
+        "none",
+    ];
+    let run = shadelab_with(d, &args, &EVERY_STEP);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(
+        run.stderr.contains(
+            "shadelab: check: 0 of 1 done, running sphere flat (its CPU reference: triangles set up "
+        ),
+        "{}",
+        run.stderr
     );
 }

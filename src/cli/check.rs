@@ -3,16 +3,18 @@
 //! JUnit report; exit status 1 when any case fails.
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 
 use clap::Args;
-use shadelab::check::{check, scaled, CheckOutcome, CheckThresholds};
+use shadelab::check::{check_counted, scaled, CheckOutcome, CheckThresholds};
 use shadelab::gpu::{GpuContext, GpuOptions};
 use shadelab::junit;
 use shadelab::memory::MemoryLimit;
 use shadelab::metrics::heatmap::flip_heatmap;
 use shadelab::output::{write_atomically, write_image};
 use shadelab::shading::Shading;
+use shadelab::work_counter::WorkCounter;
 
 use super::args::{ImageSize, LightingArg, ModeList, MsaaArg, TraversalArg};
 use super::cases::{case_workers, in_order};
@@ -200,11 +202,20 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     }
     let workers = case_workers(jobs.len(), largest_estimate, memory);
     let mut report = CaseReport::new(args.json);
+    // Each case's CPU reference counts its phases here, for the progress.
+    let counters: Vec<WorkCounter> = jobs.iter().map(|_| WorkCounter::default()).collect();
+    let fallback = WorkCounter::default();
+    let counter_of = |job: (usize, Shading)| {
+        jobs.iter()
+            .position(|j| *j == job)
+            .map_or(&fallback, |k| &counters[k])
+    };
     let run_case = |context: &Arc<GpuContext>, (i, shading): (usize, Shading)| {
         let (scene, name) = &scenes[i];
         let scene = scene.as_ref().map_err(|f| CaseError::Check(f.clone()))?;
         let limits = limits_for(shading, scene.render.msaa);
-        let outcome = check(context, scene, scene, shading, &limits)?;
+        let counter = counter_of((i, shading));
+        let outcome = check_counted(context, scene, scene, shading, &limits, counter)?;
         let keep = match args.images {
             KeepImages::All => true,
             KeepImages::Failures => !outcome.passed(),
@@ -237,11 +248,35 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     match &context {
         Some(context) => {
             let open_another = || GpuContext::new(options).ok();
+            // The case waited for, and where its CPU reference is.
+            let due = AtomicUsize::new(0);
+            let finished = AtomicBool::new(false);
             let on_result = |k: usize, result| {
+                due.store(k + 1, Ordering::Relaxed);
                 progress.set(k as u64 + 1, &case_name(k + 1));
                 progress.suspend(|| on_result(k, result))
             };
-            in_order(context, open_another, &jobs, workers, run_case, on_result)?;
+            std::thread::scope(|scope| {
+                scope.spawn(|| {
+                    while !finished.load(Ordering::Relaxed) {
+                        let k = due.load(Ordering::Relaxed);
+                        if let Some(counter) = counters.get(k) {
+                            let (phase, done, total) = counter.read();
+                            if !phase.is_empty() && due.load(Ordering::Relaxed) == k {
+                                let now = format!(
+                                    "{} (its CPU reference: {phase} {done} of {total})",
+                                    case_name(k)
+                                );
+                                progress.set(k as u64, &now);
+                            }
+                        }
+                        std::thread::sleep(std::time::Duration::from_millis(200));
+                    }
+                });
+                let ran = in_order(context, open_another, &jobs, workers, run_case, on_result);
+                finished.store(true, Ordering::Relaxed);
+                ran
+            })?;
         }
         None => {
             let no_device = no_device.expect("no context, so an error");
