@@ -10,7 +10,6 @@ use std::time::Instant;
 
 use clap::Args;
 use shadelab::gpu::GpuOptions;
-use shadelab::junit;
 use shadelab::linear_image::LinearImage;
 use shadelab::memory::MemoryLimit;
 use shadelab::metrics::{self, Comparison, Settings, Thresholds, Verdict};
@@ -19,9 +18,9 @@ use shadelab::output::{self, ImageFormat, ImageMetadata};
 use super::args::{ImageSize, ModeList, SceneFlags};
 use super::diff::{compare_images, parse_thresholds, Judging, Preset, EDGE_THRESHOLD};
 use super::golden_keys;
+use super::golden_record::{conclude, merge, RunRecord};
 use super::golden_report::{
-    case_figure_html, case_json, case_row_html, junit_cases, junit_from_json, junit_json,
-    print_case, write_page, PageHead, ReportCase,
+    case_figure_html, case_json, case_row_html, junit_cases, junit_json, print_case, ReportCase,
 };
 use super::render::{image_metadata, RenderArgs};
 use super::render_batch::{file_name, non_finite_failure, Batch, CaseView, Made};
@@ -52,7 +51,7 @@ pub struct GoldenArgs {
     /// one report in --out: report.html, golden.json, --junit and --json,
     /// as the whole run writes them.
     #[arg(long, num_args = 1.., value_name = "DIR", conflicts_with_all = ["scenes", "shard", "create", "bless"])]
-    merge: Vec<PathBuf>,
+    pub(super) merge: Vec<PathBuf>,
     /// The folder the scenes' paths in reference names are taken from
     /// [default: the deepest folder that holds every scene].
     #[arg(long, value_name = "DIR")]
@@ -86,13 +85,13 @@ pub struct GoldenArgs {
     /// Folder for report.html and, for each case that did not pass, its
     /// NAME-actual and NAME-diff images.
     #[arg(long, value_name = "DIR", default_value = "golden-out")]
-    out: PathBuf,
+    pub(super) out: PathBuf,
     /// Also write a JUnit XML report here.
     #[arg(long, value_name = "FILE.xml")]
-    junit: Option<PathBuf>,
+    pub(super) junit: Option<PathBuf>,
     /// Print one JSON object with every case on stdout.
     #[arg(long)]
-    json: bool,
+    pub(super) json: bool,
     #[command(flatten)]
     size: ImageSize,
     #[command(flatten)]
@@ -650,196 +649,6 @@ pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
     };
     let first_error = cases.iter().find_map(|(_, c)| c.judged.error.clone());
     conclude(&args, &run, records, first_error)
-}
-
-/// What a golden run (or a shard of one) was, beside its cases: the
-/// record's head in `golden.json`, and the page's.
-struct RunRecord {
-    shard: Option<(usize, usize)>,
-    references: PathBuf,
-    key: String,
-    device: String,
-    driver: String,
-    preset: Preset,
-    thresholds: serde_json::Value,
-    limits: String,
-    bless: bool,
-    wall_ms: f64,
-}
-
-/// The file a golden run leaves in `--out` for `--merge`: every case, with
-/// its JUnit case and its rows of the page.
-const RECORD: &str = "golden.json";
-
-/// Writes the page, the JUnit file, the record and the JSON (or the
-/// summary line), and gives the exit status, from the cases' records in
-/// the whole run's order: a run's, or a merge of shards'.
-fn conclude(
-    args: &GoldenArgs,
-    run: &RunRecord,
-    records: Vec<serde_json::Value>,
-    first_error: Option<Failure>,
-) -> Result<(), Failure> {
-    let status_of = |v: &serde_json::Value| v["status"].as_str().unwrap_or("error").to_string();
-    let count = |s: Status| {
-        let word = s.word().to_lowercase();
-        records.iter().filter(|v| status_of(v) == word).count()
-    };
-    let rows: Vec<String> = records
-        .iter()
-        .map(|v| v["html_row"].as_str().unwrap_or_default().to_string())
-        .collect();
-    let figures: Vec<String> = records
-        .iter()
-        .filter_map(|v| v["html_figure"].as_str().map(str::to_string))
-        .collect();
-    let html = args.out.join("report.html");
-    let head = PageHead {
-        references: &run.references,
-        key: &run.key,
-        device: &run.device,
-        driver: &run.driver,
-        limits: &run.limits,
-    };
-    write_page(&html, &head, count(Status::Pass), &rows, &figures)?;
-    if let Some(path) = &args.junit {
-        let junit: Vec<_> = records
-            .iter()
-            .map(|v| junit_from_json(&v["junit"]))
-            .collect();
-        let xml = junit::render("shadelab golden", &junit);
-        output::write_atomically(path, xml.as_bytes())?;
-    }
-    // What a run of these cases was, for `--merge` to check that shards
-    // belong together: the same references, limits and driver's key.
-    let identity = serde_json::json!({
-        "references": run.references,
-        "key": run.key,
-        "thresholds": run.thresholds,
-    });
-    let record = serde_json::json!({
-        "shard": run.shard.map(|(i, n)| [i, n]),
-        "run": identity,
-        "device": run.device,
-        "driver": run.driver,
-        "limits": run.limits,
-        "preset": run.preset,
-        "cases": records,
-    });
-    output::write_atomically(&args.out.join(RECORD), record.to_string().as_bytes())?;
-    let total = records.len();
-    let summary = format!(
-        "{} passed, {} failed, {} missing, {} created, {} updated, {} errors of {total} cases",
-        count(Status::Pass),
-        count(Status::Fail),
-        count(Status::Missing),
-        count(Status::Created),
-        count(Status::Updated),
-        count(Status::Error),
-    );
-    if args.json {
-        let cases: Vec<serde_json::Value> = records
-            .iter()
-            .map(|v| {
-                let mut v = v.clone();
-                if let Some(o) = v.as_object_mut() {
-                    for internal in ["order", "junit", "html_row", "html_figure"] {
-                        o.remove(internal);
-                    }
-                }
-                v
-            })
-            .collect();
-        let value = serde_json::json!({
-            "references": run.references,
-            "key": run.key,
-            "device": run.device,
-            "driver": run.driver,
-            "preset": run.preset,
-            "thresholds": run.thresholds,
-            "bless": run.bless,
-            "shard": run.shard.map(|(i, n)| format!("{i}/{n}")),
-            "cases": cases,
-            "passed": count(Status::Pass),
-            "failed": count(Status::Fail),
-            "missing": count(Status::Missing),
-            "created": count(Status::Created),
-            "updated": count(Status::Updated),
-            "errors": count(Status::Error),
-            "report": html,
-            "wall_ms": run.wall_ms,
-        });
-        println!("{value}");
-    } else {
-        println!("golden: {summary}; report {}", html.display());
-    }
-    let ok = count(Status::Pass) + count(Status::Created) + count(Status::Updated);
-    let not_ok = total - ok;
-    if not_ok == 0 {
-        return Ok(());
-    }
-    // Every case an error (no device, no scene): that error's status.
-    if count(Status::Error) == total {
-        if let Some(error) = first_error {
-            return Err(error);
-        }
-    }
-    let hint = if count(Status::Fail) + count(Status::Missing) > 0 {
-        "; to accept these renders as the references, run again with --bless"
-    } else {
-        ""
-    };
-    Err(Failure {
-        code: 1,
-        message: format!("{not_ok} of {total} cases did not pass ({summary}){hint}"),
-    })
-}
-
-/// `--merge DIR...`: the shards' records joined into one report in
-/// `--out`, as the whole run would have written it; their pictures copied
-/// beside it.
-fn merge(args: &GoldenArgs) -> Result<(), Failure> {
-    let started = Instant::now();
-    output::prepare_output_folder(&args.out)?;
-    if let Some(path) = &args.junit {
-        output::prepare_output_path(path)?;
-    }
-    let shards = shards::read_shards(&args.merge, RECORD)?;
-    let records = shards::merged_cases(&shards);
-    for (dir, shard) in &shards {
-        for case in shard["cases"].as_array().into_iter().flatten() {
-            for written in case["written"].as_array().into_iter().flatten() {
-                let Some(path) = written.as_str().map(Path::new) else {
-                    continue;
-                };
-                // Recorded as the shard wrote it: under its --out.
-                let name = path
-                    .strip_prefix(dir)
-                    .ok()
-                    .or_else(|| path.file_name().map(Path::new))
-                    .unwrap_or(path);
-                shards::copy_into(dir, &args.out, name)?;
-            }
-        }
-    }
-    let first = &shards[0].1;
-    let text = |k: &str| first[k].as_str().unwrap_or_default().to_string();
-    let run = RunRecord {
-        shard: None,
-        references: PathBuf::from(first["run"]["references"].as_str().unwrap_or_default()),
-        key: first["run"]["key"].as_str().unwrap_or_default().to_string(),
-        device: text("device"),
-        driver: text("driver"),
-        preset: serde_json::from_value(first["preset"].clone()).unwrap_or(Preset::StoredReference),
-        thresholds: first["run"]["thresholds"].clone(),
-        limits: text("limits"),
-        bless: false,
-        wall_ms: shadelab::gpu::ms_since(started),
-    };
-    let first_error = records
-        .iter()
-        .find_map(|v| v["error"].as_str().map(|m| Failure::usage(m.to_string())));
-    conclude(args, &run, records, first_error)
 }
 
 /// Refuses, before any work, two cases that would read and write one

@@ -10,6 +10,7 @@ mod diff;
 mod diff_folders;
 mod golden;
 mod golden_keys;
+mod golden_record;
 mod golden_report;
 mod ignored;
 mod info;
