@@ -302,13 +302,16 @@ fn worst_against_reference(scene: &Scene, shading: Shading) -> (f64, usize) {
 /// lighting (FLOAT_TOL's 1e-6). The level of detail is the worst: where a
 /// pixel steps about one texel (lambda near 0, where trilinear blends the
 /// two finest levels) neighbouring `uv` differ by 1/256 of the floor's
-/// `[0, 4]`, and f32 rounds each `uv` by up to 2.4e-7, so the difference,
-/// and `rho`, are ~9e-5 off relatively: lambda 1.3e-4 off, which moves
-/// the blend of two levels of this noise (up to 1 apart) by as much.
-/// Measured worst: 3e-5 (Phong, trilinear) with the floor's image along
-/// its old axes, 1.13e-4 since it reads the right way round (the same
-/// floor, its image turned: other pixels land on that rounding). 2e-4
-/// holds both, and a texel off (1/64 of the image) is still 1e-2 away.
+/// `[0, 4]`, and f32 rounds a `uv` near 3.2 by up to 2.4e-7, so the
+/// difference, and `rho`, are ~9e-5 off relatively: lambda 1.3e-4 off,
+/// which moves the blend of two levels of this noise (up to 1 apart) by as
+/// much. Measured worst: 3e-5 (Phong, trilinear) with the floor's image
+/// along its old axes, 1.13e-4 since it reads the right way round. Why it
+/// grew: the image's top is now far from the camera, so the coordinate
+/// that runs toward the camera is about 3.2 where pixels step a texel (z
+/// about 1.8, 4.2 units from the eye; it was about 0.8 there, rounded 4x
+/// finer). 2e-4 holds both, and a texel off (1/64 of the image) is still
+/// 1e-2 away.
 const TEXTURE_TOL: f64 = 2e-4;
 
 /// `scene` with a second textured object whose image has another sampler:

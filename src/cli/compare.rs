@@ -285,13 +285,18 @@ fn render_variants(
         let modes = [variant.shading];
         let references = [variant.shading, Shading::Raytrace];
         if let Err(e) = memory.check(&name, &varied, &modes, &references) {
-            // None fits: the run is refused, as a render over the limit is.
-            if over_the_limit.len() + 1 == variants.len() {
-                return Err(e.into());
-            }
-            over_the_limit.insert(variant.to_string(), e.to_string());
+            over_the_limit.insert(variant.to_string(), Failure::from(e));
         }
     }
+    // None fits: the run is refused, as a render over the limit is.
+    if over_the_limit.len() == variants.len() {
+        let first = over_the_limit.remove(&variants[0].to_string());
+        return Err(first.expect("every variant is over the limit"));
+    }
+    let over_the_limit = over_the_limit
+        .into_iter()
+        .map(|(name, failure)| (name, failure.message))
+        .collect();
     let context = GpuContext::new(options)?;
     // The list chosen for the scene keeps the sample counts this device
     // renders; a count asked for by name is the device's to refuse.

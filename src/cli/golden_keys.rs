@@ -17,13 +17,13 @@ pub fn scene_keys(scenes: &[PathBuf], root: Option<&Path>) -> Result<Vec<String>
     if scenes.is_empty() {
         return Ok(vec!["default".to_string()]);
     }
-    let absolute: Vec<PathBuf> = scenes.iter().map(|p| absolute(p)).collect();
+    let paths: Vec<PathBuf> = scenes.iter().map(|p| absolute(p)).collect();
     let root = match root {
-        Some(root) => absolute_dir(root),
-        None => common_folder(&absolute),
+        Some(root) => absolute(root),
+        None => common_folder(&paths),
     };
     let mut keys = Vec::with_capacity(scenes.len());
-    for (given, path) in scenes.iter().zip(&absolute) {
+    for (given, path) in scenes.iter().zip(&paths) {
         let relative = path.strip_prefix(&root).map_err(|_| {
             Failure::usage(format!(
                 "the scene {} is not under --root {}",
@@ -66,10 +66,6 @@ fn absolute(path: &Path) -> PathBuf {
         }
     }
     clean
-}
-
-fn absolute_dir(path: &Path) -> PathBuf {
-    absolute(path)
 }
 
 /// The deepest folder that holds every path.
@@ -155,16 +151,17 @@ pub fn settings_differences(
     out
 }
 
-/// FNV-1a, 64 bits, as 16 hex digits: a digest of a lighting hook's source
-/// that is the same on every build (std's hasher may change between
-/// releases).
-pub fn fnv1a(text: &str) -> String {
-    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
-    for byte in text.bytes() {
-        hash ^= u64::from(byte);
-        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    format!("{hash:016x}")
+/// FNV-1a, 64 bits: a digest that is the same on every build (std's
+/// hasher may change between releases), for shards and hook sources.
+pub fn fnv1a(text: &str) -> u64 {
+    text.bytes().fold(0xcbf2_9ce4_8422_2325, |hash, byte| {
+        (hash ^ u64::from(byte)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+/// [`fnv1a`] as 16 hex digits, as a reference's settings record it.
+pub fn fnv1a_hex(text: &str) -> String {
+    format!("{:016x}", fnv1a(text))
 }
 
 #[cfg(test)]
@@ -234,7 +231,7 @@ mod tests {
             settings_differences(&hooked, &edited),
             ["lighting a/h.glsl -> a/h.glsl (its source changed)"]
         );
-        assert_eq!(fnv1a(""), "cbf29ce484222325");
-        assert_eq!(fnv1a("a"), "af63dc4c8601ec8c");
+        assert_eq!(fnv1a_hex(""), "cbf29ce484222325");
+        assert_eq!(fnv1a_hex("a"), "af63dc4c8601ec8c");
     }
 }

@@ -29,15 +29,26 @@ fn used_by(flag: &str, shading: Shading, cpu: bool) -> bool {
     }
 }
 
-/// Why a flag changes nothing in the cases that ignore it.
-fn why(flag: &str, cpu_alone: bool) -> &'static str {
+/// Why a flag changes nothing in the cases that ignore it: said of one
+/// flag, and of several.
+fn why(flag: &str, cpu_alone: bool) -> (&'static str, &'static str) {
     match flag {
-        "--msaa" => "it is for the raster modes; the ray tracer's anti-aliasing is --samples",
-        "--traversal" if cpu_alone => {
-            "it chooses the GPU ray tracer's engine; the CPU reference has one"
-        }
-        "--traversal" => "it chooses the GPU ray tracer's engine",
-        _ => "only the ray tracer uses it",
+        "--msaa" => (
+            "it is for the raster modes; the ray tracer's anti-aliasing is --samples",
+            "they are for the raster modes; the ray tracer's anti-aliasing is --samples",
+        ),
+        "--traversal" if cpu_alone => (
+            "it chooses the GPU ray tracer's engine; the CPU reference has one",
+            "they choose the GPU ray tracer's engine; the CPU reference has one",
+        ),
+        "--traversal" => (
+            "it chooses the GPU ray tracer's engine",
+            "they choose the GPU ray tracer's engine",
+        ),
+        _ => (
+            "only the ray tracer uses it",
+            "only the ray tracer uses them",
+        ),
     }
 }
 
@@ -47,7 +58,7 @@ fn why(flag: &str, cpu_alone: bool) -> &'static str {
 /// the ones that ignore them).
 pub fn warnings(given: &[&str], modes: &[Shading], backends: Backends) -> Vec<String> {
     // (the modes that ignore them, why) -> the flags.
-    type Ignoring = (Vec<Shading>, &'static str);
+    type Ignoring = (Vec<Shading>, (&'static str, &'static str));
     let mut groups: Vec<(Ignoring, Vec<&str>)> = Vec::new();
     for &flag in given {
         // A case ignores a flag where no backend it runs on uses it.
@@ -84,13 +95,7 @@ pub fn warnings(given: &[&str], modes: &[Shading], backends: Backends) -> Vec<St
             } else {
                 format!("the {} images ignore {it}", names.join(", "))
             };
-            let why = if flags.len() == 1 {
-                why.to_string()
-            } else {
-                why.replace("uses it", "uses them")
-                    .replace("it is for", "they are for")
-                    .replace("it chooses", "they choose")
-            };
+            let why = if flags.len() == 1 { why.0 } else { why.1 };
             format!("shadelab: warning: {}: {who} ({why})", flags.join(", "))
         })
         .collect()

@@ -27,10 +27,7 @@ pub fn parse_shard(text: &str) -> Result<(usize, usize), String> {
 pub fn on_shard(key: &str, shard: Option<(usize, usize)>) -> bool {
     match shard {
         None => true,
-        Some((i, n)) => {
-            let digest = u64::from_str_radix(&fnv1a(key), 16).unwrap_or(0);
-            digest % n as u64 == (i - 1) as u64
-        }
+        Some((i, n)) => fnv1a(key) % n as u64 == (i - 1) as u64,
     }
 }
 

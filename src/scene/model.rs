@@ -144,7 +144,8 @@ pub struct ImageTexture {
     pub sampler: Sampler,
     /// Applied to the surface's `(u, v)` before the lookup:
     /// `(u', v') = (m[0] u + m[1] v + m[2], m[3] u + m[4] v + m[5])`
-    /// (glTF's `KHR_texture_transform`, a TOML texture's `scale`).
+    /// (glTF's `KHR_texture_transform`, a TOML texture's placement:
+    /// [`UvTransform::placed`]).
     pub transform: UvTransform,
 }
 
@@ -158,6 +159,40 @@ impl UvTransform {
     pub fn apply(&self, u: f64, v: f64) -> (f64, f64) {
         let m = &self.0;
         (m[0] * u + m[1] * v + m[2], m[3] * u + m[4] * v + m[5])
+    }
+
+    /// An image placed on a surface (a TOML texture's `scale`, `rotation`
+    /// and `offset`), as the map from the surface's `(u, v)` to the
+    /// image's: turned `rotation_deg` counter-clockwise about the image's
+    /// centre as the face is seen (`v` runs down the image), then tiled
+    /// `scale` times across, then moved by `offset` image widths:
+    /// `uv' = scale (R (uv - 1/2) + 1/2) + offset`. Quarter turns are exact.
+    pub fn placed(scale: f64, rotation_deg: f64, offset: [f64; 2]) -> UvTransform {
+        let degrees = rotation_deg.rem_euclid(360.0);
+        let turns = degrees / 90.0;
+        let (sin, cos) = if turns == turns.round() {
+            match turns as u32 % 4 {
+                0 => (0.0, 1.0),
+                1 => (1.0, 0.0),
+                2 => (0.0, -1.0),
+                _ => (-1.0, 0.0),
+            }
+        } else {
+            degrees.to_radians().sin_cos()
+        };
+        // Seen with v down, turning the image counter-clockwise by a turns the
+        // lookup by it: its top edge comes to the face's left at a quarter turn.
+        let (a, b, c, d) = (cos, -sin, sin, cos);
+        let tx = 0.5 - a * 0.5 - b * 0.5;
+        let ty = 0.5 - c * 0.5 - d * 0.5;
+        UvTransform([
+            scale * a,
+            scale * b,
+            scale * tx + offset[0],
+            scale * c,
+            scale * d,
+            scale * ty + offset[1],
+        ])
     }
 
     /// How much it scales areas: `|det|` of its linear part.
@@ -349,6 +384,21 @@ mod tests {
 
     fn checker_at(p: &Pattern, u: f64, v: f64) -> (DVec3, i64) {
         p.checker_at(u, v).expect("a checker")
+    }
+
+    /// A quarter turn counter-clockwise, worked out by hand: the face's top
+    /// left corner `(0, 0)` shows the image's top right `(1, 0)`, its top
+    /// right `(1, 0)` the image's bottom right `(1, 1)`; exactly.
+    #[test]
+    fn a_quarter_turn_maps_the_corners_exactly() {
+        let t = UvTransform::placed(1.0, 90.0, [0.0, 0.0]);
+        assert_eq!(t.apply(0.0, 0.0), (1.0, 0.0));
+        assert_eq!(t.apply(1.0, 0.0), (1.0, 1.0));
+        assert_eq!(UvTransform::placed(1.0, -270.0, [0.0, 0.0]), t);
+        assert_eq!(
+            UvTransform::placed(2.0, 0.0, [0.25, 0.0]).apply(0.5, 0.5),
+            (1.25, 1.0)
+        );
     }
 
     #[test]

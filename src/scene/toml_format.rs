@@ -252,39 +252,6 @@ struct TextureRaw {
     filter: Option<Spanned<String>>,
 }
 
-/// A TOML texture's placement as the map from a surface's `(u, v)` to the
-/// image's: turned `rotation_deg` counter-clockwise about the image's
-/// centre as the face is seen (`v` runs down the image), then tiled `scale`
-/// times across, then moved by `offset` image widths:
-/// `uv' = scale (R (uv - 1/2) + 1/2) + offset`. Quarter turns are exact.
-fn placement(scale: f64, rotation_deg: f64, offset: [f64; 2]) -> UvTransform {
-    let degrees = rotation_deg.rem_euclid(360.0);
-    let turns = degrees / 90.0;
-    let (sin, cos) = if turns == turns.round() {
-        match turns as u32 % 4 {
-            0 => (0.0, 1.0),
-            1 => (1.0, 0.0),
-            2 => (0.0, -1.0),
-            _ => (-1.0, 0.0),
-        }
-    } else {
-        degrees.to_radians().sin_cos()
-    };
-    // Seen with v down, turning the image counter-clockwise by a turns the
-    // lookup by it: its top edge comes to the face's left at a quarter turn.
-    let (a, b, c, d) = (cos, -sin, sin, cos);
-    let tx = 0.5 - a * 0.5 - b * 0.5;
-    let ty = 0.5 - c * 0.5 - d * 0.5;
-    UvTransform([
-        scale * a,
-        scale * b,
-        scale * tx + offset[0],
-        scale * c,
-        scale * d,
-        scale * ty + offset[1],
-    ])
-}
-
 /// `pattern = { kind = "checker", scale = 8, colors = [[...], [...]] }`.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -661,7 +628,7 @@ impl Ctx<'_> {
             key,
             name: file.clone(),
             sampler: filter.sampler(wrap),
-            transform: placement(
+            transform: UvTransform::placed(
                 scale,
                 raw.rotation.as_ref().map_or(0.0, |r| r.get_ref().0),
                 raw.offset
