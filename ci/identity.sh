@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Renders the default scene, assets/*.toml and assets/hard/*.toml in all four
+# modes, PNG and EXR, on the GPU and with the CPU reference, and prints one
+# SHA-256 per image: a refactoring that must not change a pixel is checked
+# by diffing this list before and after (`ci/identity.sh BIN > list`).
+#   ci/identity.sh [BINARY] > hashes.txt
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bin=${1:-./target/release/shadelab}
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+modes=flat,gouraud,phong,raytrace
+for backend in gpu cpu; do
+    for ext in png exr; do
+        for set in default assets hard; do
+            case $set in
+                default) scenes=() ;;
+                assets) scenes=(assets/*.toml) ;;
+                hard) scenes=(assets/hard/*.toml) ;;
+            esac
+            dir=$out/$backend-$ext-$set
+            # A scene a mode refuses is part of what is compared: its
+            # refusal is listed (the status), not its image.
+            status=0
+            "$bin" render ${scenes[@]+"${scenes[@]}"} --quiet --backend "$backend" --shading "$modes" \
+                --out-dir "$dir" --name "{scene}-{mode}.$ext" >"$dir.log" 2>&1 || status=$?
+            echo "status $backend-$ext-$set $status"
+        done
+    done
+done
+cd "$out"
+find . -type f \( -name '*.png' -o -name '*.exr' \) -print0 | sort -z | xargs -0 sha256sum
