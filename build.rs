@@ -4,7 +4,7 @@
 //! glslang or naga rejects fails the build with the shader's own message.
 //!
 //! Output in OUT_DIR: one `.spv` per shader variant and `shaders.rs`, which
-//! the crate includes (`src/gpu/shader_catalog.rs`).
+//! the crate includes (`src/gpu/shared/shader_catalog.rs`).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

@@ -18,7 +18,7 @@ use std::time::Instant;
 
 use crate::camera::View;
 use crate::cpu;
-use crate::gpu::rt_bvh::BvhKinds;
+use crate::gpu::raytrace::bvh::BvhKinds;
 use crate::rt_scene::{RayStats, RtScene};
 use crate::scene::{GeometrySize, Scene, Traversal};
 use crate::shading::Shading;

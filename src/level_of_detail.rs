@@ -44,7 +44,7 @@ pub fn triangle_density(image: &ImageTexture, positions: [DVec3; 3], uvs: [DVec2
 
 /// A triangle's uv area per unit of its world area: its texel density
 /// before the texture's size and transform (the GPU ray tracer keeps it
-/// per triangle and multiplies those in: `gpu::rt_records`).
+/// per triangle and multiplies those in: `gpu::raytrace::records`).
 pub fn uv_per_world_area(positions: [DVec3; 3], uvs: [DVec2; 3]) -> f64 {
     let [a, b, c] = positions;
     let world = 0.5 * (b - a).cross(c - a).length();

@@ -7,6 +7,7 @@ use std::time::Instant;
 use crate::cpu;
 use crate::error::Error;
 use crate::gpu::raster::ColorTarget;
+use crate::gpu::shared::image_size::MAX_PIXELS;
 use crate::gpu::{raster, raytrace, GpuContext};
 use crate::linear_image::LinearImage;
 use crate::rt_scene::RayStats;
@@ -148,7 +149,7 @@ pub struct Coverage {
 }
 
 /// The CPU reference (`f64`) and what it knows about each pixel. Refuses an
-/// image over the GPU's pixel cap (`raster::MAX_PIXELS`): the reference holds
+/// image over the GPU's pixel cap (`MAX_PIXELS`): the reference holds
 /// it in f64 with per-pixel coverage, and every caller (`render --backend
 /// cpu`, `check`, `compare`) should fail fast rather than run out of memory.
 pub fn render_cpu(scene: &Scene, shading: Shading) -> Result<(Rendered, Coverage), Error> {
@@ -163,10 +164,10 @@ pub fn render_cpu_counted(
     counter: &WorkCounter,
 ) -> Result<(Rendered, Coverage), Error> {
     let (width, height) = (scene.image.width, scene.image.height);
-    if u64::from(width) * u64::from(height) > raster::MAX_PIXELS {
+    if u64::from(width) * u64::from(height) > MAX_PIXELS {
         return Err(Error::Usage(format!(
             "a {width}x{height} image exceeds the limit of {} pixels (8192 x 8192); choose a smaller --width/--height",
-            raster::MAX_PIXELS
+            MAX_PIXELS
         )));
     }
     refuse_beyond_f32(scene)?;

@@ -1,6 +1,6 @@
 //! GLSL to validated SPIR-V and its reflection: glslang compiles, naga
 //! parses, validates and reflects. Shared by build.rs (the built-in
-//! shaders, through `#[path]`) and `gpu::hook` (the built-in shaders with a
+//! shaders, through `#[path]`) and `gpu::shared::hook` (the built-in shaders with a
 //! user's lighting hook, at run time), so both go through the same steps.
 //! Depends on glslang and naga alone.
 
@@ -232,7 +232,7 @@ pub fn extend_by_decorations(base: &Reflection, spirv: &[u32]) -> Result<Reflect
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gpu::shader_catalog::{RAYTRACE_COMP, RAYTRACE_QUERY_COMP};
+    use crate::gpu::shared::shader_catalog::{RAYTRACE_COMP, RAYTRACE_QUERY_COMP};
 
     /// The decorations of the built ray tracers: the compute one's set 0,
     /// and the ray-query one's set 0 plus its acceleration structure.

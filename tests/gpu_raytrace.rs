@@ -355,8 +355,8 @@ fn object_rows(spheres: i32, planes: i32, boxes: i32, materials: usize) -> Scene
 #[test]
 fn long_object_lists_in_the_bvh_agree_with_the_cpu() {
     use shadelab::check::{check, CheckThresholds};
-    use shadelab::gpu::rt_bvh::gpu_bvh;
-    use shadelab::gpu::rt_bvh::BvhKinds;
+    use shadelab::gpu::raytrace::bvh::gpu_bvh;
+    use shadelab::gpu::raytrace::bvh::BvhKinds;
     use shadelab::rt_scene::RtScene;
     // With the mesh the tree is big enough for the 4-wide walk; without
     // it, the objects alone make a tree the binary walk takes.
@@ -377,7 +377,7 @@ fn long_object_lists_in_the_bvh_agree_with_the_cpu() {
             "which walk the shader takes"
         );
         assert!(
-            !shadelab::gpu::rt_layout::lists_materials(s.materials.len()),
+            !shadelab::gpu::raytrace::layout::lists_materials(s.materials.len()),
             "the materials must be too many to pick by selects, so that each lane reads its own"
         );
         let limits = CheckThresholds::for_shading(Shading::Raytrace);
@@ -395,8 +395,8 @@ fn long_object_lists_in_the_bvh_agree_with_the_cpu() {
 #[test]
 fn the_longest_listed_objects_agree_with_the_cpu() {
     use shadelab::check::{check, CheckThresholds};
-    use shadelab::gpu::rt_bvh::BvhKinds;
-    use shadelab::gpu::rt_layout::{
+    use shadelab::gpu::raytrace::bvh::BvhKinds;
+    use shadelab::gpu::raytrace::layout::{
         lists_materials, UNROLLED_BOXES, UNROLLED_MATERIALS, UNROLLED_PLANES, UNROLLED_SPHERES,
     };
     use shadelab::rt_scene::RtScene;

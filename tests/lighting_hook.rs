@@ -74,8 +74,8 @@ fn the_lectures_formula_as_a_hook_renders_as_the_built_in_one_in_every_mode() {
     let mut built_in = glossy_sphere();
     built_in.objects[0].shape = Shape::Mesh(tessellate(&built_in.objects[0].shape));
     let rt = shadelab::rt_scene::RtScene::new(&built_in);
-    let kinds = shadelab::gpu::rt_bvh::BvhKinds::of(&rt);
-    assert!(shadelab::gpu::rt_bvh::gpu_bvh(&rt, kinds)
+    let kinds = shadelab::gpu::raytrace::bvh::BvhKinds::of(&rt);
+    assert!(shadelab::gpu::raytrace::bvh::gpu_bvh(&rt, kinds)
         .unwrap()
         .wide
         .is_some());

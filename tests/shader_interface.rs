@@ -7,8 +7,9 @@
 
 use ash::vk;
 use rt_layout::TraceSpecialization;
-use shadelab::gpu::shader_catalog::{BindingKind, ShaderBlob, ShaderStage, ALL_SHADERS};
-use shadelab::gpu::{raster_layout, rt_layout};
+use shadelab::gpu::raster::layout as raster_layout;
+use shadelab::gpu::raytrace::layout as rt_layout;
+use shadelab::gpu::shared::shader_catalog::{BindingKind, ShaderBlob, ShaderStage, ALL_SHADERS};
 use std::mem::offset_of;
 
 /// What the host declares for one pipeline family.

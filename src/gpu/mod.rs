@@ -1,36 +1,23 @@
-//! The Vulkan side: device, memory, shaders, pipelines, and the renderers
-//! built from them. It reads a `Scene` and returns a `LinearImage`; it never
-//! reads or writes files.
+//! The Vulkan side: it reads a `Scene` and returns a `LinearImage`; it
+//! never reads or writes files. Three rooms (docs/architecture.md):
+//!
+//! - `vk`: how Vulkan gives us things (device and queues, memory,
+//!   buffers, images, commands, descriptors, pipelines and their cache,
+//!   specialisation, timestamps, validation, errors). It knows no scene.
+//! - `shared`: what every renderer compiles and uploads alike (the
+//!   shader catalogue, a user's lighting hook, lights, textures, the image
+//!   size limits).
+//! - One folder per renderer, each reading `vk` and `shared` and never
+//!   another renderer: `raster` (flat, Gouraud and Phong through graphics
+//!   pipelines) and `raytrace` (the compute tracer and its ray-query
+//!   engine). A new renderer is a folder beside them.
 
-mod buffer;
-mod commands;
-mod context;
-mod descriptors;
-mod error;
-pub mod hook;
-mod image;
-mod pipeline;
 pub mod raster;
-mod raster_cull;
-mod raster_flat;
-mod raster_frame;
-pub mod raster_layout;
-mod raster_samples;
-mod raster_scene;
-mod ray_query;
 pub mod raytrace;
-mod rt_accel;
-pub mod rt_bvh;
-pub mod rt_layout;
-mod rt_records;
-pub mod rt_wide;
-pub mod shader_catalog;
-mod specialise;
-pub mod texture_table;
-mod timestamps;
-mod validation;
+pub mod shared;
+pub(crate) mod vk;
 
-pub use context::{list_devices, DeviceInfo, GpuContext, GpuOptions};
-pub use error::GpuError;
 pub use raster::RasterOutput;
-pub use timestamps::{ms_since, GpuTimings};
+pub use vk::context::{list_devices, DeviceInfo, GpuContext, GpuOptions};
+pub use vk::error::GpuError;
+pub use vk::timestamps::{ms_since, GpuTimings};

@@ -129,7 +129,7 @@ impl LoadLimits {
 /// How many copies of a texture's linear texels (12 bytes a texel) a
 /// render holds, rounded up: the scene's [`Texture`](super::Texture) (12
 /// bytes a texel), and on the GPU path the texture table's copy on the
-/// host and its buffer on the device (`gpu::texture_table`, 16 bytes a
+/// host and its buffer on the device (`gpu::shared::texture_table`, 16 bytes a
 /// texel each: RGB and a pad), 44 bytes in all, counted as 48. The CPU
 /// reference holds the first alone; the loader counts them all, so that it
 /// errs high.

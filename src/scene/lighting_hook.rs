@@ -1,5 +1,5 @@
 //! Reading a lighting hook's file (`--lighting FILE`, `lighting=FILE` in a
-//! compare variant). Compiling it is the GPU's business (`gpu::hook`).
+//! compare variant). Compiling it is the GPU's business (`gpu::shared::hook`).
 
 use std::path::Path;
 

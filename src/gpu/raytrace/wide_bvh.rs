@@ -10,7 +10,7 @@
 
 use bytemuck::Zeroable;
 
-use super::rt_layout::*;
+use crate::gpu::raytrace::layout::*;
 
 /// Inner nodes of the binary tree from which the shader walks the wide
 /// form instead (measured: docs/performance.md).
@@ -103,7 +103,7 @@ fn widen_node(nodes: &[GpuBvhNode], index: u32, wide: &mut Vec<GpuWideNode>) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gpu::rt_bvh::{gpu_bvh, BvhKinds};
+    use crate::gpu::raytrace::bvh::{gpu_bvh, BvhKinds};
     use crate::rt_scene::RtScene;
     use crate::scene::{default_scene, tessellate, Object, Shape};
     use glam::DVec3;

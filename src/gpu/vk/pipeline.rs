@@ -7,8 +7,7 @@ use std::sync::{Arc, Mutex};
 
 use ash::vk;
 
-use super::context::GpuContext;
-use super::error::GpuError;
+use crate::gpu::vk::error::GpuError;
 
 pub struct PipelineObjects {
     /// The device's handle, not the context: the context keeps built
@@ -26,9 +25,9 @@ pub struct PipelineObjects {
 impl PipelineObjects {
     /// Empty (null) handles, filled in as creation proceeds; whatever was
     /// created is destroyed if a later step fails.
-    pub fn new(context: &Arc<GpuContext>) -> Self {
+    pub fn new(device: &ash::Device) -> Self {
         Self {
-            device: context.device.clone(),
+            device: device.clone(),
             set_layout: vk::DescriptorSetLayout::null(),
             extra_set_layout: vk::DescriptorSetLayout::null(),
             layout: vk::PipelineLayout::null(),

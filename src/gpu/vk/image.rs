@@ -6,8 +6,8 @@ use ash::vk;
 use gpu_allocator::vulkan::Allocation;
 use gpu_allocator::MemoryLocation;
 
-use super::context::GpuContext;
-use super::error::{GpuError, VkContext};
+use crate::gpu::vk::context::GpuContext;
+use crate::gpu::vk::error::{GpuError, VkContext};
 
 pub struct Image {
     context: Arc<GpuContext>,
@@ -100,4 +100,24 @@ impl Drop for Image {
             self.context.free(a);
         }
     }
+}
+
+/// A layout transition (and the work it waits on) of one image's whole
+/// `aspect`.
+pub fn image_barrier(
+    image: vk::Image,
+    aspect: vk::ImageAspectFlags,
+    (old, new): (vk::ImageLayout, vk::ImageLayout),
+    (src_stage, src_access): (vk::PipelineStageFlags2, vk::AccessFlags2),
+    (dst_stage, dst_access): (vk::PipelineStageFlags2, vk::AccessFlags2),
+) -> vk::ImageMemoryBarrier2<'static> {
+    vk::ImageMemoryBarrier2::default()
+        .image(image)
+        .subresource_range(subresource_range(aspect))
+        .old_layout(old)
+        .new_layout(new)
+        .src_stage_mask(src_stage)
+        .src_access_mask(src_access)
+        .dst_stage_mask(dst_stage)
+        .dst_access_mask(dst_access)
 }

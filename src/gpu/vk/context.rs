@@ -11,10 +11,10 @@ use std::sync::{Arc, Mutex};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
-use super::error::{GpuError, VkContext};
-use super::pipeline::BuiltPipelines;
-use super::ray_query;
-use super::validation::{messenger_info, MessageLog};
+use crate::gpu::vk::error::{GpuError, VkContext};
+use crate::gpu::vk::pipeline::BuiltPipelines;
+use crate::gpu::vk::ray_query;
+use crate::gpu::vk::validation::{messenger_info, MessageLog};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 
@@ -274,7 +274,7 @@ fn msaa_counts(limits: &vk::PhysicalDeviceLimits) -> Vec<u32> {
 /// workgroup is full (every lane present for its shuffles, and for its
 /// share of a work item's pixels).
 fn packet_tracing_supported(subgroup: &vk::PhysicalDeviceSubgroupProperties) -> bool {
-    (4..=super::rt_layout::WORKGROUP_SIZE).contains(&subgroup.subgroup_size)
+    (4..=crate::gpu::raytrace::layout::WORKGROUP_SIZE).contains(&subgroup.subgroup_size)
         && subgroup
             .supported_stages
             .contains(vk::ShaderStageFlags::COMPUTE)

@@ -17,8 +17,8 @@
 use ash::vk;
 use spirv_tools::opt::{Optimizer, Passes};
 
-use super::error::GpuError;
 use crate::cache;
+use crate::gpu::vk::error::GpuError;
 
 /// The cache folder's subfolder of specialised modules.
 const SPECIALISED_CACHE: &str = "spirv";

@@ -8,10 +8,10 @@
 use bytemuck::Zeroable;
 use glam::DVec3;
 
-use super::error::GpuError;
-use super::rt_bvh::{gpu_bvh, BvhKinds, GpuBvh, LeafBases};
-use super::rt_layout::*;
-use super::texture_table::TextureTable;
+use crate::gpu::raytrace::bvh::{gpu_bvh, BvhKinds, GpuBvh, LeafBases};
+use crate::gpu::raytrace::layout::*;
+use crate::gpu::shared::texture_table::TextureTable;
+use crate::gpu::vk::error::GpuError;
 use crate::level_of_detail::uv_per_world_area;
 use crate::rt_scene::RtScene;
 use crate::scene::texcoords::box_face_codes;

@@ -10,9 +10,9 @@ use glam::{DVec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::Bvh2;
 
-use super::error::GpuError;
-use super::rt_layout::*;
-use super::rt_wide::{widen, WideBvh};
+use crate::gpu::raytrace::layout::*;
+use crate::gpu::raytrace::wide_bvh::{widen, WideBvh};
+use crate::gpu::vk::error::GpuError;
 use crate::rt_scene::{widened_box, RtScene};
 
 /// Which kinds of analytic object the BVH holds (the others are tested one

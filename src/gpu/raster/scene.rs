@@ -12,11 +12,12 @@
 
 use glam::DVec3;
 
-use super::raster_cull::back_faces_hidden;
-use super::raster_layout::{GpuFace, GpuLight, Specialization, Vertex};
-use super::texture_table::TextureTable;
 use crate::camera::View;
 use crate::cpu::surface::pattern_color;
+use crate::gpu::raster::cull::back_faces_hidden;
+use crate::gpu::raster::layout::{GpuFace, Specialization, Vertex};
+use crate::gpu::shared::lights::SceneLighting;
+use crate::gpu::shared::texture_table::TextureTable;
 use crate::level_of_detail::flat_lambda;
 use crate::scene::{tessellate, tessellate_textured, Scene, Shape};
 
@@ -197,29 +198,15 @@ pub fn build_geometry(scene: &Scene, view: &View, with_faces: bool) -> RasterGeo
     geometry
 }
 
-pub fn lights(scene: &Scene, eye: DVec3) -> Vec<GpuLight> {
-    scene
-        .lights
-        .iter()
-        .map(|l| GpuLight {
-            position: f32x4(l.position - eye),
-            intensity: f32x4(l.intensity),
-        })
-        .collect()
-}
-
-/// Only what the scene uses: the loop over exactly its lights, specular only
-/// if some drawn material has `ks > 0`, attenuation only if enabled.
+/// Only what the scene uses (`SceneLighting`), and image textures through
+/// one sampler where they all share it.
 pub fn specialization(scene: &Scene) -> Specialization {
-    let use_specular = scene
-        .objects
-        .iter()
-        .any(|o| scene.materials[o.material].ks > 0.0);
+    let lighting = SceneLighting::of(scene);
     let fixed_sampler = TextureTable::common_sampler(&scene.materials);
     Specialization {
-        light_count: scene.lights.len() as i32,
-        use_specular: u32::from(use_specular),
-        use_attenuation: u32::from(scene.lighting.attenuation),
+        light_count: lighting.light_count,
+        use_specular: u32::from(lighting.use_specular),
+        use_attenuation: u32::from(lighting.use_attenuation),
         sampler_fixed: u32::from(fixed_sampler.is_some()),
         fixed_sampler: fixed_sampler.unwrap_or(0),
         // Until the draws are known (`with_back_faces`): on.

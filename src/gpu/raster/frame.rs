@@ -9,21 +9,22 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use super::buffer::Buffer;
-use super::context::GpuContext;
-use super::descriptors::Descriptors;
-use super::error::GpuError;
-use super::image::Image;
-use super::pipeline::PipelineObjects;
-use super::raster::{
-    bindings_of, image_barrier, ColorTarget, SurfaceFeatures, DEPTH_FORMAT, SCALED_UNORM16_RANGE,
-};
-use super::raster_flat::FlatMesh;
-use super::raster_layout::{DrawConstants, FrameUniforms, PatternConstants, PatternDrawConstants};
-use super::raster_samples::{averaged, pass_viewport_origin, SampleDrawing};
-use super::raster_scene::{lights, RasterGeometry as Geometry};
-use super::timestamps::Timestamps;
 use crate::camera::View;
+use crate::gpu::raster::flat::FlatMesh;
+use crate::gpu::raster::layout::{DrawConstants, FrameUniforms, PatternDrawConstants};
+use crate::gpu::raster::pipeline::{bindings_of, SurfaceFeatures};
+use crate::gpu::raster::samples::{averaged, pass_viewport_origin, SampleDrawing};
+use crate::gpu::raster::scene::RasterGeometry as Geometry;
+use crate::gpu::raster::target::{ColorTarget, DEPTH_FORMAT, SCALED_UNORM16_RANGE};
+use crate::gpu::shared::lights::{lights, PatternConstants};
+use crate::gpu::vk::buffer::Buffer;
+use crate::gpu::vk::context::GpuContext;
+use crate::gpu::vk::descriptors::Descriptors;
+use crate::gpu::vk::error::GpuError;
+use crate::gpu::vk::image::image_barrier;
+use crate::gpu::vk::image::Image;
+use crate::gpu::vk::pipeline::PipelineObjects;
+use crate::gpu::vk::timestamps::Timestamps;
 use crate::linear_image::LinearImage;
 use crate::scene::Scene;
 use crate::shading::RasterMode;

@@ -15,12 +15,12 @@ use ash::vk;
 use glam::DVec3;
 use gpu_allocator::MemoryLocation;
 
-use super::buffer::Buffer;
-use super::commands::OneShot;
-use super::context::GpuContext;
-use super::error::{GpuError, VkContext};
-use super::rt_layout::GpuTriangleGeometry;
-use super::rt_records::{in_order, SceneRecords};
+use crate::gpu::raytrace::layout::GpuTriangleGeometry;
+use crate::gpu::raytrace::records::{in_order, SceneRecords};
+use crate::gpu::vk::buffer::Buffer;
+use crate::gpu::vk::commands::OneShot;
+use crate::gpu::vk::context::GpuContext;
+use crate::gpu::vk::error::{GpuError, VkContext};
 use crate::rt_scene::{RtBox, RtPlane, RtScene, RtSphere};
 
 /// Instance custom indices of the analytic kinds: which records their
@@ -459,8 +459,8 @@ mod tests {
     /// triangle's shading record moves with its geometry.
     #[test]
     fn group_by_mesh_makes_each_mesh_one_run() {
-        use super::super::rt_bvh::GpuBvh;
-        use super::super::rt_layout::GpuTriangleShading;
+        use crate::gpu::raytrace::bvh::GpuBvh;
+        use crate::gpu::raytrace::layout::GpuTriangleShading;
         use bytemuck::Zeroable;
         let objects = [1u32, 0, 1, 2, 0];
         let mut r = SceneRecords {

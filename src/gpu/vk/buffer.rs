@@ -6,8 +6,8 @@ use ash::vk;
 use gpu_allocator::vulkan::Allocation;
 use gpu_allocator::MemoryLocation;
 
-use super::context::GpuContext;
-use super::error::{GpuError, VkContext};
+use crate::gpu::vk::context::GpuContext;
+use crate::gpu::vk::error::{GpuError, VkContext};
 
 pub struct Buffer {
     context: Arc<GpuContext>,

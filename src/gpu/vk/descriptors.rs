@@ -6,9 +6,9 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::buffer::Buffer;
-use super::context::GpuContext;
-use super::error::{GpuError, VkContext};
+use crate::gpu::vk::buffer::Buffer;
+use crate::gpu::vk::context::GpuContext;
+use crate::gpu::vk::error::{GpuError, VkContext};
 
 pub fn create_set_layout(
     context: &GpuContext,

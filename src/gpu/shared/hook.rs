@@ -6,10 +6,10 @@
 //! on disk, keyed by every text that went in, the defines and the driver,
 //! so a sweep over many variants compiles each once.
 
-use super::context::DeviceInfo;
-use super::error::GpuError;
-use super::shader_catalog::{ShaderBlob, ShaderStage, INCLUDES};
 use crate::cache;
+use crate::gpu::shared::shader_catalog::{ShaderBlob, ShaderStage, INCLUDES};
+use crate::gpu::vk::context::DeviceInfo;
+use crate::gpu::vk::error::GpuError;
 use crate::scene::LightingHook;
 use crate::shader_compile;
 
@@ -183,7 +183,7 @@ mod tests {
 
     #[test]
     fn the_key_changes_with_the_hook_the_defines_and_the_driver() {
-        use super::super::shader_catalog::{GOURAUD_VERT, GOURAUD_VERT_SCREEN};
+        use crate::gpu::shared::shader_catalog::{GOURAUD_VERT, GOURAUD_VERT_SCREEN};
         let hook = |text: &str| LightingHook {
             path: "h.glsl".into(),
             source: text.into(),
@@ -200,7 +200,7 @@ mod tests {
 
     #[test]
     fn a_float16_capability_is_found_among_the_capabilities() {
-        use super::super::shader_catalog::PHONG_FRAG;
+        use crate::gpu::shared::shader_catalog::PHONG_FRAG;
         let header = [0x0723_0203, 0x0001_0600, 0, 10, 0];
         let capability = |c: u32| [(2 << 16) | 17, c];
         let mut module = header.to_vec();
@@ -218,7 +218,7 @@ mod tests {
 
     #[test]
     fn a_half_precision_hook_is_refused_where_the_device_lacks_float16() {
-        use super::super::shader_catalog::PHONG_FRAG;
+        use crate::gpu::shared::shader_catalog::PHONG_FRAG;
         let path = concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/examples/lighting/half-precision.glsl"

@@ -13,8 +13,8 @@
 //! shared vertex) is appended after the faces' and carries a copy of a
 //! neighbouring face's record, whose colour nothing uses.
 
-use super::raster_layout::GpuFace;
-use super::raster_scene::RasterGeometry;
+use crate::gpu::raster::layout::GpuFace;
+use crate::gpu::raster::scene::RasterGeometry;
 
 pub struct FlatMesh {
     /// Camera-relative positions; vertex `f` below the face count is face
@@ -89,7 +89,7 @@ impl FlatMesh {
 mod tests {
     use super::*;
     use crate::camera::View;
-    use crate::gpu::raster_scene::build_geometry;
+    use crate::gpu::raster::scene::build_geometry;
     use crate::scene::default_scene;
 
     /// The default scene: spheres, a box and a plane, several draws.

@@ -7,6 +7,8 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 
+use crate::gpu::shared::lights::{GpuLight, PatternConstants};
+
 pub const LIGHTS_BINDING: u32 = 0;
 pub const FRAME_BINDING: u32 = 1;
 pub const FACES_BINDING: u32 = 2;
@@ -68,13 +70,6 @@ pub struct Vertex {
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
-pub struct GpuLight {
-    pub position: [f32; 4],
-    pub intensity: [f32; 4],
-}
-
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct FrameUniforms {
     /// rgb: Ia, w: k.
     pub ambient_k: [f32; 4],
@@ -96,17 +91,6 @@ pub struct DrawConstants {
     pub kd_ks_p: [f32; 4],
 }
 
-/// A draw's pattern (`PATTERN` variants), pushed after `DrawConstants`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
-pub struct PatternConstants {
-    /// rgb: the checker's first colour; w: its scale, 0 for a material
-    /// without a pattern (the pattern is then 1).
-    pub checker_a: [f32; 4],
-    /// rgb: the checker's second colour.
-    pub checker_b: [f32; 4],
-}
-
 /// The push constants of the `PATTERN` variants: 128 bytes, the least every
 /// Vulkan device holds.
 #[repr(C)]
@@ -114,36 +98,6 @@ pub struct PatternConstants {
 pub struct PatternDrawConstants {
     pub draw: DrawConstants,
     pub pattern: PatternConstants,
-}
-
-impl PatternConstants {
-    /// The values for a material's pattern, or for none. An image
-    /// (`TEXTURE` variants) is its index in the texture table
-    /// (`gpu::texture_table`) as `w = -1 - index`, and its uv transform's
-    /// rows in the two `xyz`.
-    pub fn of(pattern: Option<&crate::scene::Pattern>, texture: Option<u32>) -> Self {
-        match pattern {
-            None => PatternConstants::zeroed(),
-            Some(crate::scene::Pattern::Checker {
-                scale,
-                colors: [a, b],
-            }) => {
-                let (a, b) = (a.as_vec3(), b.as_vec3());
-                PatternConstants {
-                    checker_a: [a.x, a.y, a.z, *scale as f32],
-                    checker_b: [b.x, b.y, b.z, 0.0],
-                }
-            }
-            Some(crate::scene::Pattern::Image(image)) => {
-                let m = image.transform.0.map(|x| x as f32);
-                let index = texture.expect("a material's image is in the texture table");
-                PatternConstants {
-                    checker_a: [m[0], m[1], m[2], -1.0 - index as f32],
-                    checker_b: [m[3], m[4], m[5], 0.0],
-                }
-            }
-        }
-    }
 }
 
 /// Values for `SPEC_CONSTANTS`, in order; each is 4 bytes (bools as VkBool32).

@@ -5,9 +5,9 @@ use std::time::Instant;
 
 use ash::vk;
 
-use super::commands::OneShot;
-use super::context::GpuContext;
-use super::error::{GpuError, VkContext};
+use crate::gpu::vk::commands::OneShot;
+use crate::gpu::vk::context::GpuContext;
+use crate::gpu::vk::error::{GpuError, VkContext};
 
 /// Where a render spent its time.
 #[derive(Debug, Clone, Copy, Default, serde::Serialize)]

@@ -12,24 +12,24 @@ use std::time::Instant;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use super::buffer::Buffer;
-use super::commands::OneShot;
-use super::context::DeviceInfo;
-use super::context::GpuContext;
-use super::descriptors::{create_set_layout, Descriptors};
-use super::error::{GpuError, VkContext};
-use super::hook;
-use super::pipeline::{single_pipeline, PipelineObjects};
-use super::raster::check_image_size;
-use super::raster_scene;
-use super::rt_accel::{self, SceneStructure};
-use super::rt_bvh::BvhKinds;
-use super::rt_layout::*;
-use super::rt_records::{records, v4};
-use super::shader_catalog::{RAYTRACE_COMP, RAYTRACE_QUERY_COMP, RAYTRACE_WIDE_COMP};
-use super::specialise::specialise;
-use super::timestamps::{ms_since, GpuTimings, Timestamps};
 use crate::camera::View;
+use crate::gpu::raytrace::accel::{self, SceneStructure};
+use crate::gpu::raytrace::bvh::BvhKinds;
+use crate::gpu::raytrace::layout::*;
+use crate::gpu::raytrace::records::{records, v4};
+use crate::gpu::shared::hook;
+use crate::gpu::shared::image_size::check_image_size;
+use crate::gpu::shared::lights::{lights, SceneLighting};
+use crate::gpu::shared::shader_catalog::{RAYTRACE_COMP, RAYTRACE_QUERY_COMP, RAYTRACE_WIDE_COMP};
+use crate::gpu::vk::buffer::Buffer;
+use crate::gpu::vk::commands::OneShot;
+use crate::gpu::vk::context::DeviceInfo;
+use crate::gpu::vk::context::GpuContext;
+use crate::gpu::vk::descriptors::{create_set_layout, Descriptors};
+use crate::gpu::vk::error::{GpuError, VkContext};
+use crate::gpu::vk::pipeline::{single_pipeline, PipelineObjects};
+use crate::gpu::vk::specialise::specialise;
+use crate::gpu::vk::timestamps::{ms_since, GpuTimings, Timestamps};
 use crate::linear_image::LinearImage;
 use crate::rt_scene::{sample_grid, RayStats, RtScene};
 use crate::scene::{LightingHook, Scene, Traversal};
@@ -80,7 +80,7 @@ fn create_pipeline(
     driver_specialises: bool,
 ) -> Result<PipelineObjects, GpuError> {
     let device = &context.device;
-    let mut p = PipelineObjects::new(context);
+    let mut p = PipelineObjects::new(&context.device);
     p.set_layout = create_set_layout(context, BINDINGS, vk::ShaderStageFlags::COMPUTE)?;
     let mut set_layouts = vec![p.set_layout];
     let shader = if traversal == Traversal::Query {
@@ -149,13 +149,13 @@ pub struct TraceOptions {
     pub driver_specialises: bool,
 }
 
-/// Only what the scene uses: the lighting constants of the raster pipelines
-/// (`raster_scene::specialization`), shadows if on, reflection and
+/// Only what the scene uses: the lighting terms every pipeline sets
+/// (`SceneLighting`), shadows if on, reflection and
 /// refraction if some material has them, the objects tested one by one and
 /// the kinds the BVH holds (`BvhKinds`), the materials held in registers
 /// if few; or every feature on (`TraceOptions::every_feature`).
 fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSpecialization {
-    let lighting = raster_scene::specialization(scene);
+    let lighting = SceneLighting::of(scene);
     let on = |used: bool| u32::from(used || options.every_feature);
     let in_bvh = BvhKinds::of(rt);
     let listed = |in_bvh: bool, count: usize| if in_bvh { 0 } else { count as i32 };
@@ -163,12 +163,12 @@ fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSp
     let fixed_sampler = if options.every_feature {
         None
     } else {
-        super::texture_table::TextureTable::common_sampler(&rt.materials)
+        crate::gpu::shared::texture_table::TextureTable::common_sampler(&rt.materials)
     };
     TraceSpecialization {
         light_count: lighting.light_count,
-        use_specular: on(lighting.use_specular != 0),
-        use_attenuation: lighting.use_attenuation,
+        use_specular: on(lighting.use_specular),
+        use_attenuation: u32::from(lighting.use_attenuation),
         shadows: u32::from(rt.render.shadows && !rt.lights.is_empty()),
         has_reflection: on(rt.has_reflection() && rt.render.depth > 0),
         has_transmission: on(rt.has_transmission() && rt.render.depth > 0),
@@ -247,7 +247,7 @@ pub fn render_with(
     // Refuses what the records cannot hold before building the pipeline.
     let mut r = records(&rt)?;
     let meshes = match traversal {
-        Traversal::Query => rt_accel::group_by_mesh(&mut r),
+        Traversal::Query => accel::group_by_mesh(&mut r),
         _ => Vec::new(),
     };
     let spec = specialization(scene, &rt, options);
@@ -296,10 +296,7 @@ pub fn render_with(
     };
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let upload = |name: &str, bytes: &[u8]| Buffer::with_data(context, name, bytes, storage);
-    let lights = upload(
-        "lights",
-        bytemuck::cast_slice(&raster_scene::lights(scene, view.eye)),
-    )?;
+    let lights = upload("lights", bytemuck::cast_slice(&lights(scene, view.eye)))?;
     let spheres = upload("spheres", bytemuck::cast_slice(&r.spheres))?;
     let planes = upload("planes", bytemuck::cast_slice(&r.planes))?;
     let boxes = upload("boxes", bytemuck::cast_slice(&r.boxes))?;
@@ -375,7 +372,7 @@ pub fn render_with(
     // timed work, as the compute BVH is built on the host before it.
     let structure: Option<(SceneStructure, Descriptors)> = match traversal {
         Traversal::Query => {
-            let built = rt_accel::build(context, &rt, &r, &meshes)?;
+            let built = accel::build(context, &rt, &r, &meshes)?;
             let set = Descriptors::for_structure(
                 context,
                 pipeline.extra_set_layout,

@@ -4,8 +4,8 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::context::GpuContext;
-use super::error::{GpuError, VkContext};
+use crate::gpu::vk::context::GpuContext;
+use crate::gpu::vk::error::{GpuError, VkContext};
 
 /// A command pool with one primary command buffer and a fence.
 pub struct OneShot {

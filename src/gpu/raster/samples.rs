@@ -14,9 +14,9 @@
 //! no multisampling at all, so it takes every standard count, where the
 //! device places a viewport to a sixteenth of a pixel.
 
-use super::context::DeviceInfo;
-use super::error::GpuError;
-use super::raster::ColorTarget;
+use crate::gpu::raster::target::ColorTarget;
+use crate::gpu::vk::context::DeviceInfo;
+use crate::gpu::vk::error::GpuError;
 use crate::linear_image::LinearImage;
 use crate::msaa::{self, Msaa};
 
@@ -163,6 +163,14 @@ pub(crate) fn averaged(passes: &[LinearImage]) -> LinearImage {
         width: first.width,
         height: first.height,
         pixels,
+    }
+}
+
+impl ColorTarget {
+    /// The target drawn into when `self` is asked for at `msaa`: several
+    /// samples are averaged as linear values.
+    pub fn drawn_with(self, msaa: crate::msaa::Msaa) -> Self {
+        SampleDrawing::of(msaa).target(self)
     }
 }
 

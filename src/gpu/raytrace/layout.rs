@@ -6,7 +6,7 @@
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 
-use super::raster_layout::GpuLight;
+use crate::gpu::shared::lights::GpuLight;
 
 pub const LIGHTS: u32 = 0;
 pub const UNIFORMS: u32 = 1;
@@ -337,8 +337,8 @@ pub struct GpuTriangleUvs {
 }
 
 /// A material's pattern, one per material; only for scenes with one. The
-/// raster pipelines push the same values (`raster_layout::PatternConstants`).
-pub type GpuPattern = super::raster_layout::PatternConstants;
+/// raster pipelines push the same values (`shared::lights::PatternConstants`).
+pub type GpuPattern = crate::gpu::shared::lights::PatternConstants;
 
 /// Values for `SPEC_CONSTANTS`, in order, 4 bytes each (bools as VkBool32).
 #[repr(C)]

@@ -1,0 +1,20 @@
+//! The raster renderer: flat, Gouraud and Phong through Vulkan graphics
+//! pipelines. The `renderer` turns a scene into its geometry
+//! (`scene`, with back faces `cull`ed where they cannot show and
+//! `flat` shading's vertex per face), picks its `pipeline` (the shader
+//! variants the scene needs, with the `layout` the shaders declare), draws
+//! a `frame` into a colour `target`, and averages `samples` where a
+//! pixel takes several.
+
+mod cull;
+mod flat;
+mod frame;
+pub mod layout;
+mod pipeline;
+mod renderer;
+mod samples;
+mod scene;
+mod target;
+
+pub use renderer::{render, render_to, renders_samples};
+pub use target::{ColorTarget, RasterOutput, DEPTH_FORMAT, SCALED_UNORM16_RANGE};

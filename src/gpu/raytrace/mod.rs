@@ -1,0 +1,15 @@
+//! The ray tracer: `shaders/raytrace.comp.glsl` as a compute pipeline. The
+//! `renderer` lays the scene out as `records` in the shader's
+//! `layout`, with one `bvh` over its triangles and long lists of
+//! objects (walked binary, or in its 4-wide form, `wide_bvh`); or, with
+//! `--traversal query`, hands the same records to the driver to build
+//! acceleration structures (`accel`) that ray queries walk.
+
+mod accel;
+pub mod bvh;
+pub mod layout;
+mod records;
+mod renderer;
+pub mod wide_bvh;
+
+pub use renderer::{engine_for, render, render_with, TraceOptions, TraceOutput};
