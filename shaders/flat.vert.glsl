@@ -3,7 +3,7 @@
 // Flat shading: the formula once per triangle, at its centroid with its
 // geometric normal, in the vertex stage. Every triangle has a first
 // (provoking) vertex of its own whose index is the triangle's record
-// (src/gpu/raster_flat.rs); its value colours the whole triangle, and the
+// (src/gpu/raster/flat.rs); its value colours the whole triangle, and the
 // fragment stage only writes it.
 #include "raster_interface.glsl"
 #include "lighting.glsl"

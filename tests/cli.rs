@@ -1443,3 +1443,41 @@ fn a_rendered_png_carries_srgb_and_the_settings_it_was_made_with() {
     let json: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
     assert!(json["settings"]["depth"].is_null() && json["settings"]["traversal"].is_null());
 }
+
+/// Where `spirv-opt` is not installed (no PATH at all here), the driver
+/// specialises the ray tracer's module instead: the same image to the
+/// bit, only its pipeline made slower (src/gpu/vk/specialise.rs).
+#[test]
+fn the_ray_tracer_renders_the_same_image_without_spirv_opt() {
+    let dir = tempfile::tempdir().unwrap();
+    let render = |out: &str, path: Option<&str>| {
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_shadelab"));
+        command
+            .args([
+                "render",
+                "--shading",
+                "raytrace",
+                "--width",
+                "48",
+                "--height",
+                "36",
+            ])
+            .args(["-q", "-o", out])
+            .current_dir(dir.path())
+            .env("SHADELAB_CACHE_DIR", dir.path().join("cache"));
+        if let Some(path) = path {
+            command.env("PATH", path);
+        }
+        let status = command.status().unwrap();
+        assert!(status.success(), "{out}: {status}");
+        std::fs::read(dir.path().join(out)).unwrap()
+    };
+    let with = render("with.exr", None);
+    let spirv = dir.path().join("cache").join("spirv");
+    assert!(
+        std::fs::read_dir(&spirv).is_ok_and(|d| d.count() > 0),
+        "spirv-opt specialised the module (package spirv-tools installed?)"
+    );
+    let without = render("without.exr", Some("/nonexistent"));
+    assert!(with == without, "the EXRs differ");
+}

@@ -260,7 +260,7 @@ fn the_8_bit_png_path_gives_the_float_paths_png_within_one_step() {
     }
 }
 
-/// Back faces are culled only where they cannot show (`raster_cull`).
+/// Back faces are culled only where they cannot show (`raster::cull`).
 /// Where they can, they are drawn, and the GPU image matches the CPU
 /// reference, which never culls: a plane seen from below, the inside of a
 /// sphere around the eye, and a box the near plane cuts open. (Most scenes

@@ -2,8 +2,8 @@
 //! push constants, specialization constants) against naga's reflection of
 //! its compiled shaders, so a shader edit that the host does not follow (or
 //! the reverse) fails here instead of as undefined behaviour on a device.
-//! The raster stages answer to `raster_layout`, the ray-tracing compute
-//! shader to `rt_layout`.
+//! The raster stages answer to `raster::layout`, the ray-tracing compute
+//! shader to `raytrace::layout`.
 
 use ash::vk;
 use rt_layout::TraceSpecialization;

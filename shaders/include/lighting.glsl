@@ -56,7 +56,7 @@ vec3 unit_or_zero(vec3 n) {
 // The contribution of one light: the lighting hook, `shade_light`. The
 // built-in one (lighting_hook.glsl) is the lecture's diffuse and specular
 // terms; `--lighting FILE` compiles the user's file in its place
-// (src/gpu/hook.rs), which may use everything declared above this line.
+// (src/gpu/shared/hook.rs), which may use everything declared above this line.
 #include "lighting_hook.glsl"
 
 // How the raster modes turn an interpolated normal (Gouraud's vertex

@@ -1,6 +1,6 @@
 // What every pipeline shares about lights and the formula's switches:
 // specialization constants 0 to 2 and the light buffer at binding 0. The
-// host's side is `raster_layout::SPEC_CONSTANTS` (which `rt_layout` starts
+// host's side is `raster_layout::SPEC_CONSTANTS` (which `raytrace::layout` starts
 // with) and `raster_layout::GpuLight`.
 
 layout(constant_id = 0) const int LIGHT_COUNT = 1;

@@ -1,6 +1,6 @@
 // The interface between the host and every raster stage: specialization
 // constants, descriptor bindings and push constants. The host's side of it is
-// src/gpu/raster_layout.rs; tests/shader_interface.rs checks the two agree
+// src/gpu/raster/layout.rs; tests/shader_interface.rs checks the two agree
 // using naga's reflection of the compiled SPIR-V.
 //
 // Positions here are camera-relative (world position minus eye, computed in
@@ -11,7 +11,7 @@
 // host): constants 0 to 2 and the lights, shared with the ray tracer.
 #include "lights.glsl"
 
-// Whether some draw may show its back (src/gpu/raster_cull.rs): where none
+// Whether some draw may show its back (src/gpu/raster/cull.rs): where none
 // can, Gouraud lights no vertex's back.
 layout(constant_id = 5) const bool BACK_FACES = true;
 

@@ -6,7 +6,7 @@
 //
 // Needs, declared before it is included: `texture_records` (uvec4: per
 // texture, its first level record, level count and sampler bits; per level,
-// its first texel, width and height: src/gpu/texture_table.rs), `texels`
+// its first texel, width and height: src/gpu/shared/texture_table.rs), `texels`
 // (vec4 per texel, linear RGB), and the specialization constants
 // `SAMPLER_FIXED` and `FIXED_SAMPLER`: where every image of the scene has
 // one sampler, its bits, so that the branches on them fold away when the

@@ -12,7 +12,7 @@ use crate::gpu::shared::lights::{GpuLight, PatternConstants};
 pub const LIGHTS_BINDING: u32 = 0;
 pub const FRAME_BINDING: u32 = 1;
 pub const FACES_BINDING: u32 = 2;
-/// The image textures (`TEXTURE` variants, `gpu::texture_table`).
+/// The image textures (`TEXTURE` variants, `gpu::shared::texture_table`).
 pub const TEXTURE_RECORDS_BINDING: u32 = 3;
 pub const TEXELS_BINDING: u32 = 4;
 
@@ -109,7 +109,7 @@ pub struct Specialization {
     pub use_attenuation: u32,
     pub sampler_fixed: u32,
     pub fixed_sampler: u32,
-    /// Whether some draw may show its back (`raster_cull`): then Gouraud's
+    /// Whether some draw may show its back (`raster::cull`): then Gouraud's
     /// vertex stage lights each vertex's back too.
     pub back_faces: u32,
     /// What the fragment stages multiply their colour by: 1, or 1/16 for

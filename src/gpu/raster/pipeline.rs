@@ -33,7 +33,7 @@ pub(crate) struct SurfaceFeatures {
     /// (Gouraud and Phong; flat shading's is in its face colours).
     pub pattern: bool,
     /// With `pattern`: some pattern is an image, sampled in the fragment
-    /// stage from the texture buffers (`gpu::texture_table`).
+    /// stage from the texture buffers (`gpu::shared::texture_table`).
     pub texture: bool,
 }
 
@@ -165,7 +165,7 @@ pub(crate) fn create_pipeline(
             .specialization_info(&spec_info),
     ];
     // Flat draws read positions alone, one vertex of its own per triangle
-    // (`raster_flat`).
+    // (`raster::flat`).
     let stride = if mode == RasterMode::Flat {
         std::mem::size_of::<[f32; 3]>()
     } else {
@@ -173,7 +173,7 @@ pub(crate) fn create_pipeline(
     };
     // Positions (and normals) in stream 0; the colours in stream 1 and the
     // texture coordinates in stream 2 where the variant reads them
-    // (`raster_frame`), at the locations the shaders give them.
+    // (`raster::frame`), at the locations the shaders give them.
     let stream = |binding: u32, stride: usize| {
         vk::VertexInputBindingDescription::default()
             .binding(binding)

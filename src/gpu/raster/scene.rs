@@ -1,7 +1,7 @@
 //! Turns a `Scene` into what the raster pipelines consume: camera-relative
 //! vertices (subtracted in `f64`, then rounded to `f32`), indices, one
 //! record per triangle for flat shading, the draws (with back faces culled
-//! where they cannot show, `raster_cull`), and the specialization constants
+//! where they cannot show, `raster::cull`), and the specialization constants
 //! that switch off what the scene does not use.
 //!
 //! Consecutive objects with the same material and culling share one draw:
@@ -25,7 +25,7 @@ pub struct Draw {
     pub first_index: u32,
     pub index_count: u32,
     pub material: usize,
-    /// Draw with back faces culled: they cannot show (`raster_cull`).
+    /// Draw with back faces culled: they cannot show (`raster::cull`).
     pub cull_back: bool,
 }
 

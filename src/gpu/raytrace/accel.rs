@@ -1,5 +1,5 @@
 //! The ray-query engine's acceleration structures, built by the driver from
-//! the same records the compute tracer reads (`rt_records`): one bottom
+//! the same records the compute tracer reads (`raytrace::records`): one bottom
 //! level per mesh (its triangles' corners taken from the triangle records,
 //! which `group_by_mesh` has made contiguous per mesh),
 //! one of bounding boxes per analytic kind that the scene has (spheres,

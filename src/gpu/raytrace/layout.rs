@@ -276,7 +276,7 @@ pub struct GpuBvhNode {
     pub children: [GpuBvhChild; 2],
 }
 
-/// An inner node of the 4-wide BVH (`rt_wide`): up to four children, the
+/// An inner node of the 4-wide BVH (`raytrace::wide_bvh`): up to four children, the
 /// used slots first.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]

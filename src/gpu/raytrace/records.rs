@@ -1,6 +1,6 @@
 //! The ray tracer's buffers, built from the scene both tracers read
-//! (`rt_scene::RtScene`) in the layouts of `rt_layout`: f64 positions
-//! rounded to f32, the BVH of `rt_bvh`, and the triangles (and the objects
+//! (`rt_scene::RtScene`) in the layouts of `raytrace::layout`: f64 positions
+//! rounded to f32, the BVH of `raytrace::bvh`, and the triangles (and the objects
 //! the BVH holds) in BVH leaf order, triangles split into what the
 //! intersection test reads and what the nearest hit's shading reads.
 //! `docs/raytracing.md` ("Why the shader is shaped this way") says why.
@@ -30,7 +30,7 @@ pub struct SceneRecords {
     pub triangle_uvs: Vec<GpuTriangleUvs>,
     /// One per material where some material has a pattern; else empty.
     pub patterns: Vec<GpuPattern>,
-    /// The image textures (`gpu::texture_table`); empty without any.
+    /// The image textures (`gpu::shared::texture_table`); empty without any.
     pub texture_records: Vec<[u32; 4]>,
     pub texels: Vec<[f32; 4]>,
     pub bvh: GpuBvh,

@@ -1,10 +1,10 @@
 //! The ray tracer: `shaders/raytrace.comp.glsl`, whose subgroups take the
 //! image from a work queue, over the scene's `RtScene` (exact primitives,
 //! triangles and BVH uploaded as storage buffers in the layouts of
-//! `rt_records`), writing linear float pixels to a buffer the host reads
+//! `raytrace::records`), writing linear float pixels to a buffer the host reads
 //! back. The algorithm is docs/raytracing.md. Its hits come from the
 //! shader's own BVH walk or, with `Traversal::Query`, from ray queries
-//! through the structures of `rt_accel` (`engine_for` picks).
+//! through the structures of `raytrace::accel` (`engine_for` picks).
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -69,7 +69,7 @@ pub fn engine_for(asked: Traversal, info: &DeviceInfo) -> Result<Traversal, GpuE
 }
 
 /// The ray tracer's pipeline for `traversal`; `wide_bvh`: the BVH walk
-/// compiled for the tree's 4-wide form (`rt_wide`), a module of its own so
+/// compiled for the tree's 4-wide form (`raytrace::wide_bvh`), a module of its own so
 /// that a scene without a big tree neither compiles nor carries it.
 fn create_pipeline(
     context: &Arc<GpuContext>,
@@ -101,8 +101,16 @@ fn create_pipeline(
     let entries = TraceSpecialization::map_entries();
     let spec_data = bytemuck::bytes_of(spec);
     let mut words = hook::module_words(shader, lighting_hook, &context.info)?;
-    if !driver_specialises {
-        words = specialise(&words, &entries, spec_data)?;
+    let specialised = if driver_specialises {
+        None
+    } else {
+        specialise(&words, &entries, spec_data)?
+    };
+    // Without `spirv-opt` the driver takes the constants, as asked for
+    // with `driver_specialises`.
+    let driver_specialises = specialised.is_none();
+    if let Some(specialised) = specialised {
+        words = specialised;
     }
     let module_info = vk::ShaderModuleCreateInfo::default().code(&words);
     // SAFETY: the words are SPIR-V validated by naga (at build time, or with

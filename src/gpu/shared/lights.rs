@@ -30,7 +30,7 @@ pub struct PatternConstants {
 impl PatternConstants {
     /// The values for a material's pattern, or for none. An image
     /// (`TEXTURE` variants) is its index in the texture table
-    /// (`gpu::texture_table`) as `w = -1 - index`, and its uv transform's
+    /// (`gpu::shared::texture_table`) as `w = -1 - index`, and its uv transform's
     /// rows in the two `xyz`.
     pub fn of(pattern: Option<&crate::scene::Pattern>, texture: Option<u32>) -> Self {
         match pattern {

@@ -1,6 +1,6 @@
 //! Every compiled shader variant: SPIR-V produced by build.rs, with naga's
 //! reflection of its descriptor bindings, push constants and specialization
-//! constants. The host declares its side in `raster_layout.rs`;
+//! constants. The host declares its side in `raster::layout`;
 //! tests/shader_interface.rs holds the two together.
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,7 +1,7 @@
 //! What the ray-query engine needs of a device (`--traversal query`): the
 //! extensions and features that let a compute shader cast rays through an
 //! acceleration structure the driver builds, and whether a device has them.
-//! `context` enables them wherever they are offered; `rt_accel` builds the
+//! `context` enables them wherever they are offered; `raytrace::accel` builds the
 //! structures; `raytrace` picks the engine.
 
 use std::ffi::CStr;

@@ -1,6 +1,8 @@
 //! A module specialised to a scene before the driver sees it: the values of
 //! its specialization constants written in as plain constants, then the
-//! code they rule out removed by SPIRV-Tools' optimizer.
+//! code they rule out removed by SPIRV-Tools' optimizer, `spirv-opt` (the
+//! Debian/Ubuntu package `spirv-tools`, which `ci/install-deps.sh`
+//! installs).
 //!
 //! Why: lavapipe translates and optimises the whole module at pipeline
 //! creation, the code that the constants switch off included, on every
@@ -11,8 +13,18 @@
 //! inlining and the rest of `-O` cost the optimizer ten times longer for a
 //! few milliseconds more.
 //!
-//! The result is kept in the cache folder (`spirv/`), keyed by the module
-//! and the values, so a scene seen before pays neither step.
+//! The result is kept in the cache folder (`spirv/`), keyed by the module,
+//! the values and the optimizer's version, so a scene seen before pays
+//! neither step.
+//!
+//! Why a program and not the library: SPIRV-Tools compiled from source
+//! was nine of the twelve minutes of a fresh `cargo build --release`
+//! (issue 44); a process per specialisation costs a few milliseconds on a
+//! cache miss. Where `spirv-opt` is missing, the driver specialises
+//! instead (`specialise` returns `None`): the same image, the pipeline
+//! made slower.
+
+use std::sync::OnceLock;
 
 use ash::vk;
 use spirv_tools::opt::{Optimizer, Passes};
@@ -39,21 +51,25 @@ const PASSES: [Passes; 8] = [
 /// `words` with the constants of `entries`/`data` (a `VkSpecializationInfo`'s
 /// map and data, 4-byte values) fixed and the code they rule out removed.
 /// The result has no specialization constants left for those ids: create
-/// its pipeline without a `VkSpecializationInfo`.
+/// its pipeline without a `VkSpecializationInfo`. `None` where `spirv-opt`
+/// is not installed: give the driver the constants instead.
 pub fn specialise(
     words: &[u32],
     entries: &[vk::SpecializationMapEntry],
     data: &[u8],
-) -> Result<Vec<u32>, GpuError> {
+) -> Result<Option<Vec<u32>>, GpuError> {
     let values = spec_values(entries, data)?;
+    let Some(version) = optimizer_version() else {
+        return Ok(None);
+    };
     let key = format!(
-        "shadelab {} spirv-tools 0.13 passes {:?} module {:016x} values {values:?}",
+        "shadelab {} {version} passes {:?} module {:016x} values {values:?}",
         env!("CARGO_PKG_VERSION"),
         PASSES,
         cache::digest(&words),
     );
     if let Some(cached) = cache::read_module(SPECIALISED_CACHE, &key) {
-        return Ok(cached);
+        return Ok(Some(cached));
     }
     let mut module = words.to_vec();
     set_defaults(&mut module, &values)?;
@@ -76,7 +92,31 @@ pub fn specialise(
         })?;
     let out = optimized.as_words().to_vec();
     cache::write_module(SPECIALISED_CACHE, &key, &out);
-    Ok(out)
+    Ok(Some(out))
+}
+
+/// The first line of `spirv-opt --version` (such as "SPIRV-Tools v2023.1
+/// ..."), asked once a process: part of the cache key, since another
+/// version may write other modules; `None` where it does not run.
+pub fn optimizer_version() -> Option<&'static str> {
+    static VERSION: OnceLock<Option<String>> = OnceLock::new();
+    VERSION
+        .get_or_init(|| {
+            let output = std::process::Command::new("spirv-opt")
+                .arg("--version")
+                .output()
+                .ok()
+                .filter(|o| o.status.success())?;
+            let text = String::from_utf8_lossy(&output.stdout);
+            Some(
+                text.lines()
+                    .next()
+                    .unwrap_or("spirv-opt")
+                    .trim()
+                    .to_string(),
+            )
+        })
+        .as_deref()
 }
 
 /// `(constant id, value)` for each map entry, in the map's order.
