@@ -1,0 +1,185 @@
+// The ray tracer's recursion: reflection and refraction, one sample's ray
+// tree walked with a stack of the rays that wait.
+
+// One sample's ray tree, in the order of docs/raytracing.md: the tree is
+// walked depth first with the refracted child before the reflected one. The
+// ray in hand goes on to its first child; only a reflected ray whose
+// sibling is refracted waits on the stack. The subgroup goes on while any
+// lane has a ray (the walks are packets); `live` says whether this one has.
+vec3 trace_sample(vec3 dir, bool live) {
+    Ray waiting[STACK_SIZE];
+    // Each ray's cone (an image's level of detail): its width at the
+    // origin and its growth per unit of distance. Kept beside the rays and
+    // touched only with TEXTURES, so that a scene without images carries
+    // none of it (its pipeline compiled as fast as before them).
+    vec2 waiting_cones[STACK_SIZE];
+    int top = 0;
+    Ray ray = Ray(vec3(0.0), dir, 1.0, 0);
+    vec2 cone = vec2(0.0);
+    if (TEXTURES) {
+        // A primary cone widens by a pixel's height per unit of distance
+        // (level_of_detail::pixel_spread).
+        cone.y = 2.0 / (frame.right_focal.w * float(frame.image.y));
+    }
+    if (live) {
+        count(0);
+    }
+    vec3 total = vec3(0.0);
+    int max_depth = int(frame.image.w);
+    float cutoff = frame.forward_cutoff.w;
+    // The first search without a vote: a packet with no pixel on the
+    // image is rare (the image's edges), and its lanes find nothing.
+    bool packet_goes_on = true;
+    while (packet_goes_on) {
+        if (live) {
+            deepest = max(deepest, ray.depth);
+        }
+        Hit hit = nearest(ray.origin, ray.dir, live);
+        bool hits = live && hit.shape != NO_SHAPE;
+        if (live && !hits) {
+            total += ray.weight * frame.background.rgb;
+        }
+        Surfel s = Surfel(vec3(0.0), vec3(0.0), vec3(0.0), 0u);
+        MaterialRecord material = MaterialRecord(vec4(0.0), vec4(0.0), vec2(0.0));
+        vec3 local = vec3(0.0);
+        // Shading walks shadow rays as packets: the whole subgroup comes
+        // here, or none of it (where every ray left the scene). With no
+        // BVH nothing below shuffles, so each lane goes its own way and
+        // the driver's masks do what the votes did, for less (a vote is
+        // three shuffles; the four spheres took 0.9x the time without).
+        bool packet_hits = HAS_BVH ? packet_any(hits) : hits;
+        if (packet_hits) {
+            if (hits) {
+                s = resolve(ray.origin, ray.dir, hit);
+            }
+            material = material_at(s.material);
+            Surface surface = surface_of(material);
+            if (VERTEX_COLORS) {
+                if (hits) {
+                    surface.color *= hit_tint(hit);
+                }
+            }
+            if (PATTERNS) {
+                if (hits) {
+                    surface.color *= hit_pattern(hit, s, ray.dir, cone.x + cone.y * hit.t);
+                }
+            }
+            local = local_shading(s, surface, ray.origin, ray.dir, hits);
+        }
+        live = false;
+        if (hits) {
+            total += ray.weight * local;
+            // Specialization constants appear only as whole conditions: naga's
+            // SPIR-V reader rejects operators on them (OpSpecConstantOp).
+            bool may_branch = false;
+            if (HAS_REFLECTION) {
+                // No children from a zero normal: no direction to reflect
+                // or refract about.
+                may_branch = ray.depth < max_depth && s.normal != vec3(0.0);
+            }
+            if (may_branch) {
+                float kr = material.kd_ks_p_kr.w;
+                vec3 N = s.normal;
+                // Decided by kr and total internal reflection, not by the
+                // weight, as on the CPU: a weight that underflows in f32 is
+                // still a child (pruned).
+                bool reflects = kr > 0.0;
+                float reflect_weight = ray.weight * kr;
+                bool refracts = false;
+                vec3 refract_dir = vec3(0.0);
+                float refract_weight = 0.0;
+                if (HAS_TRANSMISSION) {
+                    float kt = material.kt_ior.x;
+                    float ior = material.kt_ior.y;
+                    if (kt > 0.0) {
+                        bool entering = dot(N, ray.dir) < 0.0;
+                        vec3 n = entering ? N : -N;
+                        float eta = entering ? 1.0 / ior : ior;
+                        float cos_i = -dot(n, ray.dir);
+                        // sin^2(i) from the part along the surface, not
+                        // 1 - cos^2(i): the twin in src/cpu/raytrace.rs.
+                        vec3 along = ray.dir + cos_i * n;
+                        float k = 1.0 - eta * eta * dot(along, along);
+                        if (k < 0.0) {
+                            reflects = true;  // total internal reflection
+                            reflect_weight = ray.weight * (kr + kt);
+                        } else {
+                            refracts = true;
+                            refract_dir = normalize(eta * along - sqrt(k) * n);
+                            refract_weight = ray.weight * kt;
+                        }
+                    }
+                }
+                if (reflects && reflect_weight < cutoff) {
+                    reflects = false;
+                    count(4);
+                }
+                if (refracts && refract_weight < cutoff) {
+                    refracts = false;
+                    count(4);
+                }
+                // The children's cones start as wide as this one at the hit;
+                // a mirror sphere spreads its reflection by 2 w / r more
+                // (its curvature), flat surfaces and refraction do not.
+                vec2 refracted_cone = vec2(0.0);
+                vec2 reflected_cone = vec2(0.0);
+                if (TEXTURES) {
+                    float width = cone.x + cone.y * hit.t;
+                    float curvature = 0.0;
+                    if ((hit.shape & KIND_MASK) == KIND_SPHERE) {
+                        curvature = 2.0 * width / sphere_geometry(int(hit.shape & ~KIND_MASK)).radius;
+                    }
+                    refracted_cone = vec2(width, cone.y);
+                    reflected_cone = vec2(width, cone.y + curvature);
+                }
+                Ray reflected;
+                if (reflects) {
+                    vec3 r = ray.dir - 2.0 * dot(ray.dir, N) * N;
+                    reflected = Ray(offset_origin(s.p, ray.origin, s.geometric, r), r, reflect_weight, ray.depth + 1);
+                    count(2);
+                }
+                if (refracts) {
+                    if (reflects) {
+                        if (TEXTURES) {
+                            waiting_cones[top] = reflected_cone;
+                        }
+                        waiting[top++] = reflected;
+                    }
+                    ray = Ray(offset_origin(s.p, ray.origin, s.geometric, refract_dir), refract_dir, refract_weight,
+                              ray.depth + 1);
+                    if (TEXTURES) {
+                        cone = refracted_cone;
+                    }
+                    count(3);
+                    live = true;
+                } else if (reflects) {
+                    ray = reflected;
+                    if (TEXTURES) {
+                        cone = reflected_cone;
+                    }
+                    live = true;
+                }
+            }
+        }
+        if (HAS_TRANSMISSION && !live && top > 0) {
+            ray = waiting[--top];
+            if (TEXTURES) {
+                cone = waiting_cones[top];
+            }
+            live = true;
+        }
+        // Without refraction no ray waits, so where nothing was hit the
+        // packet is done, and a miss costs one vote, not two. Without a
+        // BVH, no vote (above).
+        if (HAS_BVH) {
+            if (HAS_TRANSMISSION) {
+                packet_goes_on = packet_any(live);
+            } else {
+                packet_goes_on = packet_hits && packet_any(live);
+            }
+        } else {
+            packet_goes_on = live;
+        }
+    }
+    return total;
+}
