@@ -69,6 +69,35 @@ void order_children(inout float ka, inout uint la, inout float ta, inout float k
     lb = swap ? l : lb;
     tb = swap ? t : tb;
 }
+
+// A 4-wide node's children (rt_wide) against the packet: each child's
+// entry distance for this lane's ray and its link, and one butterfly for
+// which of them some lane enters (bit k: child k).
+struct WideChildren {
+    float t0, t1, t2, t3;
+    uint l0, l1, l2, l3;
+    uint enters;
+};
+
+WideChildren wide_children(uint link, vec3 o, vec3 inv_d, float t_max) {
+    Shared node = read_wide_node(link);
+    float t0 = box_entry(o, inv_d, vec3_at(node, CHILD_LO), vec3_at(node, CHILD_HI), t_max);
+    float t1 = box_entry(o, inv_d, vec3_at(node, CHILD_WORDS + CHILD_LO), vec3_at(node, CHILD_WORDS + CHILD_HI),
+                         t_max);
+    float t2 = box_entry(o, inv_d, vec3_at(node, 2u * CHILD_WORDS + CHILD_LO),
+                         vec3_at(node, 2u * CHILD_WORDS + CHILD_HI), t_max);
+    float t3 = box_entry(o, inv_d, vec3_at(node, 3u * CHILD_WORDS + CHILD_LO),
+                         vec3_at(node, 3u * CHILD_WORDS + CHILD_HI), t_max);
+    uint l0 = word(node, CHILD_LINK);
+    uint l1 = word(node, CHILD_WORDS + CHILD_LINK);
+    uint l2 = word(node, 2u * CHILD_WORDS + CHILD_LINK);
+    uint l3 = word(node, 3u * CHILD_WORDS + CHILD_LINK);
+    uint enters = or_lanes((t0 != NO_HIT ? 1u : 0u) | (t1 != NO_HIT ? 2u : 0u) | (t2 != NO_HIT ? 4u : 0u) |
+                           (t3 != NO_HIT ? 8u : 0u));
+    enters &= (l0 != NO_SHAPE ? 1u : 0u) | (l1 != NO_SHAPE ? 2u : 0u) | (l2 != NO_SHAPE ? 4u : 0u) |
+              (l3 != NO_SHAPE ? 8u : 0u);
+    return WideChildren(t0, t1, t2, t3, l0, l1, l2, l3, enters);
+}
 #endif
 
 // A hit on an analytic object in a BVH leaf: like `consider_object`, but
@@ -83,6 +112,48 @@ void consider_in_leaf(float t, uint shape, vec3 normal, float radius, uint mater
         }
     } else if (t > 0.0 && t <= best.t && (t < best.t || wins_tie(shape, best))) {
         best = Hit(t, shape, vec2(0.0), normal, radius, material, object);
+    }
+}
+
+// A BVH leaf's primitives against the packet, into walk_bvh's `best`
+// (whose comment says what it holds for each query). A leaf is a run of
+// one kind's records, the kind given by the range its first index is in
+// (uniform: the whole packet is here).
+void search_leaf(uint link, vec3 o, vec3 d, RayFrame shear, bool any_hit, inout Hit best) {
+    uint first = link & 0x03ffffffu;
+    uint end = first + ((link >> 26) & 31u) + 1u;
+    if (first < frame.leaf_bases.x) {
+        for (uint i = first; i < end; ++i) {
+            Shared tri = read_triangle(i);
+            vec2 uv;
+            float t = triangle_t(shear, tri, uv);
+            if (any_hit) {
+                if (t > 0.0 && t < best.t) {
+                    best = Hit(-1.0, KIND_TRIANGLE | i, uv, vec3(0.0), 0.0, 0u, 0u);
+                }
+            } else {
+                consider_triangle(t, KIND_TRIANGLE | i, uv, best);
+            }
+        }
+    } else if (BVH_SPHERES && first < frame.leaf_bases.y) {
+        for (uint i = first - frame.leaf_bases.x; i < end - frame.leaf_bases.x; ++i) {
+            SphereGeometry g = shared_sphere(i);
+            consider_in_leaf(sphere_t(o, d, g), KIND_SPHERE | i, g.center, g.radius, g.material, g.object,
+                             any_hit, best);
+        }
+    } else if (BVH_PLANES && first < frame.leaf_bases.z) {
+        for (uint i = first - frame.leaf_bases.y; i < end - frame.leaf_bases.y; ++i) {
+            PlaneGeometry g = shared_plane(i);
+            consider_in_leaf(plane_t(o, d, g), KIND_PLANE | i, g.normal, 0.0, g.material, g.object, any_hit,
+                             best);
+        }
+    } else if (BVH_BOXES) {
+        for (uint i = first - frame.leaf_bases.z; i < end - frame.leaf_bases.z; ++i) {
+            BoxGeometry g = shared_box(i);
+            vec2 face;
+            float t = box_t(o, d, g, face);
+            consider_in_leaf(t, KIND_BOX | i, box_normal(g, face), 0.0, g.material, g.object, any_hit, best);
+        }
     }
 }
 
@@ -119,58 +190,42 @@ void walk_bvh(vec3 o, vec3 d, inout Hit best, bool any_hit) {
     while (!done) {
         if ((link & LEAF_BIT) == 0u) {
 #ifdef WIDE_BVH
-            // Four children a step (rt_wide): their boxes, one butterfly
-            // for which of them some lane enters (bit k: child k).
-            Shared node = read_wide_node(link);
-            float t0 = box_entry(o, inv_d, vec3_at(node, CHILD_LO), vec3_at(node, CHILD_HI), best.t);
-            float t1 = box_entry(o, inv_d, vec3_at(node, CHILD_WORDS + CHILD_LO),
-                                 vec3_at(node, CHILD_WORDS + CHILD_HI), best.t);
-            float t2 = box_entry(o, inv_d, vec3_at(node, 2u * CHILD_WORDS + CHILD_LO),
-                                 vec3_at(node, 2u * CHILD_WORDS + CHILD_HI), best.t);
-            float t3 = box_entry(o, inv_d, vec3_at(node, 3u * CHILD_WORDS + CHILD_LO),
-                                 vec3_at(node, 3u * CHILD_WORDS + CHILD_HI), best.t);
-            uint l0 = word(node, CHILD_LINK);
-            uint l1 = word(node, CHILD_WORDS + CHILD_LINK);
-            uint l2 = word(node, 2u * CHILD_WORDS + CHILD_LINK);
-            uint l3 = word(node, 3u * CHILD_WORDS + CHILD_LINK);
-            uint enters = or_lanes((t0 != NO_HIT ? 1u : 0u) | (t1 != NO_HIT ? 2u : 0u) |
-                                   (t2 != NO_HIT ? 4u : 0u) | (t3 != NO_HIT ? 8u : 0u));
-            enters &= (l0 != NO_SHAPE ? 1u : 0u) | (l1 != NO_SHAPE ? 2u : 0u) | (l2 != NO_SHAPE ? 4u : 0u) |
-                      (l3 != NO_SHAPE ? 8u : 0u);
+            WideChildren c = wide_children(link, o, inv_d, best.t);
+            uint enters = c.enters;
             if (any_hit) {
                 // A shadow query visits every entered child, in any
                 // order: the first in slot order now, the others
                 // stacked.
                 link = NO_SHAPE;
                 float t_link = 0.0;
-                WIDE_TAKE(8u, l3, t3)
-                WIDE_TAKE(4u, l2, t2)
-                WIDE_TAKE(2u, l1, t1)
-                WIDE_TAKE(1u, l0, t0)
+                WIDE_TAKE(8u, c.l3, c.t3)
+                WIDE_TAKE(4u, c.l2, c.t2)
+                WIDE_TAKE(2u, c.l1, c.t1)
+                WIDE_TAKE(1u, c.l0, c.t0)
             } else {
                 // The entered children sorted by lane 0's entry
                 // distance (as the binary step orders its two), the
                 // nearest taken now and the others stacked, the
                 // farthest deepest.
                 const float NOT_ENTERED = 3.4e38;  // above NO_HIT
-                float k0 = subgroupShuffle(t0, 0u);
-                float k1 = subgroupShuffle(t1, 0u);
-                float k2 = subgroupShuffle(t2, 0u);
-                float k3 = subgroupShuffle(t3, 0u);
+                float k0 = subgroupShuffle(c.t0, 0u);
+                float k1 = subgroupShuffle(c.t1, 0u);
+                float k2 = subgroupShuffle(c.t2, 0u);
+                float k3 = subgroupShuffle(c.t3, 0u);
                 k0 = (enters & 1u) != 0u ? k0 : NOT_ENTERED;
                 k1 = (enters & 2u) != 0u ? k1 : NOT_ENTERED;
                 k2 = (enters & 4u) != 0u ? k2 : NOT_ENTERED;
                 k3 = (enters & 8u) != 0u ? k3 : NOT_ENTERED;
-                order_children(k0, l0, t0, k1, l1, t1);
-                order_children(k2, l2, t2, k3, l3, t3);
-                order_children(k0, l0, t0, k2, l2, t2);
-                order_children(k1, l1, t1, k3, l3, t3);
-                order_children(k1, l1, t1, k2, l2, t2);
+                order_children(k0, c.l0, c.t0, k1, c.l1, c.t1);
+                order_children(k2, c.l2, c.t2, k3, c.l3, c.t3);
+                order_children(k0, c.l0, c.t0, k2, c.l2, c.t2);
+                order_children(k1, c.l1, c.t1, k3, c.l3, c.t3);
+                order_children(k1, c.l1, c.t1, k2, c.l2, c.t2);
                 uint entered = bitCount(enters);
-                WIDE_STACK(entered > 3u, l3, t3)
-                WIDE_STACK(entered > 2u, l2, t2)
-                WIDE_STACK(entered > 1u, l1, t1)
-                link = entered > 0u ? l0 : NO_SHAPE;  // none: pop below
+                WIDE_STACK(entered > 3u, c.l3, c.t3)
+                WIDE_STACK(entered > 2u, c.l2, c.t2)
+                WIDE_STACK(entered > 1u, c.l1, c.t1)
+                link = entered > 0u ? c.l0 : NO_SHAPE;  // none: pop below
             }
 #else
             Shared node = read_node(link);
@@ -202,43 +257,7 @@ void walk_bvh(vec3 o, vec3 d, inout Hit best, bool any_hit) {
             }
 #endif
         } else {
-            // A leaf: a run of one kind's records, the kind given by the
-            // range its first index is in (uniform: the whole packet is here).
-            uint first = link & 0x03ffffffu;
-            uint end = first + ((link >> 26) & 31u) + 1u;
-            if (first < frame.leaf_bases.x) {
-                for (uint i = first; i < end; ++i) {
-                    Shared tri = read_triangle(i);
-                    vec2 uv;
-                    float t = triangle_t(shear, tri, uv);
-                    if (any_hit) {
-                        if (t > 0.0 && t < best.t) {
-                            best = Hit(-1.0, KIND_TRIANGLE | i, uv, vec3(0.0), 0.0, 0u, 0u);
-                        }
-                    } else {
-                        consider_triangle(t, KIND_TRIANGLE | i, uv, best);
-                    }
-                }
-            } else if (BVH_SPHERES && first < frame.leaf_bases.y) {
-                for (uint i = first - frame.leaf_bases.x; i < end - frame.leaf_bases.x; ++i) {
-                    SphereGeometry g = shared_sphere(i);
-                    consider_in_leaf(sphere_t(o, d, g), KIND_SPHERE | i, g.center, g.radius, g.material, g.object,
-                                     any_hit, best);
-                }
-            } else if (BVH_PLANES && first < frame.leaf_bases.z) {
-                for (uint i = first - frame.leaf_bases.y; i < end - frame.leaf_bases.y; ++i) {
-                    PlaneGeometry g = shared_plane(i);
-                    consider_in_leaf(plane_t(o, d, g), KIND_PLANE | i, g.normal, 0.0, g.material, g.object, any_hit,
-                                     best);
-                }
-            } else if (BVH_BOXES) {
-                for (uint i = first - frame.leaf_bases.z; i < end - frame.leaf_bases.z; ++i) {
-                    BoxGeometry g = shared_box(i);
-                    vec2 face;
-                    float t = box_t(o, d, g, face);
-                    consider_in_leaf(t, KIND_BOX | i, box_normal(g, face), 0.0, g.material, g.object, any_hit, best);
-                }
-            }
+            search_leaf(link, o, d, shear, any_hit, best);
             link = NO_SHAPE;
         }
         if (link == NO_SHAPE) {
