@@ -103,7 +103,7 @@ const uint BOX_FACE_V = 23u;
 
 // What the intersection test reads of a triangle, in BVH leaf order: 3
 // quads of words (rt_layout::GpuTriangleGeometry), so that the lanes of a
-// subgroup can share them (raytrace.comp.glsl, `Shared`), one per axis:
+// subgroup can share them (rt_packet.glsl, `Shared`), one per axis:
 // quad k holds coordinate k of the corners p0, p1 and p2, and one more
 // word: `index`, the triangle's place in the scene's triangle list
 // (rt_scene::RtScene), which the tie rule compares; `object`, its scene

@@ -1,8 +1,9 @@
 // The ray-query engine's nearest-hit and shadow queries (`--traversal
-// query`): raytrace.comp.glsl compiled with RAY_QUERY includes this in
-// place of its own BVH walk; everything else (camera, ray tree, shading,
-// shadows, offsets) is the same source. The driver walks an acceleration
-// structure it built (src/gpu/raytrace/accel.rs): triangles, tested by the
+// query`): raytrace.comp.glsl compiled with RAY_QUERY includes this
+// (through rt_search.glsl) in place of its own BVH walk; everything else
+// (camera, ray tree, shading, shadows, offsets) is the same source. The
+// driver walks an acceleration structure it built
+// (src/gpu/raytrace/accel.rs): triangles, tested by the
 // driver's own triangle test, and bounding boxes of the analytic objects,
 // whose exact tests are the compute tracer's (sphere_t, plane_t, box_t).
 // Triangles are opaque: the driver commits the nearest itself (by its own
