@@ -2,7 +2,7 @@
 # Fuzzing: the parsers that read untrusted input, under libFuzzer.
 #
 #   scene_toml    the TOML scene loader (src/scene/toml_format.rs)
-#   gltf_import   the glTF/GLB importer (src/scene/gltf_import.rs)
+#   gltf_import   the glTF/GLB importer (src/scene/gltf/)
 #   image_read    diff's PNG and EXR readers (src/output.rs)
 #
 # Usage: ci/fuzz.sh [--seconds N] [--direct] [TARGET...]

@@ -7,7 +7,7 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use common::cli::shadelab;
-use shadelab::scene::gltf_import::scene_from_slice;
+use shadelab::scene::gltf::scene_from_slice;
 use shadelab::scene::LoadLimits;
 
 fn data(name: &str) -> PathBuf {

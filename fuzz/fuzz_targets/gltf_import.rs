@@ -6,7 +6,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use shadelab::scene::gltf_import::scene_from_slice;
+use shadelab::scene::gltf::scene_from_slice;
 use shadelab::scene::{LoadLimits, Pattern, Shape};
 use std::path::Path;
 

@@ -2,7 +2,7 @@
 //! leaves out, whichever format it came from.
 //!
 //! Both loaders ([`toml_format`](super::toml_format) and
-//! [`gltf_import`](super::gltf_import)) read these, so a TOML scene and a
+//! [`gltf`](super::gltf)) read these, so a TOML scene and a
 //! glTF scene that say nothing about, say, the ambient light are lit alike.
 //! Defaults that only one format's syntax has (the tessellation of a TOML
 //! sphere, a TOML camera's `up`) stay with that format.

@@ -3,7 +3,7 @@
 //! This module owns everything between a file on disk and the plain data in
 //! [`model`]: the TOML scene format of `docs/interface.md`
 //! ([`toml_format`]), glTF 2.0 files as meshes or as whole scenes
-//! ([`gltf_import`]), image files as textures within the memory limit
+//! ([`gltf`]), image files as textures within the memory limit
 //! ([`image_file`]), the values both use for what a file leaves out
 //! ([`defaults`]), the built-in default scene (`default.toml`), and the
 //! tessellation of the primitive shapes for the raster modes
@@ -17,7 +17,7 @@
 //! - `.toml`: the format of `docs/interface.md`; keys, defaults and
 //!   constraints are listed in [`toml_format`].
 //! - `.gltf` / `.glb` as a whole scene: every mesh primitive of the default
-//!   scene (geometry and material rules in [`gltf_import`]); the camera is
+//!   scene (geometry and material rules in [`gltf`]); the camera is
 //!   the first perspective camera met in a depth-first walk of the node tree
 //!   (at its node's world position, looking down its local -Z with local +Y
 //!   up, `yfov` converted to degrees); without one, the camera looks at the
@@ -37,7 +37,7 @@ use std::path::Path;
 pub mod defaults;
 pub mod error;
 pub mod footprint;
-pub mod gltf_import;
+pub mod gltf;
 pub mod image_file;
 mod lighting_hook;
 pub mod model;
@@ -81,7 +81,7 @@ pub fn load_within(path: &Path, limits: &LoadLimits) -> Result<Scene, SceneError
             };
             toml_format::parse_within(&text, base, &label, limits)
         }
-        "gltf" | "glb" => gltf_import::load_scene(path, limits),
+        "gltf" | "glb" => gltf::load_scene(path, limits),
         _ => Err(SceneError::UnsupportedFile { file: label }),
     }
 }

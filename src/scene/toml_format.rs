@@ -65,7 +65,7 @@ use toml::Spanned;
 use super::defaults::{CHECKER_COLORS, CHECKER_SCALE, DEFAULT_FOV_Y_DEG, DEFAULT_MATERIAL};
 use super::error::SceneError;
 use super::footprint::LoadLimits;
-use super::gltf_import;
+use super::gltf;
 use super::image_file::{
     ImageFailure, ImageKey, TextureRequest, TextureStore, TEXTURE_FILTER, TEXTURE_SCALE,
     TEXTURE_WRAP,
@@ -1071,18 +1071,17 @@ fn convert_object(
             * DMat4::from_mat3(rotation)
             * DMat4::from_scale(scale);
         let path = base_dir.join(file.get_ref());
-        let mut loading = gltf_import::Loading {
+        let mut loading = gltf::Loading {
             limits: cx.limits,
             textures,
         };
-        let loaded =
-            gltf_import::load_meshes(&path, post, material, materials, warnings, &mut loading)
-                .map_err(|e| SceneError::InObject {
-                    file: cx.label.to_string(),
-                    line: cx.line(file),
-                    object: index,
-                    source: Box::new(e),
-                })?;
+        let loaded = gltf::load_meshes(&path, post, material, materials, warnings, &mut loading)
+            .map_err(|e| SceneError::InObject {
+                file: cx.label.to_string(),
+                line: cx.line(file),
+                object: index,
+                source: Box::new(e),
+            })?;
         objects.extend(loaded);
         return Ok(());
     }
