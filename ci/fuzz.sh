@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Fuzzing: the parsers that read untrusted input, under libFuzzer.
 #
-#   scene_toml    the TOML scene loader (src/scene/toml_format.rs)
+#   scene_toml    the TOML scene loader (src/scene/toml/)
 #   gltf_import   the glTF/GLB importer (src/scene/gltf/)
 #   image_read    diff's PNG and EXR readers (src/output.rs)
 #

@@ -113,12 +113,12 @@ pub fn render_gpu_to(
     })
 }
 
-/// What the loader refuses (`camera::narrow_view_refusal`,
+/// What the loader refuses (`narrow_view::refusal`,
 /// `huge_sphere::refusal`), checked again at the size and scene a render
 /// gets: `--height` can narrow a pixel's angle, and a glTF scene or a
 /// built scene never passed the TOML loader.
 fn refuse_beyond_f32(scene: &Scene) -> Result<(), Error> {
-    let narrow = crate::camera::narrow_view_refusal(scene.camera.fov_y_deg, scene.image.height);
+    let narrow = crate::narrow_view::refusal(scene.camera.fov_y_deg, scene.image.height);
     let sphere = scene
         .objects
         .iter()

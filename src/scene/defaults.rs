@@ -1,7 +1,7 @@
 //! The scene model's defaults: what a scene gets for every setting its file
 //! leaves out, whichever format it came from.
 //!
-//! Both loaders ([`toml_format`](super::toml_format) and
+//! Both loaders ([`toml`](super::toml) and
 //! [`gltf`](super::gltf)) read these, so a TOML scene and a
 //! glTF scene that say nothing about, say, the ambient light are lit alike.
 //! Defaults that only one format's syntax has (the tessellation of a TOML

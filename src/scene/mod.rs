@@ -2,7 +2,7 @@
 //!
 //! This module owns everything between a file on disk and the plain data in
 //! [`model`]: the TOML scene format of `docs/interface.md`
-//! ([`toml_format`]), glTF 2.0 files as meshes or as whole scenes
+//! ([`toml`](self::toml)), glTF 2.0 files as meshes or as whole scenes
 //! ([`gltf`]), image files as textures within the memory limit
 //! ([`image_file`]), the values both use for what a file leaves out
 //! ([`defaults`]), the built-in default scene (`default.toml`), and the
@@ -15,7 +15,7 @@
 //! # Scene files
 //!
 //! - `.toml`: the format of `docs/interface.md`; keys, defaults and
-//!   constraints are listed in [`toml_format`].
+//!   constraints are listed in [`toml`](self::toml).
 //! - `.gltf` / `.glb` as a whole scene: every mesh primitive of the default
 //!   scene (geometry and material rules in [`gltf`]); the camera is
 //!   the first perspective camera met in a depth-first walk of the node tree
@@ -44,7 +44,7 @@ pub mod model;
 pub mod tessellate;
 pub mod texcoords;
 pub mod texture;
-pub mod toml_format;
+pub mod toml;
 
 pub use error::SceneError;
 pub use footprint::{GeometrySize, LoadLimits};
@@ -79,7 +79,7 @@ pub fn load_within(path: &Path, limits: &LoadLimits) -> Result<Scene, SceneError
                 Some(p) if !p.as_os_str().is_empty() => p,
                 _ => Path::new("."),
             };
-            toml_format::parse_within(&text, base, &label, limits)
+            self::toml::parse_within(&text, base, &label, limits)
         }
         "gltf" | "glb" => gltf::load_scene(path, limits),
         _ => Err(SceneError::UnsupportedFile { file: label }),
@@ -89,7 +89,7 @@ pub fn load_within(path: &Path, limits: &LoadLimits) -> Result<Scene, SceneError
 /// Parses a TOML scene from `text`. Mesh paths are resolved against
 /// `base_dir`; `label` (normally the file name) is used in messages.
 pub fn from_toml_str(text: &str, base_dir: &Path, label: &str) -> Result<Scene, SceneError> {
-    toml_format::parse(text, base_dir, label)
+    self::toml::parse(text, base_dir, label)
 }
 
 /// The built-in default scene ([`DEFAULT_SCENE_TOML`]).

@@ -1,7 +1,7 @@
 //! The validated, renderer-independent description of a scene.
 //!
 //! Everything here is plain data in double precision and world space. Loaders
-//! (`toml_format`, `gltf`) produce it; renderers only read it. Nothing
+//! (`toml`, `gltf`) produce it; renderers only read it. Nothing
 //! in this file touches a file, Vulkan, or an image. The values a loader uses
 //! for what a file leaves out are in [`defaults`](super::defaults).
 

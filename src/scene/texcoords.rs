@@ -44,7 +44,7 @@ pub fn box_face_axes(rotation: &DMat3, half: DVec3, face: u32) -> ((DVec3, f64),
     let h = [half.x, half.y, half.z];
     let (a, sign) = ((face / 2) as usize, if face % 2 == 1 { 1.0 } else { -1.0 });
     let n = axes[a] * sign;
-    let (right, _) = crate::scene::plane_axes(n.normalize());
+    let (right, _) = super::model::plane_axes(n.normalize());
     let (b, c) = ((a + 1) % 3, (a + 2) % 3);
     let mut best = (b, 1.0, f64::NEG_INFINITY);
     for k in [b, c] {

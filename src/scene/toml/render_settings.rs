@@ -1,0 +1,95 @@
+//! `[image]` and `[render]`: the picture's size and background, and how
+//! the renderers take it (depth, cut-off, shadows, samples, traversal,
+//! MSAA), each in its range.
+
+use super::checks::{spanned_map, Ctx};
+use super::schema::{v3, ImageRaw, MsaaRaw, RenderRaw};
+use crate::scene::error::SceneError;
+use crate::scene::model::{ImageSettings, RenderSettings, MAX_DEPTH, MAX_RESOLUTION};
+
+/// `[image]`, the defaults where it or a key is absent.
+pub(super) fn image(cx: &Ctx, raw: Option<&ImageRaw>) -> Result<ImageSettings, SceneError> {
+    let mut image = ImageSettings::default();
+    if let Some(img) = raw {
+        let why = " (an absurd resolution)";
+        if let Some(w) = &img.width {
+            image.width = cx.int_in(w, "image.width", 1, MAX_RESOLUTION, why)?;
+        }
+        if let Some(h) = &img.height {
+            image.height = cx.int_in(h, "image.height", 1, MAX_RESOLUTION, why)?;
+        }
+        if let Some(b) = &img.background {
+            image.background = cx.non_negative3(&spanned_map(b, v3), "image.background")?;
+        }
+    }
+    Ok(image)
+}
+
+/// `[render]`, the defaults where it or a key is absent.
+pub(super) fn render(cx: &Ctx, raw: Option<&RenderRaw>) -> Result<RenderSettings, SceneError> {
+    let mut render = RenderSettings::default();
+    if let Some(r) = raw {
+        if let Some(d) = &r.depth {
+            render.depth = cx.int_in(d, "render.depth", 0, i64::from(MAX_DEPTH), "")?;
+        }
+        if let Some(c) = &r.cutoff {
+            render.cutoff = cx.non_negative(c, "render.cutoff")?;
+        }
+        if let Some(s) = r.shadows {
+            render.shadows = s;
+        }
+        if let Some(s) = &r.samples {
+            render.samples = cx.int_in(s, "render.samples", 1, 1024, "")?;
+        }
+        if let Some(t) = r.traversal {
+            render.traversal = t;
+        }
+        if let Some(m) = &r.msaa {
+            let text = match m.get_ref() {
+                MsaaRaw::Count(n) => n.to_string(),
+                MsaaRaw::Text(t) => t.clone(),
+            };
+            render.msaa = text
+                .parse()
+                .map_err(|e: String| cx.err(m, format!("render.msaa {e}")))?;
+        }
+    }
+    Ok(render)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_support::*;
+
+    #[test]
+    fn absurd_and_invalid_values() {
+        for (rest, parts) in [
+            (
+                "[image]\nwidth = 0\n",
+                &["line 5", "image.width", "0", "absurd", "16384"][..],
+            ),
+            (
+                "[image]\nheight = 100000\n",
+                &["line 5", "image.height", "100000", "absurd"],
+            ),
+            ("[image]\nwidth = -3\n", &["line 5", "image.width"]),
+            ("[render]\ndepth = 65\n", &["line 5", "render.depth", "64"]),
+            (
+                "[render]\nsamples = 0\n",
+                &["line 5", "render.samples", "1024"],
+            ),
+            (
+                "[render]\nmsaa = 0\n",
+                &["line 5", "render.msaa", "sample count"],
+            ),
+            (
+                "[render]\nmsaa = \"4,sometimes\"\n",
+                &["line 5", "render.msaa", "per-sample"],
+            ),
+            ("[render]\ncutoff = -0.1\n", &["line 5", "render.cutoff"]),
+        ] {
+            let e = parse_err(&with_camera(rest));
+            assert_has(&e, parts);
+        }
+    }
+}
