@@ -241,6 +241,16 @@ def import_graph(files):
                 continue
             line = code.count("\n", 0, m.start()) + 1
             refs.append((m.group(1).split("::"), line))
+        # A child module named by its bare name (`child::f()`, `use
+        # child::Thing`) in the file that declares it.
+        for m in re.finditer(r"^\s*(?:pub(?:\([^)]*\))?\s+)?mod\s+(" + IDENT + r")\s*;", code, re.M):
+            child = m.group(1)
+            for use in re.finditer(r"(?<![:\w])" + child + r"::((?:" + IDENT + r"::)*" + IDENT + r"|\{)", code):
+                if not outside(spans, use.start()):
+                    continue
+                line = code.count("\n", 0, use.start()) + 1
+                rest = use.group(1).split("::") if use.group(1) != "{" else []
+                refs.append((["self", child] + rest, line))
         for parts, line in refs:
             full = absolute(module, files[module], parts)
             if full is None:
