@@ -8,8 +8,10 @@ use image::{Rgb, RgbImage};
 use plotters::prelude::*;
 use plotters::style::TextStyle;
 
+use super::error::PresentError;
 use super::font::{Typeset, FAMILY};
-use super::{encode_png, figure, PresentError, VariantImages, PARETO_COLOUR};
+use super::png::{encode_png, VariantImages};
+use super::style::{figure, PARETO_COLOUR};
 use crate::compare::report::{ReferenceChoice, Report, VariantResult};
 
 pub const THUMB_WIDTH: u32 = 240;

@@ -7,7 +7,8 @@ use std::fmt::Write;
 
 use base64::Engine;
 
-use super::{figure, mode_colour, Png, VariantImages, PARETO_COLOUR};
+use super::png::{Png, VariantImages};
+use super::style::{figure, mode_colour, PARETO_COLOUR};
 use crate::compare::report::{Errors, Report};
 
 pub use crate::markup::escape;

@@ -14,9 +14,11 @@ use plotters::coord::ranged1d::{AsRangedCoord, Ranged, ValueFormatter};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::error::PresentError;
 use super::font::{Typeset, FAMILY};
 use super::labels::{place_labels, Rect};
-use super::{encode_png, figure, mode_colour, PresentError, PARETO_COLOUR};
+use super::png::encode_png;
+use super::style::{figure, mode_colour, PARETO_COLOUR};
 use crate::compare::report::Report;
 use crate::shading::Shading;
 
