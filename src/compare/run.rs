@@ -177,7 +177,7 @@ pub fn run(
         let name = variant.to_string();
         progress(k + 2, total, &name);
         match run_variant(context, variant, scene_v, name, options, &references, dir)? {
-            Outcome::Measured(result) => results.push(result),
+            Outcome::Measured(result) => results.push(*result),
             Outcome::NotRun(skipped) => not_run.push(skipped),
         }
     }
@@ -229,9 +229,9 @@ fn render_references(
     })
 }
 
-/// What became of one variant.
+/// What became of one variant (boxed: a result is large beside a reason).
 enum Outcome {
-    Measured(VariantResult),
+    Measured(Box<VariantResult>),
     NotRun(NotRun),
 }
 
@@ -273,7 +273,7 @@ fn run_variant(
     write_image(&flip_heatmap(&judged.model_flip), &dir.join(&heat_file))?;
     let (gpu_ms, gpu_spread_ms) = median_and_spread(gpu);
     let (frame_ms, frame_spread_ms) = median_and_spread(frame);
-    Ok(Outcome::Measured(VariantResult {
+    Ok(Outcome::Measured(Box::new(VariantResult {
         name,
         variant: variant.clone(),
         image: image_file,
@@ -292,7 +292,7 @@ fn run_variant(
         traversal,
         non_finite_pixels: image.non_finite_pixels(),
         pareto: false,
-    }))
+    })))
 }
 
 /// A variant's three errors, and the FLIP of the model error that its heat
