@@ -171,75 +171,15 @@ pub fn run(
         .collect::<Result<Vec<_>, _>>()?;
     let mut not_run = Vec::new();
     let total = chosen.len() + 2;
-    progress(0, total, "reference");
-    let (reference, _) = render_cpu(&reference_scene(scene), Shading::Raytrace)?;
-    write_image(&reference.image, &dir.join("reference.png"))?;
-    progress(1, total, "local reference");
-    let (local_reference, _) = render_cpu(&local_reference_scene(scene), Shading::Raytrace)?;
-    write_image(&local_reference.image, &dir.join("reference-local.png"))?;
+    let references = render_references(scene, dir, total, &mut progress)?;
     let mut results = Vec::with_capacity(chosen.len());
     for (k, (variant, scene_v)) in chosen.iter().zip(&scenes).enumerate() {
         let name = variant.to_string();
         progress(k + 2, total, &name);
-        if let Some(reason) = options.skip.get(&name).cloned() {
-            not_run.push(NotRun {
-                name,
-                variant: variant.clone(),
-                reason,
-            });
-            continue;
+        match run_variant(context, variant, scene_v, name, options, &references, dir)? {
+            Outcome::Measured(result) => results.push(*result),
+            Outcome::NotRun(skipped) => not_run.push(skipped),
         }
-        let measured = measure(context, scene_v, variant.shading, options.runs);
-        let (first, gpu, frame, image, traversal, cpu) = match measured {
-            Ok(m) => m,
-            Err(e) => {
-                // One variant's failure is its own: the others still run.
-                not_run.push(NotRun {
-                    name,
-                    variant: variant.clone(),
-                    reason: e.to_string(),
-                });
-                continue;
-            }
-        };
-        // Three FLIPs (single-threaded each, most of a variant's time
-        // outside the GPU), side by side.
-        let ((implementation_error, _), ((model_error, model_flip), (local_error, _))) =
-            rayon::join(
-                || errors(&cpu.image, &image),
-                || {
-                    rayon::join(
-                        || errors(&reference.image, &image),
-                        || errors(&local_reference.image, &image),
-                    )
-                },
-            );
-        let stem = file_stem(&name);
-        let (image_file, heat_file) = (format!("{stem}.png"), format!("{stem}-heat.png"));
-        write_image(&image, &dir.join(&image_file))?;
-        write_image(&flip_heatmap(&model_flip), &dir.join(&heat_file))?;
-        let (gpu_ms, gpu_spread_ms) = median_and_spread(gpu);
-        let (frame_ms, frame_spread_ms) = median_and_spread(frame);
-        results.push(VariantResult {
-            name,
-            variant: variant.clone(),
-            image: image_file,
-            heatmap: heat_file,
-            implementation_error,
-            model_error,
-            local_error: Some(local_error),
-            timing: Timing {
-                gpu_ms,
-                gpu_spread_ms,
-                frame_ms,
-                frame_spread_ms,
-                pipeline_ms: first.pipeline_ms.unwrap_or(0.0),
-                image_ms: first.total_ms,
-            },
-            traversal,
-            non_finite_pixels: image.non_finite_pixels(),
-            pareto: false,
-        });
     }
     let mut report = Report {
         scene: scene_name.to_string(),
@@ -262,6 +202,128 @@ pub fn run(
     mark_pareto(&mut report);
     set_budget(&mut report, options.budget);
     Ok(report)
+}
+
+/// The global and the local reference images, each written as soon as it
+/// is rendered.
+struct References {
+    global: LinearImage,
+    local: LinearImage,
+}
+
+fn render_references(
+    scene: &Scene,
+    dir: &Path,
+    total: usize,
+    progress: &mut impl FnMut(usize, usize, &str),
+) -> Result<References, Error> {
+    progress(0, total, "reference");
+    let (reference, _) = render_cpu(&reference_scene(scene), Shading::Raytrace)?;
+    write_image(&reference.image, &dir.join("reference.png"))?;
+    progress(1, total, "local reference");
+    let (local_reference, _) = render_cpu(&local_reference_scene(scene), Shading::Raytrace)?;
+    write_image(&local_reference.image, &dir.join("reference-local.png"))?;
+    Ok(References {
+        global: reference.image,
+        local: local_reference.image,
+    })
+}
+
+/// What became of one variant (boxed: a result is large beside a reason).
+enum Outcome {
+    Measured(Box<VariantResult>),
+    NotRun(NotRun),
+}
+
+/// One variant: rendered and timed, judged against its CPU reference and
+/// both references, its image and heat map written; or not run, with why
+/// (skipped, or its render failed: that failure is its own, the others
+/// still run). Fails only when an image cannot be written.
+fn run_variant(
+    context: &Arc<GpuContext>,
+    variant: &Variant,
+    scene: &Scene,
+    name: String,
+    options: &CompareOptions,
+    references: &References,
+    dir: &Path,
+) -> Result<Outcome, Error> {
+    if let Some(reason) = options.skip.get(&name).cloned() {
+        return Ok(Outcome::NotRun(NotRun {
+            name,
+            variant: variant.clone(),
+            reason,
+        }));
+    }
+    let (first, gpu, frame, image, traversal, cpu) =
+        match measure(context, scene, variant.shading, options.runs) {
+            Ok(m) => m,
+            Err(e) => {
+                return Ok(Outcome::NotRun(NotRun {
+                    name,
+                    variant: variant.clone(),
+                    reason: e.to_string(),
+                }))
+            }
+        };
+    let judged = judge(&cpu.image, references, &image);
+    let stem = file_stem(&name);
+    let (image_file, heat_file) = (format!("{stem}.png"), format!("{stem}-heat.png"));
+    write_image(&image, &dir.join(&image_file))?;
+    write_image(&flip_heatmap(&judged.model_flip), &dir.join(&heat_file))?;
+    let (gpu_ms, gpu_spread_ms) = median_and_spread(gpu);
+    let (frame_ms, frame_spread_ms) = median_and_spread(frame);
+    Ok(Outcome::Measured(Box::new(VariantResult {
+        name,
+        variant: variant.clone(),
+        image: image_file,
+        heatmap: heat_file,
+        implementation_error: judged.implementation,
+        model_error: judged.model,
+        local_error: Some(judged.local),
+        timing: Timing {
+            gpu_ms,
+            gpu_spread_ms,
+            frame_ms,
+            frame_spread_ms,
+            pipeline_ms: first.pipeline_ms.unwrap_or(0.0),
+            image_ms: first.total_ms,
+        },
+        traversal,
+        non_finite_pixels: image.non_finite_pixels(),
+        pareto: false,
+    })))
+}
+
+/// A variant's three errors, and the FLIP of the model error that its heat
+/// map draws.
+struct Judged {
+    implementation: Errors,
+    model: Errors,
+    model_flip: FlipStats,
+    local: Errors,
+}
+
+/// The GPU image against the CPU reference of the same variant, the
+/// global reference and the local one.
+fn judge(cpu: &LinearImage, references: &References, image: &LinearImage) -> Judged {
+    // Three FLIPs (single-threaded each, most of a variant's time
+    // outside the GPU), side by side.
+    let ((implementation, _), ((model, model_flip), (local, _))) = rayon::join(
+        || errors(cpu, image),
+        || {
+            rayon::join(
+                || errors(&references.global, image),
+                || errors(&references.local, image),
+            )
+        },
+    );
+    Judged {
+        implementation,
+        model,
+        model_flip,
+        local,
+    }
 }
 
 /// Marks each variant on the Pareto front of (GPU time, plotted error).

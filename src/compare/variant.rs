@@ -159,7 +159,6 @@ impl FromStr for Variant {
                 .parse()
                 .map_err(|e| format!("variant `{text}`: {e}"))?,
         );
-        let raster = v.shading.raster_mode().is_some();
         let mut seen: Vec<&str> = Vec::new();
         for pair in settings.split(',').map(str::trim).filter(|p| !p.is_empty()) {
             // `msaa=4,per-sample`: the rate follows the count.
@@ -180,88 +179,117 @@ impl FromStr for Variant {
                 return Err(format!("variant `{text}`: `{key}` is given more than once"));
             }
             seen.push(key);
-            let bad = |expected: &str| {
-                format!("variant `{text}`: {key}={value} is invalid; expected {expected}")
-            };
-            let only = |ok: bool, modes: &str| {
-                if ok {
-                    Ok(())
-                } else {
-                    Err(format!("variant `{text}`: `{key}` applies to {modes} only"))
-                }
-            };
-            match key {
-                "segments" => {
-                    only(raster, "flat, gouraud and phong")?;
-                    let n: u32 = value.parse().map_err(|_| bad("an integer from 3 to 4096"))?;
-                    if !(3..=4096).contains(&n) {
-                        return Err(bad("an integer from 3 to 4096"));
-                    }
-                    v.segments = Some(n);
-                }
-                "interpolation" => {
-                    only(raster, "flat, gouraud and phong")?;
-                    v.interpolation = Some(
-                        Interpolation::from_name(value).ok_or_else(|| bad("perspective or screen"))?,
-                    );
-                }
-                "depth" => {
-                    only(!raster, "raytrace")?;
-                    let range = format!("an integer from 0 to {MAX_DEPTH}");
-                    let d: u32 = value.parse().map_err(|_| bad(&range))?;
-                    if d > MAX_DEPTH {
-                        return Err(bad(&range));
-                    }
-                    v.depth = Some(d);
-                }
-                "cutoff" => {
-                    only(!raster, "raytrace")?;
-                    let c: f64 = value.parse().map_err(|_| bad("a number >= 0"))?;
-                    if !c.is_finite() || c < 0.0 {
-                        return Err(bad("a number >= 0"));
-                    }
-                    v.cutoff = Some(c);
-                }
-                "samples" => {
-                    only(!raster, "raytrace")?;
-                    let n: u32 = value.parse().map_err(|_| bad("an integer from 1 to 1024"))?;
-                    if !(1..=1024).contains(&n) {
-                        return Err(bad("an integer from 1 to 1024"));
-                    }
-                    v.samples = Some(n);
-                }
-                "shadows" => {
-                    only(!raster, "raytrace")?;
-                    v.shadows = Some(value.parse().map_err(|_| bad("true or false"))?);
-                }
-                "lighting" => {
-                    if value.is_empty() {
-                        return Err(bad("a GLSL file"));
-                    }
-                    v.lighting = Some(value.to_string());
-                }
-                "traversal" => {
-                    only(!raster, "raytrace")?;
-                    v.traversal = Some(value.parse().map_err(|_| bad("auto, bvh or query"))?);
-                }
-                "msaa" => {
-                    only(raster, "flat, gouraud and phong")?;
-                    v.msaa = Some(value.parse().map_err(|_| bad("a sample count such as 4"))?);
-                }
-                "filter" => {
-                    v.filter = Some(
-                        FilterPreset::from_name(value)
-                            .ok_or_else(|| bad("nearest, bilinear or trilinear"))?,
-                    );
-                }
-                _ => {
-                    return Err(format!(
-                        "variant `{text}`: unknown setting `{key}`; expected segments, interpolation, depth, cutoff, samples, shadows, lighting, traversal, filter or msaa"
-                    ))
-                }
-            }
+            v.set(&Setting { text, key, value })?;
         }
         Ok(v)
+    }
+}
+
+/// One `key=value` of a variant's text, and what to say when it is wrong.
+struct Setting<'a> {
+    /// The whole variant, as the user wrote it.
+    text: &'a str,
+    key: &'a str,
+    value: &'a str,
+}
+
+impl Setting<'_> {
+    fn bad(&self, expected: &str) -> String {
+        format!(
+            "variant `{}`: {}={} is invalid; expected {expected}",
+            self.text, self.key, self.value
+        )
+    }
+
+    fn only(&self, ok: bool, modes: &str) -> Result<(), String> {
+        if ok {
+            Ok(())
+        } else {
+            Err(format!(
+                "variant `{}`: `{}` applies to {modes} only",
+                self.text, self.key
+            ))
+        }
+    }
+}
+
+impl Variant {
+    /// Sets one setting, checked against the mode and its range.
+    fn set(&mut self, setting: &Setting) -> Result<(), String> {
+        let raster = self.shading.raster_mode().is_some();
+        let (value, bad) = (setting.value, |expected: &str| setting.bad(expected));
+        match setting.key {
+            "segments" => {
+                setting.only(raster, "flat, gouraud and phong")?;
+                let n: u32 = value.parse().map_err(|_| bad("an integer from 3 to 4096"))?;
+                if !(3..=4096).contains(&n) {
+                    return Err(bad("an integer from 3 to 4096"));
+                }
+                self.segments = Some(n);
+            }
+            "interpolation" => {
+                setting.only(raster, "flat, gouraud and phong")?;
+                self.interpolation = Some(
+                    Interpolation::from_name(value).ok_or_else(|| bad("perspective or screen"))?,
+                );
+            }
+            "depth" => {
+                setting.only(!raster, "raytrace")?;
+                let range = format!("an integer from 0 to {MAX_DEPTH}");
+                let d: u32 = value.parse().map_err(|_| bad(&range))?;
+                if d > MAX_DEPTH {
+                    return Err(bad(&range));
+                }
+                self.depth = Some(d);
+            }
+            "cutoff" => {
+                setting.only(!raster, "raytrace")?;
+                let c: f64 = value.parse().map_err(|_| bad("a number >= 0"))?;
+                if !c.is_finite() || c < 0.0 {
+                    return Err(bad("a number >= 0"));
+                }
+                self.cutoff = Some(c);
+            }
+            "samples" => {
+                setting.only(!raster, "raytrace")?;
+                let n: u32 = value.parse().map_err(|_| bad("an integer from 1 to 1024"))?;
+                if !(1..=1024).contains(&n) {
+                    return Err(bad("an integer from 1 to 1024"));
+                }
+                self.samples = Some(n);
+            }
+            "shadows" => {
+                setting.only(!raster, "raytrace")?;
+                self.shadows = Some(value.parse().map_err(|_| bad("true or false"))?);
+            }
+            "lighting" => {
+                if value.is_empty() {
+                    return Err(bad("a GLSL file"));
+                }
+                self.lighting = Some(value.to_string());
+            }
+            "traversal" => {
+                setting.only(!raster, "raytrace")?;
+                self.traversal = Some(value.parse().map_err(|_| bad("auto, bvh or query"))?);
+            }
+            "msaa" => {
+                setting.only(raster, "flat, gouraud and phong")?;
+                self.msaa = Some(value.parse().map_err(|_| bad("a sample count such as 4"))?);
+            }
+            "filter" => {
+                self.filter = Some(
+                    FilterPreset::from_name(value)
+                        .ok_or_else(|| bad("nearest, bilinear or trilinear"))?,
+                );
+            }
+            key => {
+                return Err(format!(
+                    "variant `{}`: unknown setting `{key}`; expected segments, interpolation, depth, cutoff, samples, shadows, lighting, traversal, filter or msaa",
+                    setting.text
+                ))
+            }
+        }
+        Ok(())
     }
 }
 

@@ -7,8 +7,9 @@ use std::fmt::Write;
 
 use base64::Engine;
 
-use super::{figure, mode_colour, Png, VariantImages, PARETO_COLOUR};
-use crate::compare::report::{Errors, Report};
+use super::png::{Png, VariantImages};
+use super::style::{figure, mode_colour, PARETO_COLOUR};
+use crate::compare::report::{file_stem, Errors, Report};
 
 pub use crate::markup::escape;
 
@@ -89,6 +90,27 @@ pub(crate) fn page(
 ) -> String {
     let title = format!("shadelab compare: {}", report.scene);
     let mut h = page_start(&title);
+    meta(&mut h, report);
+    plot_and_budget(&mut h, report, plot_svg);
+    legend(&mut h, report);
+    table(&mut h, report);
+    contact_sheet(&mut h, contact_sheet_png);
+    variants(&mut h, report, images);
+    if let Some(r) = reference {
+        let _ = writeln!(
+            h,
+            "<h2>Reference</h2>\n<figure class=\"variant\">{}<figcaption>{}</figcaption></figure>",
+            png_img(r, "reference image", "image"),
+            escape(&report.reference)
+        );
+    }
+    h.push_str(PAGE_END);
+    h
+}
+
+/// The line under the title (size, device, runs, reference, shard,
+/// counts), and the variants not run with why.
+fn meta(h: &mut String, report: &Report) {
     let shard = match report.shard {
         Some((i, n)) => format!("; shard {i} of {n}"),
         None => String::new(),
@@ -117,7 +139,10 @@ pub(crate) fn page(
                 .join("; ")
         );
     }
+}
 
+/// The plot, inline, and the budget's answer under it.
+fn plot_and_budget(h: &mut String, report: &Report, plot_svg: &str) {
     h.push_str("<h2>Speed against error</h2>\n<div class=\"plot\">\n");
     h.push_str(&inline_svg(plot_svg));
     h.push_str("</div>\n");
@@ -136,10 +161,9 @@ pub(crate) fn page(
             None => writeln!(h, "<p class=\"budget\">Budget: no variant has {within}.</p>"),
         };
     }
+}
 
-    legend(&mut h, report);
-    table(&mut h, report);
-
+fn contact_sheet(h: &mut String, contact_sheet_png: &[u8]) {
     h.push_str("<h2>Contact sheet</h2>\n");
     // The sheet's size is in its PNG header; the page only needs the ratio.
     let (sw, sh) = image::load_from_memory(contact_sheet_png)
@@ -156,7 +180,10 @@ pub(crate) fn page(
             "sheet"
         )
     );
+}
 
+/// Each variant's image beside its heat map, with its figures.
+fn variants(h: &mut String, report: &Report, images: &[VariantImages]) {
     h.push_str("<h2>Variants</h2>\n<p>Each variant's image, and beside it the FLIP heat map of its error against the reference (black none, through purple and orange, to pale yellow for the most).</p>\n");
     for (v, imgs) in report.variants.iter().zip(images) {
         let class = if v.pareto {
@@ -167,7 +194,7 @@ pub(crate) fn page(
         let _ = writeln!(
             h,
             "<figure class=\"{class}\" id=\"{}\">{}{}<figcaption><code>{}</code>{}<br>GPU {} ms, model RMSE {}, FLIP {}; local RMSE {}; implementation RMSE {}</figcaption></figure>",
-            escape(&super::super::report::file_stem(&v.name)),
+            escape(&file_stem(&v.name)),
             png_img(&imgs.image, &v.name, "image"),
             png_img(&imgs.heatmap, &format!("{} FLIP heat map", v.name), "heatmap"),
             escape(&v.name),
@@ -179,17 +206,6 @@ pub(crate) fn page(
             figure(v.implementation_error.rmse),
         );
     }
-
-    if let Some(r) = reference {
-        let _ = writeln!(
-            h,
-            "<h2>Reference</h2>\n<figure class=\"variant\">{}<figcaption>{}</figcaption></figure>",
-            png_img(r, "reference image", "image"),
-            escape(&report.reference)
-        );
-    }
-    h.push_str(PAGE_END);
-    h
 }
 
 fn legend(h: &mut String, report: &Report) {

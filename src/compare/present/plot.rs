@@ -14,10 +14,12 @@ use plotters::coord::ranged1d::{AsRangedCoord, Ranged, ValueFormatter};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::error::PresentError;
 use super::font::{Typeset, FAMILY};
 use super::labels::{place_labels, Rect};
-use super::{encode_png, figure, mode_colour, PresentError, PARETO_COLOUR};
-use crate::compare::report::Report;
+use super::png::encode_png;
+use super::style::{figure, mode_colour, PARETO_COLOUR};
+use crate::compare::report::{Report, VariantResult};
 use crate::shading::Shading;
 
 pub const WIDTH: u32 = 1280;
@@ -153,6 +155,24 @@ where
     let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     root.fill(&WHITE).map_err(e)?;
     let (plot_area, list_area) = root.split_horizontally(WIDTH - LIST_WIDTH);
+    let mut chart = ChartBuilder::on(&plot_area)
+        .caption(caption(report, x, y), (FAMILY, 20))
+        .margin(16)
+        .x_label_area_size(44)
+        .y_label_area_size(72)
+        .build_cartesian_2d(x_spec, y_spec)
+        .map_err(e)?;
+    draw_mesh(&mut chart, report, x, y)?;
+    draw_points(&mut chart, report, x, y)?;
+    let label_style = TextStyle::from((FAMILY, 13).into_font());
+    let mut placed = draw_point_numbers(root, &chart, report, x, y, &label_style)?;
+    placed.extend(draw_list(&list_area, report, &label_style)?);
+    Ok(placed)
+}
+
+/// The plot's title, which says so when an error of 0 had to be drawn on a
+/// log axis's lower edge.
+fn caption(report: &Report, x: Axis, y: Axis) -> String {
     let clamped = report.variants.iter().any(|v| {
         let (px, py) = (v.timing.gpu_ms, report.error_of(v));
         px.is_finite() && py.is_finite() && (x.place(px) != px || y.place(py) != py)
@@ -164,13 +184,28 @@ where
     if clamped {
         caption.push_str(" (error 0 drawn on the lower edge)");
     }
-    let mut chart = ChartBuilder::on(&plot_area)
-        .caption(caption, (FAMILY, 20))
-        .margin(16)
-        .x_label_area_size(44)
-        .y_label_area_size(72)
-        .build_cartesian_2d(x_spec, y_spec)
-        .map_err(e)?;
+    caption
+}
+
+/// Where a variant's point is drawn, or `None` when its time or error is
+/// not finite and it is left out of the plot.
+fn point(report: &Report, v: &VariantResult, x: Axis, y: Axis) -> Option<(f64, f64)> {
+    let (gpu, error) = (v.timing.gpu_ms, report.error_of(v));
+    (gpu.is_finite() && error.is_finite()).then(|| (x.place(gpu), y.place(error)))
+}
+
+/// The grid, the ticks and the axes' titles (metric, reference, scale).
+fn draw_mesh<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    report: &Report,
+    x: Axis,
+    y: Axis,
+) -> Result<(), String>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
     let scale = |log: bool| if log { "log scale" } else { "linear" };
     chart
         .configure_mesh()
@@ -192,25 +227,39 @@ where
         .light_line_style(RGBColor(235, 235, 235))
         .bold_line_style(RGBColor(210, 210, 210))
         .draw()
-        .map_err(e)?;
+        .map_err(|e| e.to_string())
+}
 
-    let place = |gpu: f64, error: f64| (x.place(gpu), y.place(error));
-    let finite = |gpu: f64, rmse: f64| gpu.is_finite() && rmse.is_finite();
-
+/// The Pareto front's line, each mode's points, the front's points ringed,
+/// and the legend of modes and front.
+fn draw_points<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    report: &Report,
+    x: Axis,
+    y: Axis,
+) -> Result<(), String>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     // The front first, so the points sit on top of its line.
     let mut front: Vec<_> = report
         .variants
         .iter()
-        .filter(|v| v.pareto && finite(v.timing.gpu_ms, report.error_of(v)))
+        .filter(|v| v.pareto && point(report, v, x, y).is_some())
         .collect();
     front.sort_by(|a, b| a.timing.gpu_ms.total_cmp(&b.timing.gpu_ms));
+    let front: Vec<(f64, f64)> = front
+        .iter()
+        .filter_map(|v| point(report, v, x, y))
+        .collect();
     let (pr, pg, pb) = PARETO_COLOUR;
     let pareto = RGBColor(pr, pg, pb);
     chart
         .draw_series(LineSeries::new(
-            front
-                .iter()
-                .map(|v| place(v.timing.gpu_ms, report.error_of(v))),
+            front.iter().copied(),
             pareto.stroke_width(2),
         ))
         .map_err(e)?
@@ -223,8 +272,8 @@ where
         let points: Vec<_> = report
             .variants
             .iter()
-            .filter(|v| v.variant.shading == mode && finite(v.timing.gpu_ms, report.error_of(v)))
-            .map(|v| place(v.timing.gpu_ms, report.error_of(v)))
+            .filter(|v| v.variant.shading == mode)
+            .filter_map(|v| point(report, v, x, y))
             .collect();
         if points.is_empty() {
             continue;
@@ -244,13 +293,11 @@ where
 
     // The front's points ringed.
     chart
-        .draw_series(front.iter().map(|v| {
-            Circle::new(
-                place(v.timing.gpu_ms, report.error_of(v)),
-                MARKER as u32 + 3,
-                pareto.stroke_width(2),
-            )
-        }))
+        .draw_series(
+            front
+                .iter()
+                .map(|&p| Circle::new(p, MARKER as u32 + 3, pareto.stroke_width(2))),
+        )
         .map_err(e)?;
 
     chart
@@ -260,10 +307,25 @@ where
         .border_style(RGBColor(160, 160, 160))
         .position(SeriesLabelPosition::UpperRight)
         .draw()
-        .map_err(e)?;
+        .map_err(e)
+}
 
-    // Every drawn point's number, where it overlaps nothing.
-    let label_style = TextStyle::from((FAMILY, 13).into_font());
+/// Every drawn point's number, where it overlaps nothing, with a leader
+/// line where it had to move away; returns the numbers' boxes.
+fn draw_point_numbers<'a, DB, X, Y>(
+    root: &DrawingArea<DB, Shift>,
+    chart: &ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    report: &Report,
+    x: Axis,
+    y: Axis,
+    label_style: &TextStyle,
+) -> Result<Vec<Rect>, String>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let (area_x, area_y) = chart.plotting_area().get_base_pixel();
     let (area_w, area_h) = chart.plotting_area().dim_in_pixel();
     let bounds = Rect {
@@ -276,16 +338,12 @@ where
         .variants
         .iter()
         .enumerate()
-        .filter(|(_, v)| finite(v.timing.gpu_ms, report.error_of(v)))
-        .map(|(i, v)| {
-            let p = place(v.timing.gpu_ms, report.error_of(v));
-            (i, chart.backend_coord(&p))
-        })
+        .filter_map(|(i, v)| Some((i, chart.backend_coord(&point(report, v, x, y)?))))
         .collect();
     let mut sizes = Vec::with_capacity(drawn.len());
     for (i, _) in &drawn {
         sizes.push(
-            root.estimate_text_size(&(i + 1).to_string(), &label_style)
+            root.estimate_text_size(&(i + 1).to_string(), label_style)
                 .map_err(e)?,
         );
     }
@@ -311,8 +369,6 @@ where
         .map_err(e)?;
         placed.push(*b);
     }
-
-    placed.extend(draw_list(&list_area, report, &label_style)?);
     Ok(placed)
 }
 

@@ -1,6 +1,6 @@
 //! `report.csv`: one row per variant with every figure of the report.
 
-use super::PresentError;
+use super::error::PresentError;
 use crate::compare::report::{Errors, Report};
 
 /// The header, in column order.
