@@ -93,8 +93,9 @@ pub fn first_clash(cases: &[(String, String)]) -> Option<(&str, &str, &str)> {
 }
 
 /// The settings that change a render's pixels, as `render` records them
-/// in a PNG's `shadelab:settings` (`render::effective_settings`), plus the
-/// reference's key and the hook's source digest that `golden` adds.
+/// in a PNG's `shadelab:settings` (`render::image::effective_settings`),
+/// plus the reference's key and the hook's source digest that `golden`
+/// adds.
 const PIXEL_SETTINGS: [&str; 12] = [
     "golden_scene",
     "shading",

@@ -11,7 +11,8 @@ use shadelab::junit;
 use shadelab::output;
 
 use super::diff::Preset;
-use super::golden::{GoldenArgs, Status};
+use super::golden_args::GoldenArgs;
+use super::golden_case::Status;
 use super::golden_report::{junit_from_json, write_page, PageHead};
 use super::shards;
 use super::Failure;
@@ -44,28 +45,9 @@ pub(super) fn conclude(
     records: Vec<serde_json::Value>,
     first_error: Option<Failure>,
 ) -> Result<(), Failure> {
-    let status_of = |v: &serde_json::Value| v["status"].as_str().unwrap_or("error").to_string();
-    let count = |s: Status| {
-        let word = s.word().to_lowercase();
-        records.iter().filter(|v| status_of(v) == word).count()
-    };
-    let rows: Vec<String> = records
-        .iter()
-        .map(|v| v["html_row"].as_str().unwrap_or_default().to_string())
-        .collect();
-    let figures: Vec<String> = records
-        .iter()
-        .filter_map(|v| v["html_figure"].as_str().map(str::to_string))
-        .collect();
+    let count = |s: Status| count(&records, s);
     let html = args.out.join("report.html");
-    let head = PageHead {
-        references: &run.references,
-        key: &run.key,
-        device: &run.device,
-        driver: &run.driver,
-        limits: &run.limits,
-    };
-    write_page(&html, &head, count(Status::Pass), &rows, &figures)?;
+    write_report_page(&html, run, &records)?;
     if let Some(path) = &args.junit {
         let junit: Vec<_> = records
             .iter()
@@ -74,6 +56,58 @@ pub(super) fn conclude(
         let xml = junit::render("shadelab golden", &junit);
         output::write_atomically(path, xml.as_bytes())?;
     }
+    write_record(&args.out, run, &records)?;
+    let total = records.len();
+    let summary = format!(
+        "{} passed, {} failed, {} missing, {} created, {} updated, {} errors of {total} cases",
+        count(Status::Pass),
+        count(Status::Fail),
+        count(Status::Missing),
+        count(Status::Created),
+        count(Status::Updated),
+        count(Status::Error),
+    );
+    if args.json {
+        print_json(run, &records, &html);
+    } else {
+        println!("golden: {summary}; report {}", html.display());
+    }
+    exit_status(&records, &summary, first_error)
+}
+
+/// How many of the cases' records have status `s`.
+fn count(records: &[serde_json::Value], s: Status) -> usize {
+    let status_of = |v: &serde_json::Value| v["status"].as_str().unwrap_or("error").to_string();
+    let word = s.word().to_lowercase();
+    records.iter().filter(|v| status_of(v) == word).count()
+}
+
+/// `report.html` from the cases' rows and figures.
+fn write_report_page(
+    html: &Path,
+    run: &RunRecord,
+    records: &[serde_json::Value],
+) -> Result<(), Failure> {
+    let rows: Vec<String> = records
+        .iter()
+        .map(|v| v["html_row"].as_str().unwrap_or_default().to_string())
+        .collect();
+    let figures: Vec<String> = records
+        .iter()
+        .filter_map(|v| v["html_figure"].as_str().map(str::to_string))
+        .collect();
+    let head = PageHead {
+        references: &run.references,
+        key: &run.key,
+        device: &run.device,
+        driver: &run.driver,
+        limits: &run.limits,
+    };
+    write_page(html, &head, count(records, Status::Pass), &rows, &figures)
+}
+
+/// `golden.json` in `out`: the run's head and every case's record.
+fn write_record(out: &Path, run: &RunRecord, records: &[serde_json::Value]) -> Result<(), Failure> {
     // What a run of these cases was, for `--merge` to check that shards
     // belong together: the same references, limits and driver's key.
     let identity = serde_json::json!({
@@ -90,53 +124,58 @@ pub(super) fn conclude(
         "preset": run.preset,
         "cases": records,
     });
-    output::write_atomically(&args.out.join(RECORD), record.to_string().as_bytes())?;
-    let total = records.len();
-    let summary = format!(
-        "{} passed, {} failed, {} missing, {} created, {} updated, {} errors of {total} cases",
-        count(Status::Pass),
-        count(Status::Fail),
-        count(Status::Missing),
-        count(Status::Created),
-        count(Status::Updated),
-        count(Status::Error),
-    );
-    if args.json {
-        let cases: Vec<serde_json::Value> = records
-            .iter()
-            .map(|v| {
-                let mut v = v.clone();
-                if let Some(o) = v.as_object_mut() {
-                    for internal in ["order", "junit", "html_row", "html_figure"] {
-                        o.remove(internal);
-                    }
+    Ok(output::write_atomically(
+        &out.join(RECORD),
+        record.to_string().as_bytes(),
+    )?)
+}
+
+/// `--json`: the run and its cases, without the record's own fields.
+fn print_json(run: &RunRecord, records: &[serde_json::Value], html: &Path) {
+    let count = |s: Status| count(records, s);
+    let cases: Vec<serde_json::Value> = records
+        .iter()
+        .map(|v| {
+            let mut v = v.clone();
+            if let Some(o) = v.as_object_mut() {
+                for internal in ["order", "junit", "html_row", "html_figure"] {
+                    o.remove(internal);
                 }
-                v
-            })
-            .collect();
-        let value = serde_json::json!({
-            "references": run.references,
-            "key": run.key,
-            "device": run.device,
-            "driver": run.driver,
-            "preset": run.preset,
-            "thresholds": run.thresholds,
-            "bless": run.bless,
-            "shard": run.shard.map(|(i, n)| format!("{i}/{n}")),
-            "cases": cases,
-            "passed": count(Status::Pass),
-            "failed": count(Status::Fail),
-            "missing": count(Status::Missing),
-            "created": count(Status::Created),
-            "updated": count(Status::Updated),
-            "errors": count(Status::Error),
-            "report": html,
-            "wall_ms": run.wall_ms,
-        });
-        println!("{value}");
-    } else {
-        println!("golden: {summary}; report {}", html.display());
-    }
+            }
+            v
+        })
+        .collect();
+    let value = serde_json::json!({
+        "references": run.references,
+        "key": run.key,
+        "device": run.device,
+        "driver": run.driver,
+        "preset": run.preset,
+        "thresholds": run.thresholds,
+        "bless": run.bless,
+        "shard": run.shard.map(|(i, n)| format!("{i}/{n}")),
+        "cases": cases,
+        "passed": count(Status::Pass),
+        "failed": count(Status::Fail),
+        "missing": count(Status::Missing),
+        "created": count(Status::Created),
+        "updated": count(Status::Updated),
+        "errors": count(Status::Error),
+        "report": html,
+        "wall_ms": run.wall_ms,
+    });
+    println!("{value}");
+}
+
+/// Success where every case passed or was made; else the first error's
+/// status where every case is an error, else 1.
+fn exit_status(
+    records: &[serde_json::Value],
+    summary: &str,
+    first_error: Option<Failure>,
+) -> Result<(), Failure> {
+    let count = |s: Status| count(records, s);
+    let total = records.len();
     let ok = count(Status::Pass) + count(Status::Created) + count(Status::Updated);
     let not_ok = total - ok;
     if not_ok == 0 {

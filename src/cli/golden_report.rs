@@ -13,8 +13,8 @@ use shadelab::metrics::format_figure;
 use shadelab::output::write_atomically;
 use shadelab::shading::Shading;
 
-use super::golden::{Judged, Status};
-use super::render_batch::CaseView;
+use super::golden_case::{Judged, Status};
+use super::render::CaseView;
 use super::Failure;
 
 /// A case as the report shows it.

@@ -9,6 +9,9 @@ mod compare;
 mod diff;
 mod diff_folders;
 mod golden;
+mod golden_args;
+mod golden_case;
+mod golden_judge;
 mod golden_keys;
 mod golden_record;
 mod golden_report;
@@ -16,7 +19,6 @@ mod ignored;
 mod info;
 mod progress;
 mod render;
-mod render_batch;
 mod shards;
 mod time_to_image;
 mod warm;
@@ -52,7 +54,7 @@ enum Command {
     /// Render scenes and compare each with its stored reference image
     /// (image regression tests): --create makes missing references,
     /// --bless accepts changed ones.
-    Golden(golden::GoldenArgs),
+    Golden(golden_args::GoldenArgs),
     /// One scene in many shader variants: speed against error.
     Compare(compare::CompareArgs),
     /// Compare two images (PNG or EXR): error figures, FLIP, an optional heat

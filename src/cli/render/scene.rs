@@ -1,0 +1,93 @@
+//! A scene as a render takes it: loaded (within the memory limit), the
+//! command line's overrides applied and checked, and a warning for the
+//! flags no mode in play uses.
+
+use std::path::Path;
+
+use shadelab::memory::MemoryLimit;
+use shadelab::scene::{self, Scene};
+use shadelab::shading::Shading;
+
+use super::args::RenderArgs;
+use crate::cli::ignored::{self, Backends};
+use crate::cli::Failure;
+
+/// Loads `path` (the default scene when `None`), refusing a glTF file whose
+/// geometry alone would exceed `memory`, and returns it with its name.
+pub fn load_scene(path: Option<&Path>, memory: &MemoryLimit) -> Result<(Scene, String), Failure> {
+    match path {
+        None => Ok((scene::default_scene(), "default".to_string())),
+        Some(p) => {
+            let scene = scene::load_within(p, &memory.load_limits())?;
+            let stem = p
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "scene".into());
+            Ok((scene, stem))
+        }
+    }
+}
+
+/// Applies the command-line overrides to the scene, checking their ranges as
+/// the scene loader checks the file's; warns once (`warn`) of ray-tracing
+/// flags that no mode in `modes` uses.
+pub(super) fn apply_overrides(
+    scene: &mut Scene,
+    args: &RenderArgs,
+    modes: &[Shading],
+    warn: bool,
+) -> Result<(), Failure> {
+    args.size.apply(scene)?;
+    if args.settings.lighting.lighting.is_some() && args.backend == "cpu" {
+        return Err(Failure::usage(
+            "--lighting is for the GPU backend; the CPU reference always evaluates the built-in formula".to_string(),
+        ));
+    }
+    args.settings.apply(scene)?;
+    if let Some(c) = args.cutoff {
+        if !c.is_finite() || c < 0.0 {
+            return Err(Failure::usage(format!(
+                "--cutoff {c} is invalid; expected a number >= 0"
+            )));
+        }
+        scene.render.cutoff = c;
+    }
+    if let Some(s) = args.samples {
+        if s == 0 || s > 1024 {
+            return Err(Failure::usage(format!(
+                "--samples {s} is out of range; expected 1 to 1024"
+            )));
+        }
+        scene.render.samples = s;
+    }
+    if args.no_shadows {
+        scene.render.shadows = false;
+    }
+    // Said once the flags are known to be valid: a bad one is the answer.
+    if warn {
+        let backends = match args.backend.as_str() {
+            "cpu" => Backends::Cpu,
+            "auto" => Backends::Both,
+            _ => Backends::Gpu,
+        };
+        ignored::warn(&options_given(args), modes, backends);
+    }
+    Ok(())
+}
+
+/// The options on the command line that a mode or a backend may ignore,
+/// by flag: those every command shares and render's own.
+fn options_given(args: &RenderArgs) -> Vec<&'static str> {
+    let s = &args.settings;
+    let mut given = ignored::scene_flags_given(&s.traversal, &s.msaa, s.depth.depth);
+    for (flag, present) in [
+        ("--cutoff", args.cutoff.is_some()),
+        ("--samples", args.samples.is_some()),
+        ("--no-shadows", args.no_shadows),
+    ] {
+        if present {
+            given.push(flag);
+        }
+    }
+    given
+}

@@ -1,0 +1,36 @@
+//! The ray statistics of a render, for people (`--stats`).
+
+use shadelab::render::Timings;
+use shadelab::rt_scene::RayStats;
+use shadelab::shading::Shading;
+
+/// The ray statistics as a two-column table (`docs/raytracing.md`,
+/// "Counting"). A raster render has none.
+pub(super) fn print_stats(stats: Option<&RayStats>, timings: &Timings, shading: Shading) {
+    let Some(s) = stats else {
+        println!("stats: none ({shading} casts no rays)");
+        return;
+    };
+    if let Some(gpu) = timings.gpu_ms {
+        println!("{:<18} {:>12.1}", "gpu_ms (timestamps)", gpu);
+    }
+    let work = timings.work_ms();
+    println!("{:<18} {:>12.1}", "work_ms", work);
+    println!(
+        "{:<18} {:>12.0}",
+        "rays_per_second",
+        s.total() as f64 / (work / 1e3)
+    );
+    let rows = [
+        ("primary", s.primary),
+        ("shadow", s.shadow),
+        ("reflected", s.reflected),
+        ("refracted", s.refracted),
+        ("total", s.total()),
+        ("pruned", s.pruned),
+        ("max_depth_reached", u64::from(s.max_depth_reached)),
+    ];
+    for (name, value) in rows {
+        println!("{name:<18} {value:>12}");
+    }
+}
