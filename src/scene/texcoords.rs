@@ -1,7 +1,7 @@
 //! Texture coordinates `(u, v)` of the analytic shapes, the one
 //! parameterisation of each that the ray tracers evaluate at a hit and the
 //! tessellation gives its vertices (docs/lighting-model.md, "Surface
-//! colour"). `shaders/raytrace.comp.glsl` has the same formulas in f32.
+//! colour"). `shaders/include/rt_surface.glsl` has the same formulas in f32.
 
 use glam::{DMat3, DVec2, DVec3};
 use std::f64::consts::PI;

@@ -198,7 +198,7 @@ pub struct GpuBox {
 /// What the intersection test reads of a triangle, in BVH leaf order: its
 /// corners by axis (`x` holds the three corners' x), so that the shader
 /// takes each coordinate its ray's shear asks for with one shuffle (see
-/// `triangle_t` in shaders/raytrace.comp.glsl).
+/// `triangle_t` in shaders/include/rt_primitives.glsl).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct GpuTriangleGeometry {
