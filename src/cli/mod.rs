@@ -8,6 +8,7 @@ mod check_report;
 mod compare;
 mod diff;
 mod diff_folders;
+mod diff_judging;
 mod golden;
 mod golden_keys;
 mod golden_record;
