@@ -4,6 +4,8 @@ mod args;
 mod bench;
 mod cases;
 mod check;
+mod check_cases;
+mod check_merge;
 mod check_report;
 mod compare;
 mod diff;
