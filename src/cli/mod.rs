@@ -2,6 +2,7 @@
 
 mod args;
 mod bench;
+mod bench_timing;
 mod cases;
 mod check;
 mod check_cases;
