@@ -8,22 +8,18 @@
 
 use std::ffi::OsString;
 use std::path::PathBuf;
-use std::sync::Arc;
-use std::time::Instant;
 
 use clap::Args;
-use shadelab::compare::run::median_and_spread;
 use shadelab::gpu::raster::ColorTarget;
-use shadelab::gpu::raytrace::TraceOptions;
-use shadelab::gpu::{raster, raytrace, GpuContext, GpuOptions, GpuTimings};
+use shadelab::gpu::{DeviceInfo, GpuContext, GpuOptions};
 use shadelab::memory::MemoryLimit;
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
 use super::args::{check_runs, ImageSize, ModeList, SceneFlags};
+use super::bench_timing::{measure, Row, Timing};
 use super::ignored;
 use super::render::load_scene;
-use super::time_to_image::{self, TimeToImage};
 use super::Failure;
 
 #[derive(Args)]
@@ -105,70 +101,47 @@ impl TargetFor {
     }
 }
 
-fn once(
-    context: &Arc<GpuContext>,
-    scene: &Scene,
-    shading: Shading,
-    every_feature: bool,
-    target: ColorTarget,
-) -> Result<GpuTimings, Failure> {
-    Ok(match shading.raster_mode() {
-        Some(mode) => raster::render_to(context, scene, mode, target)?.timings,
-        None => {
-            let options = TraceOptions {
-                every_feature,
-                ..TraceOptions::default()
-            };
-            raytrace::render_with(context, scene, options)?.timings
-        }
-    })
-}
-
-/// One timed render of the CPU reference, in milliseconds: the ray
-/// tracer's tracing (its BVH built beforehand, as the GPU's is before its
-/// dispatch), or a raster mode's whole render.
-fn cpu_once(scene: &Scene, shading: Shading) -> Result<f64, Failure> {
-    if shading.raster_mode().is_none() {
-        return Ok(shadelab::cpu::raytrace::render(scene).trace_ms);
-    }
-    let started = Instant::now();
-    shadelab::render::render_cpu(scene, shading)?;
-    Ok(started.elapsed().as_secs_f64() * 1e3)
-}
-
-#[derive(serde::Serialize)]
-struct Row {
-    shading: Shading,
-    /// The colour target timed (`ColorTarget::name`).
-    color_target: &'static str,
-    /// The ray tracer's engine (`bvh` or `query`); raster modes have none.
-    traversal: Option<&'static str>,
-    total_ms: f64,
-    /// Median wall time from queue submission to completion.
-    gpu_ms: f64,
-    /// Spread: the slowest minus the fastest run.
-    total_spread_ms: f64,
-    /// Median total time over the baseline's.
-    ratio_to_baseline: f64,
-    rays: Option<u64>,
-    rays_per_second: Option<f64>,
-    /// `--cpu`: the CPU reference's median time for the same work.
-    cpu_ms: Option<f64>,
-    /// `--cpu`: `cpu_ms / gpu_ms`.
-    gpu_speedup_over_cpu: Option<f64>,
-    /// `--every-feature`: the ray tracer with every optional feature in.
-    every_feature_gpu_ms: Option<f64>,
-    /// `--every-feature`: `every_feature_gpu_ms / gpu_ms`, what
-    /// specialising to the scene saves.
-    every_feature_ratio: Option<f64>,
-    /// `--time-to-image`: the whole command's wall clock, cold and warm,
-    /// and the CPU twin's.
-    time_to_image: Option<TimeToImage>,
-}
-
 pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
     check_runs(args.runs)?;
     let modes = args.modes.modes();
+    let (scene, name) = load(&args, &modes, memory)?;
+    let context = GpuContext::new(options)?;
+    // Multisampled images are resolved in 16 bits for a PNG
+    // (`ColorTarget::drawn_with`).
+    let raster_target = args.target.color_target().drawn_with(scene.render.msaa);
+    let timing = Timing {
+        context: &context,
+        scene: &scene,
+        runs: args.runs,
+        raster_target,
+        cpu: args.cpu,
+        every_feature: args.every_feature,
+        time_to_image: args.time_to_image.then(|| args.render_args()),
+    };
+    let (baseline, rows) = measure(&timing, &modes)?;
+    let bench = Bench {
+        name: &name,
+        scene: &scene,
+        info: &context.info,
+        baseline,
+        raster_target,
+        rows,
+    };
+    if args.json {
+        print_json(&args, &bench);
+    } else {
+        print_table(&args, &bench);
+    }
+    Ok(())
+}
+
+/// The scene with the flags applied, and its name; refused where its
+/// renders would not fit the memory limit.
+fn load(
+    args: &BenchArgs,
+    modes: &[Shading],
+    memory: &MemoryLimit,
+) -> Result<(Scene, String), Failure> {
     let s = &args.settings;
     let mut given = ignored::scene_flags_given(&s.traversal, &s.msaa, s.depth.depth);
     if args.cpu {
@@ -178,146 +151,52 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     args.size.apply(&mut scene)?;
     args.settings.apply(&mut scene)?;
     // Said once the flags are known to be valid: a bad one is the answer.
-    ignored::warn(&given, &modes, ignored::Backends::Gpu);
-    let hook_path = scene.lighting_hook.as_ref().map(|h| h.path.clone());
+    ignored::warn(&given, modes, ignored::Backends::Gpu);
     let cpu_modes: &[Shading] = if args.cpu { &[Shading::Raytrace] } else { &[] };
-    let mut gpu_modes = modes.clone();
+    let mut gpu_modes = modes.to_vec();
     gpu_modes.push(Shading::Flat);
     memory.check(&name, &scene, &gpu_modes, cpu_modes)?;
-    let context = GpuContext::new(options)?;
-    // Multisampled images are resolved in 16 bits for a PNG
-    // (`ColorTarget::drawn_with`).
-    let raster_target = args.target.color_target().drawn_with(scene.render.msaa);
-    let target_of = |shading: Shading| match shading.raster_mode() {
-        Some(_) => raster_target,
-        None => ColorTarget::Float32,
-    };
-    let time = |shading: Shading, every_feature: bool| -> Result<(f64, f64, f64), Failure> {
-        let target = target_of(shading);
-        once(&context, &scene, shading, every_feature, target)?; // warm-up
-        let mut totals = Vec::new();
-        let mut gpus = Vec::new();
-        for _ in 0..args.runs {
-            let t = once(&context, &scene, shading, every_feature, target)?;
-            totals.push(t.total_ms);
-            // Submission to completion: robust where timestamps are not
-            // (see GpuTimings::submit_ms).
-            gpus.push(t.submit_ms);
-        }
-        let (total, spread) = median_and_spread(totals);
-        Ok((total, median_and_spread(gpus).0, spread))
-    };
-    // Flat is the baseline; timed once, and reused if it is in the list.
-    let flat = time(Shading::Flat, false)?;
-    let baseline = flat.0;
-    let mut rows = Vec::new();
-    for &shading in &modes {
-        let traced = shading.raster_mode().is_none();
-        let (total_ms, gpu_ms, total_spread_ms) = if shading == Shading::Flat {
-            flat
-        } else {
-            time(shading, false)?
-        };
-        // Rays are counted in a separate run: counting costs atomics.
-        let (rays, traversal) = if traced {
-            let counted = raytrace::render(&context, &scene, true)?;
-            (
-                counted.stats.map(|s| s.total()),
-                Some(counted.traversal.name()),
-            )
-        } else {
-            (None, None)
-        };
-        let cpu_ms = if args.cpu {
-            let runs = (0..args.runs)
-                .map(|_| cpu_once(&scene, shading))
-                .collect::<Result<Vec<_>, _>>()?;
-            Some(median_and_spread(runs).0)
-        } else {
-            None
-        };
-        let every_feature_gpu_ms = if args.every_feature && traced {
-            Some(time(shading, true)?.1)
-        } else {
-            None
-        };
-        let time_to_image = if args.time_to_image {
-            let (render_args, gpu_args) = args.render_args();
-            Some(time_to_image::measure(
-                &render_args,
-                &gpu_args,
-                shading,
-                args.runs,
-            )?)
-        } else {
-            None
-        };
-        rows.push(Row {
-            shading,
-            color_target: target_of(shading).name(),
-            traversal,
-            total_ms,
-            gpu_ms,
-            total_spread_ms,
-            ratio_to_baseline: total_ms / baseline,
-            rays,
-            rays_per_second: rays.map(|r| r as f64 / (gpu_ms / 1e3)),
-            cpu_ms,
-            gpu_speedup_over_cpu: cpu_ms.map(|c| c / gpu_ms),
-            every_feature_gpu_ms,
-            every_feature_ratio: every_feature_gpu_ms.map(|e| e / gpu_ms),
-            time_to_image,
-        });
+    Ok((scene, name))
+}
+
+/// What was measured, for the report.
+struct Bench<'a> {
+    name: &'a str,
+    scene: &'a Scene,
+    info: &'a DeviceInfo,
+    /// The flat raster render's median total time.
+    baseline: f64,
+    raster_target: ColorTarget,
+    rows: Vec<Row>,
+}
+
+impl Bench<'_> {
+    fn hook_path(&self) -> Option<String> {
+        self.scene.lighting_hook.as_ref().map(|h| h.path.clone())
     }
-    let (w, h) = (scene.image.width, scene.image.height);
-    let info = &context.info;
-    if args.json {
-        let value = serde_json::json!({
-            "scene": name,
-            "width": w,
-            "height": h,
-            "device": info.name,
-            "driver": info.driver,
-            "runs": args.runs,
-            "baseline": { "shading": "flat", "total_ms": baseline },
-            "raster_target": raster_target.name(),
-            "msaa": scene.render.msaa.to_string(),
-            "lighting": hook_path,
-            "results": rows,
-        });
-        println!("{value}");
-        return Ok(());
-    }
-    println!(
-        "{name} at {w}x{h} on {} ({}), median of {} runs after a warm-up; baseline: flat raster, {baseline:.1} ms",
-        info.name, info.driver, args.runs
-    );
-    let msaa = scene.render.msaa;
-    let samples = if msaa.is_multisampled() {
-        format!(" at --msaa {msaa}, resolved")
-    } else {
-        String::new()
-    };
-    println!(
-        "raster modes timed{samples} into the {} target (the path of render --out x.{}); the ray tracer writes rgba32f",
-        raster_target.name(),
-        if args.target.color_target() == ColorTarget::Srgb8 {
-            "png"
-        } else {
-            "exr"
-        }
-    );
-    if let Some(path) = &hook_path {
-        println!("lighting hook: {path} (the GPU modes; --cpu times the built-in formula)");
-    }
-    if args.time_to_image {
-        println!(
-            "image_*: the whole `render` command in a fresh process (ms): caches filled (warm), empty caches (cold), the CPU twin's (--backend cpu)"
-        );
-    }
-    if let Some(engine) = rows.iter().find_map(|r| r.traversal) {
-        println!("ray tracer's traversal: {engine}");
-    }
+}
+
+/// `--json`: one object on stdout.
+fn print_json(args: &BenchArgs, b: &Bench) {
+    let value = serde_json::json!({
+        "scene": b.name,
+        "width": b.scene.image.width,
+        "height": b.scene.image.height,
+        "device": b.info.name,
+        "driver": b.info.driver,
+        "runs": args.runs,
+        "baseline": { "shading": "flat", "total_ms": b.baseline },
+        "raster_target": b.raster_target.name(),
+        "msaa": b.scene.render.msaa.to_string(),
+        "lighting": b.hook_path(),
+        "results": b.rows,
+    });
+    println!("{value}");
+}
+
+/// What was timed, in a few lines, then a table with a row per mode.
+fn print_table(args: &BenchArgs, b: &Bench) {
+    print_preamble(args, b);
     let mut header = format!(
         "{:<10} {:>10} {:>10} {:>10} {:>8} {:>10}",
         "mode", "total_ms", "gpu_ms", "spread_ms", "ratio", "Mrays/s"
@@ -335,41 +214,87 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
         );
     }
     println!("{header}");
+    for r in &b.rows {
+        println!("{}", table_line(args, r));
+    }
+}
+
+/// The lines above the table: the scene, device and baseline, the target
+/// timed, and what the flags change.
+fn print_preamble(args: &BenchArgs, b: &Bench) {
+    let (name, w, h, info, baseline) = (
+        b.name,
+        b.scene.image.width,
+        b.scene.image.height,
+        b.info,
+        b.baseline,
+    );
+    println!(
+        "{name} at {w}x{h} on {} ({}), median of {} runs after a warm-up; baseline: flat raster, {baseline:.1} ms",
+        info.name, info.driver, args.runs
+    );
+    let msaa = b.scene.render.msaa;
+    let samples = if msaa.is_multisampled() {
+        format!(" at --msaa {msaa}, resolved")
+    } else {
+        String::new()
+    };
+    println!(
+        "raster modes timed{samples} into the {} target (the path of render --out x.{}); the ray tracer writes rgba32f",
+        b.raster_target.name(),
+        if args.target.color_target() == ColorTarget::Srgb8 {
+            "png"
+        } else {
+            "exr"
+        }
+    );
+    if let Some(path) = &b.hook_path() {
+        println!("lighting hook: {path} (the GPU modes; --cpu times the built-in formula)");
+    }
+    if args.time_to_image {
+        println!(
+            "image_*: the whole `render` command in a fresh process (ms): caches filled (warm), empty caches (cold), the CPU twin's (--backend cpu)"
+        );
+    }
+    if let Some(engine) = b.rows.iter().find_map(|r| r.traversal) {
+        println!("ray tracer's traversal: {engine}");
+    }
+}
+
+/// A mode's row of the table; a figure not measured is `-`.
+fn table_line(args: &BenchArgs, r: &Row) -> String {
     let figure = |v: Option<f64>, width: usize, digits: usize| match v {
         Some(v) => format!("{v:>width$.digits$}"),
         None => format!("{:>width$}", "-"),
     };
-    for r in &rows {
-        let mut line = format!(
-            "{:<10} {:>10.1} {:>10.1} {:>10.1} {:>8.2} {}",
-            r.shading.to_string(),
-            r.total_ms,
-            r.gpu_ms,
-            r.total_spread_ms,
-            r.ratio_to_baseline,
-            figure(r.rays_per_second.map(|v| v / 1e6), 10, 2)
+    let mut line = format!(
+        "{:<10} {:>10.1} {:>10.1} {:>10.1} {:>8.2} {}",
+        r.shading.to_string(),
+        r.total_ms,
+        r.gpu_ms,
+        r.total_spread_ms,
+        r.ratio_to_baseline,
+        figure(r.rays_per_second.map(|v| v / 1e6), 10, 2)
+    );
+    if args.cpu {
+        line += &format!(
+            " {} {}",
+            figure(r.cpu_ms, 10, 1),
+            figure(r.gpu_speedup_over_cpu, 8, 2)
         );
-        if args.cpu {
-            line += &format!(
-                " {} {}",
-                figure(r.cpu_ms, 10, 1),
-                figure(r.gpu_speedup_over_cpu, 8, 2)
-            );
-        }
-        if args.every_feature {
-            line += &format!(
-                " {} {}",
-                figure(r.every_feature_gpu_ms, 12, 1),
-                figure(r.every_feature_ratio, 8, 2)
-            );
-        }
-        if let Some(t) = &r.time_to_image {
-            line += &format!(
-                " {:>10.1} {:>10.1} {:>10.1}",
-                t.warm_ms, t.cold_ms, t.cpu_ms
-            );
-        }
-        println!("{line}");
     }
-    Ok(())
+    if args.every_feature {
+        line += &format!(
+            " {} {}",
+            figure(r.every_feature_gpu_ms, 12, 1),
+            figure(r.every_feature_ratio, 8, 2)
+        );
+    }
+    if let Some(t) = &r.time_to_image {
+        line += &format!(
+            " {:>10.1} {:>10.1} {:>10.1}",
+            t.warm_ms, t.cold_ms, t.cpu_ms
+        );
+    }
+    line
 }

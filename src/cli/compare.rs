@@ -2,19 +2,22 @@
 //! measured against the CPU reference of the same variant and against the
 //! scene's reference image; or `--merge` of shard folders into one report.
 
-use std::path::{Component, Path, PathBuf};
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 use shadelab::compare::present::write_presentation;
 use shadelab::compare::report::{Metric, ReferenceChoice};
-use shadelab::compare::run::{mark_pareto, merge, run, set_budget, CompareOptions};
-use shadelab::compare::{default_variants, Report, Variant};
+use shadelab::compare::run::{mark_pareto, run, set_budget, CompareOptions};
+use shadelab::compare::Report;
 use shadelab::gpu::{GpuContext, GpuOptions};
 use shadelab::memory::MemoryLimit;
 use shadelab::output::write_atomically;
 use shadelab::shading::Shading;
 
 use super::args::{check_runs, ImageSize, MsaaArg};
+use super::compare_folders::{clear_earlier_run, merge_folders, same_folder};
+use super::compare_table::{budget_line, print_table};
+use super::compare_variants::{modes_of, over_the_limit, rendered_by, variants_of};
 use super::render::load_scene;
 use super::Failure;
 
@@ -89,23 +92,11 @@ pub fn run_command(
             "--budget {e} is invalid; expected an error >= 0"
         )));
     }
-    // An earlier run's files in --out would sit beside the new ones (a
-    // smaller run left the bigger one's images): they go, and only they,
-    // unless --out is one of the folders being merged.
-    let merging_into_a_shard = args.merge.iter().any(|m| same_folder(m, &args.out));
-    if !merging_into_a_shard {
-        let cleared = clear_earlier_run(&args.out);
-        if cleared > 0 {
-            eprintln!(
-                "shadelab: note: removed {cleared} files of an earlier comparison from {} (files it did not write are kept)",
-                args.out.display()
-            );
-        }
-    }
+    clear_out(&args);
     let mut report = if args.merge.is_empty() {
         render_variants(&args, options, memory)?
     } else {
-        merge_folders(&args)?
+        merge_folders(&args.merge, &args.out)?
     };
     // A merge may measure against another reference than its shards did.
     report.plot_reference = reference_of(&args);
@@ -113,10 +104,7 @@ pub fn run_command(
     mark_pareto(&mut report);
     set_budget(&mut report, args.budget);
     write_report(&report, &args.out)?;
-    let presented = write_presentation(&report, &args.out).map_err(|e| Failure {
-        code: if e.is_bad_input() { 2 } else { 3 },
-        message: e.to_string(),
-    })?;
+    let presented = write_presentation(&report, &args.out).map_err(presentation_failure)?;
     if args.json {
         println!(
             "{}",
@@ -129,23 +117,7 @@ pub fn run_command(
         println!("sheet:  {}", presented.contact_sheet.display());
     }
     if args.reference == "both" {
-        // The local reference's front, drawn apart: never mixed with the
-        // global one on one plot.
-        let mut local = report.clone();
-        local.plot_reference = ReferenceChoice::Local;
-        mark_pareto(&mut local);
-        set_budget(&mut local, args.budget);
-        let (png, _) = shadelab::compare::present::write_plot_as(&local, &args.out, "local")
-            .map_err(|e| Failure {
-                code: if e.is_bad_input() { 2 } else { 3 },
-                message: e.to_string(),
-            })?;
-        if !args.json {
-            println!("plot against the local reference: {}", png.display());
-            if let Some(budget) = &local.budget {
-                println!("{}", budget_line(&local, budget));
-            }
-        }
+        present_local(&args, &report)?;
     }
     for v in report.variants.iter().filter(|v| v.non_finite_pixels > 0) {
         eprintln!(
@@ -153,7 +125,53 @@ pub fn run_command(
             v.name, v.non_finite_pixels
         );
     }
-    // A budget no variant meets is a failed check, as a threshold is.
+    verdict(&report)
+}
+
+/// An earlier run's files in --out would sit beside the new ones (a
+/// smaller run left the bigger one's images): they go, and only they,
+/// unless --out is one of the folders being merged.
+fn clear_out(args: &CompareArgs) {
+    let merging_into_a_shard = args.merge.iter().any(|m| same_folder(m, &args.out));
+    if !merging_into_a_shard {
+        let cleared = clear_earlier_run(&args.out);
+        if cleared > 0 {
+            eprintln!(
+                "shadelab: note: removed {cleared} files of an earlier comparison from {} (files it did not write are kept)",
+                args.out.display()
+            );
+        }
+    }
+}
+
+fn presentation_failure(e: shadelab::compare::present::PresentError) -> Failure {
+    Failure {
+        code: if e.is_bad_input() { 2 } else { 3 },
+        message: e.to_string(),
+    }
+}
+
+/// `--reference both`: the local reference's front, drawn apart: never
+/// mixed with the global one on one plot.
+fn present_local(args: &CompareArgs, report: &Report) -> Result<(), Failure> {
+    let mut local = report.clone();
+    local.plot_reference = ReferenceChoice::Local;
+    mark_pareto(&mut local);
+    set_budget(&mut local, args.budget);
+    let (png, _) = shadelab::compare::present::write_plot_as(&local, &args.out, "local")
+        .map_err(presentation_failure)?;
+    if !args.json {
+        println!("plot against the local reference: {}", png.display());
+        if let Some(budget) = &local.budget {
+            println!("{}", budget_line(&local, budget));
+        }
+    }
+    Ok(())
+}
+
+/// A budget no variant meets is a failed check, as a threshold is; a
+/// report without some of its variants is not whole.
+fn verdict(report: &Report) -> Result<(), Failure> {
     if let Some(budget) = report.budget.as_ref().filter(|b| b.fastest.is_none()) {
         return Err(Failure {
             code: 1,
@@ -180,50 +198,6 @@ pub fn run_command(
     Ok(())
 }
 
-/// Whether two paths name one folder.
-fn same_folder(a: &Path, b: &Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => a == b,
-    }
-}
-
-/// Removes the files an earlier comparison wrote into `dir`: those its
-/// `report.json` names and the presentation's; nothing else. Returns how
-/// many went. A folder with no readable report is left as it is.
-fn clear_earlier_run(dir: &Path) -> usize {
-    let Ok(text) = std::fs::read_to_string(dir.join("report.json")) else {
-        return 0;
-    };
-    let Ok(earlier) = serde_json::from_str::<Report>(&text) else {
-        return 0;
-    };
-    let mut files: Vec<String> = vec![earlier.reference_image, earlier.local_reference_image];
-    for v in earlier.variants {
-        files.push(v.image);
-        files.push(v.heatmap);
-    }
-    files.extend(
-        [
-            shadelab::compare::present::CONTACT_SHEET,
-            shadelab::compare::present::PLOT_PNG,
-            shadelab::compare::present::PLOT_SVG,
-            shadelab::compare::present::CSV,
-            shadelab::compare::present::HTML,
-            "report.json",
-            "speed-vs-error-local.png",
-            "speed-vs-error-local.svg",
-        ]
-        .map(String::from),
-    );
-    files
-        .iter()
-        // Names only, never paths out of the folder.
-        .filter(|f| !f.is_empty() && Path::new(f).file_name() == Some(std::ffi::OsStr::new(f)))
-        .filter(|f| std::fs::remove_file(dir.join(f)).is_ok())
-        .count()
-}
-
 /// The reference of the report, its plot, front and budget (`both`: the
 /// global one; the local one gets a plot of its own).
 fn reference_of(args: &CompareArgs) -> ReferenceChoice {
@@ -237,6 +211,8 @@ fn metric_of(args: &CompareArgs) -> Metric {
     Metric::from_name(&args.metric).expect("clap checked it")
 }
 
+/// The scene's variants rendered, each timed and measured against the
+/// references.
 fn render_variants(
     args: &CompareArgs,
     options: &GpuOptions,
@@ -246,69 +222,17 @@ fn render_variants(
     let (mut scene, name) = load_scene(args.scene.as_deref(), memory)?;
     args.size.apply(&mut scene)?;
     args.msaa.apply(&mut scene)?;
-    let chosen_for_the_scene = args.variants.is_empty();
-    let variants: Vec<Variant> = if chosen_for_the_scene {
-        default_variants(&scene)
-    } else {
-        args.variants
-            .iter()
-            .map(|v| v.trim())
-            .filter(|v| !v.is_empty())
-            .map(|v| v.parse::<Variant>().map_err(Failure::usage))
-            .collect::<Result<_, _>>()?
-    };
-    if variants.is_empty() {
-        return Err(Failure::usage("--variants names no variant".into()));
-    }
-    refuse_repeats(&variants)?;
-    let mut modes: Vec<Shading> = Vec::new();
-    for v in &variants {
-        if !modes.contains(&v.shading) {
-            modes.push(v.shading);
-        }
-    }
+    let variants = variants_of(&args.variants, &scene)?;
     let given = super::ignored::scene_flags_given(&Default::default(), &args.msaa, None);
-    super::ignored::warn(&given, &modes, super::ignored::Backends::Gpu);
+    super::ignored::warn(&given, &modes_of(&variants), super::ignored::Backends::Gpu);
     // The references alone must fit: without them no variant is measured.
     memory.check(&name, &scene, &[], &[Shading::Raytrace])?;
-    // Each variant (its tessellation may differ) against the references:
-    // the global one traced on the CPU, a local one per mode. One over the
-    // limit is left out with the reason, and the others run.
-    // Only a tessellation override changes the geometry; copying the scene
-    // for the others would double the memory this check guards.
-    let mut over_the_limit = std::collections::BTreeMap::new();
-    for variant in &variants {
-        let varied = match (variant.segments, variant.msaa) {
-            (None, None) => std::borrow::Cow::Borrowed(&scene),
-            _ => std::borrow::Cow::Owned(variant.apply(&scene)?),
-        };
-        let modes = [variant.shading];
-        let references = [variant.shading, Shading::Raytrace];
-        if let Err(e) = memory.check(&name, &varied, &modes, &references) {
-            over_the_limit.insert(variant.to_string(), Failure::from(e));
-        }
-    }
-    // None fits: the run is refused, as a render over the limit is.
-    if over_the_limit.len() == variants.len() {
-        let first = over_the_limit.remove(&variants[0].to_string());
-        return Err(first.expect("every variant is over the limit"));
-    }
-    let over_the_limit = over_the_limit
-        .into_iter()
-        .map(|(name, failure)| (name, failure.message))
-        .collect();
+    let skip = over_the_limit(&scene, &name, &variants, memory)?;
     let context = GpuContext::new(options)?;
     // The list chosen for the scene keeps the sample counts this device
     // renders; a count asked for by name is the device's to refuse.
-    let variants: Vec<Variant> = if chosen_for_the_scene {
-        let info = &context.info;
-        variants
-            .into_iter()
-            .filter(|v| {
-                v.msaa
-                    .is_none_or(|m| shadelab::gpu::raster::renders_samples(info, m))
-            })
-            .collect()
+    let variants = if args.variants.is_empty() {
+        rendered_by(&context.info, variants)
     } else {
         variants
     };
@@ -319,7 +243,7 @@ fn render_variants(
         reference: reference_of(args),
         metric: metric_of(args),
         budget: args.budget,
-        skip: over_the_limit,
+        skip,
     };
     let report = run(
         &context,
@@ -347,151 +271,4 @@ fn render_variants(
         });
     }
     Ok(report)
-}
-
-/// Refuses a variant given twice (by its canonical name, or by the file its
-/// image would be written to).
-fn refuse_repeats(variants: &[Variant]) -> Result<(), Failure> {
-    for (k, v) in variants.iter().enumerate() {
-        let (name, stem) = (
-            v.to_string(),
-            shadelab::compare::report::file_stem(&v.to_string()),
-        );
-        if let Some(earlier) = variants[..k].iter().find(|e| {
-            e.to_string() == name || shadelab::compare::report::file_stem(&e.to_string()) == stem
-        }) {
-            return Err(Failure::usage(format!(
-                "--variants names {name} twice (as {earlier} and {v}); give each variant once"
-            )));
-        }
-    }
-    Ok(())
-}
-
-fn merge_folders(args: &CompareArgs) -> Result<Report, Failure> {
-    let mut shards = Vec::new();
-    for dir in &args.merge {
-        let path = dir.join("report.json");
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| Failure::usage(format!("cannot read {}: {e}", path.display())))?;
-        let report: Report = serde_json::from_str(&text).map_err(|e| {
-            Failure::usage(format!("{} is not a shadelab report: {e}", path.display()))
-        })?;
-        shards.push((dir, report));
-    }
-    // Merge (which checks that the shards belong together) before copying
-    // anything, so a refused merge leaves --out as it was.
-    let merged = merge(shards.iter().map(|(_, r)| r.clone()).collect())
-        .map_err(|e| Failure::usage(format!("cannot merge: {e}")))?;
-    let mut copies = Vec::new();
-    for (dir, report) in &shards {
-        let mut files = vec![report.reference_image.clone()];
-        if !report.local_reference_image.is_empty() {
-            files.push(report.local_reference_image.clone());
-        }
-        for v in &report.variants {
-            files.push(v.image.clone());
-            files.push(v.heatmap.clone());
-        }
-        for file in files {
-            // A report names files inside its own folder: a bare file name.
-            let mut parts = Path::new(&file).components();
-            if !matches!(
-                (parts.next(), parts.next()),
-                (Some(Component::Normal(_)), None)
-            ) {
-                return Err(Failure::usage(format!(
-                    "{}: image `{file}` is not a file name in the shard's folder",
-                    dir.join("report.json").display()
-                )));
-            }
-            copies.push((dir.join(&file), args.out.join(&file)));
-        }
-    }
-    for (from, to) in copies {
-        if from != to {
-            std::fs::copy(&from, &to)
-                .map_err(|e| Failure::usage(format!("cannot copy {}: {e}", from.display())))?;
-        }
-    }
-    Ok(merged)
-}
-
-fn print_table(report: &Report, dir: &Path) {
-    println!(
-        "{} at {}x{} on {}, median of {} run{}",
-        report.scene,
-        report.width,
-        report.height,
-        report.device_and_driver(),
-        report.runs,
-        if report.runs == 1 { "" } else { "s" },
-    );
-    println!("global reference (model_*): {}", report.reference);
-    println!("local reference (local_*):  {}", report.local_reference);
-    println!(
-        "pareto front and budget: {} against the {}",
-        report.plot_metric.name(),
-        report.plot_reference.describe()
-    );
-    println!(
-        "{:<40} {:>9} {:>9} {:>9} {:>11} {:>11} {:>10} {:>11} {:>7}",
-        "variant",
-        "gpu_ms",
-        "frame_ms",
-        "image_ms",
-        "impl_rmse",
-        "model_rmse",
-        "model_flip",
-        "local_rmse",
-        "pareto"
-    );
-    for v in &report.variants {
-        let local = v
-            .local_error
-            .map(|e| format!("{:.2e}", e.rmse))
-            .unwrap_or_else(|| "-".into());
-        println!(
-            "{:<40} {:>9.1} {:>9.1} {:>9.1} {:>11.2e} {:>11.2e} {:>10.4} {:>11} {:>7}",
-            v.name,
-            v.timing.gpu_ms,
-            v.timing.frame_ms,
-            v.timing.image_ms,
-            v.implementation_error.rmse,
-            v.model_error.rmse,
-            v.model_error.flip_mean,
-            local,
-            if v.pareto { "*" } else { "" }
-        );
-    }
-    for v in &report.not_run {
-        println!("{:<40} not run: {}", v.name, v.reason);
-    }
-    if let Some(budget) = &report.budget {
-        println!("{}", budget_line(report, budget));
-    }
-    println!("report: {}", dir.join("report.json").display());
-}
-
-/// What `--budget` found, in one line.
-fn budget_line(report: &Report, budget: &shadelab::compare::report::Budget) -> String {
-    let what = format!(
-        "{} <= {} against the {}",
-        report.plot_metric.name(),
-        budget.max_error,
-        report.plot_reference.describe()
-    );
-    match budget
-        .fastest
-        .as_ref()
-        .and_then(|name| report.variants.iter().find(|v| &v.name == name))
-    {
-        Some(v) => format!(
-            "budget: the fastest variant with {what}: {} ({:.1} ms, error {:.3e})",
-            v.name,
-            v.timing.gpu_ms,
-            report.error_of(v)
-        ),
-        None => format!("budget: no variant has {what}"),
-    }
 }

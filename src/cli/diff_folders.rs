@@ -8,7 +8,7 @@ use std::path::Path;
 use shadelab::junit::{self, TestCase};
 use shadelab::metrics::format_figure;
 
-use super::diff::{compare_files, DiffArgs, Judging};
+use super::diff_judging::{compare_files, junit_case, Judging};
 use super::Failure;
 
 /// The image files (`.png`, `.exr`) directly in `dir`, by name.
@@ -29,18 +29,6 @@ fn image_names(dir: &Path) -> Result<BTreeSet<String>, Failure> {
     Ok(names)
 }
 
-/// A JUnit case for one image: failed with `failures`, passed without.
-pub(super) fn junit_case(name: &str, failures: &[String], time_s: f64) -> TestCase {
-    TestCase {
-        classname: "shadelab diff".to_string(),
-        name: name.to_string(),
-        time_s,
-        failure: (!failures.is_empty()).then(|| failures.join("\n")),
-        error: None,
-        output: String::new(),
-    }
-}
-
 /// What one name came to.
 struct Case {
     name: String,
@@ -52,126 +40,50 @@ struct Case {
     time_s: f64,
 }
 
-pub fn run(args: &DiffArgs, judging: &Judging) -> Result<(), Failure> {
-    if args.heatmap.is_some() {
-        return Err(Failure::usage(
-            "--heatmap names one image; with two folders, compare the image pair that failed on its own to get its heat map".to_string(),
-        ));
-    }
-    let expected = image_names(&args.expected)?;
-    let actual = image_names(&args.actual)?;
+pub fn run(
+    expected_dir: &Path,
+    actual_dir: &Path,
+    junit: Option<&Path>,
+    json: bool,
+    judging: &Judging,
+) -> Result<(), Failure> {
+    let expected = image_names(expected_dir)?;
+    let actual = image_names(actual_dir)?;
     if expected.is_empty() && actual.is_empty() {
         return Err(Failure::usage(format!(
             "neither {} nor {} holds a .png or .exr image",
-            args.expected.display(),
-            args.actual.display()
+            expected_dir.display(),
+            actual_dir.display()
         )));
     }
-    let mut cases = Vec::new();
-    for name in expected.union(&actual) {
-        let started = std::time::Instant::now();
-        let case = match (expected.contains(name), actual.contains(name)) {
-            (true, true) => {
-                match compare_files(&args.expected.join(name), &args.actual.join(name), judging) {
-                    Ok(pair) => Case {
-                        name: name.clone(),
-                        status: if pair.failures.is_empty() {
-                            "pass"
-                        } else {
-                            "fail"
-                        },
-                        figures: Some(serde_json::json!({
-                            "verdicts": pair.verdicts,
-                            "stats": pair.comparison.stats,
-                            "flip_mean": pair.comparison.flip.mean,
-                            "note": pair.note,
-                        })),
-                        failures: pair.failures,
-                        time_s: 0.0,
-                    },
-                    Err(e) => Case {
-                        name: name.clone(),
-                        status: "error",
-                        failures: vec![e.message],
-                        figures: None,
-                        time_s: 0.0,
-                    },
-                }
+    let cases: Vec<Case> = expected
+        .union(&actual)
+        .map(|name| {
+            let started = std::time::Instant::now();
+            let case = judge_name(name, &expected, &actual, expected_dir, actual_dir, judging);
+            Case {
+                time_s: started.elapsed().as_secs_f64(),
+                ..case
             }
-            (true, false) => Case {
-                name: name.clone(),
-                status: "missing",
-                failures: vec![format!("no {name} in {}", args.actual.display())],
-                figures: None,
-                time_s: 0.0,
-            },
-            _ => Case {
-                name: name.clone(),
-                status: "extra",
-                failures: vec![format!(
-                    "no reference {name} in {}",
-                    args.expected.display()
-                )],
-                figures: None,
-                time_s: 0.0,
-            },
-        };
-        cases.push(Case {
-            time_s: started.elapsed().as_secs_f64(),
-            ..case
-        });
-    }
+        })
+        .collect();
     let failed = cases.iter().filter(|c| c.status != "pass").count();
-    if let Some(path) = &args.junit {
-        let junit_cases: Vec<TestCase> = cases
-            .iter()
-            .map(|c| {
-                let mut case = junit_case(&c.name, &c.failures, c.time_s);
-                if matches!(c.status, "error" | "extra") {
-                    // Nothing could be compared: an error, not a failure.
-                    case.error = case.failure.take();
-                }
-                case
-            })
-            .collect();
-        std::fs::write(path, junit::render("shadelab diff", &junit_cases))
-            .map_err(|e| Failure::usage(format!("cannot write {}: {e}", path.display())))?;
+    if let Some(path) = junit {
+        write_junit(path, &cases)?;
     }
-    if args.json {
-        let list: Vec<serde_json::Value> = cases
-            .iter()
-            .map(|c| {
-                serde_json::json!({
-                    "name": c.name,
-                    "status": c.status,
-                    "failures": c.failures,
-                    "figures": c.figures,
-                })
-            })
-            .collect();
+    if json {
         let value = serde_json::json!({
-            "expected": args.expected,
-            "actual": args.actual,
+            "expected": expected_dir,
+            "actual": actual_dir,
             "pass": failed == 0,
-            "cases": list,
+            "cases": cases.iter().map(Case::json).collect::<Vec<_>>(),
             "thresholds": judging.thresholds,
             "settings": judging.settings,
             "edge_threshold": judging.edge_threshold,
         });
         println!("{value}");
     } else {
-        for c in &cases {
-            let detail = match (&c.figures, c.failures.first()) {
-                (_, Some(_)) => c.failures.join("; "),
-                (Some(f), None) => format!(
-                    "max_abs {}",
-                    format_figure(f["stats"]["max_abs"].as_f64().unwrap_or(f64::NAN))
-                ),
-                (None, None) => String::new(),
-            };
-            println!("{:<8} {}  {detail}", c.status.to_uppercase(), c.name);
-        }
-        println!("{} of {} images passed", cases.len() - failed, cases.len());
+        print_cases(&cases, failed);
     }
     if failed == 0 {
         Ok(())
@@ -181,9 +93,108 @@ pub fn run(args: &DiffArgs, judging: &Judging) -> Result<(), Failure> {
             message: format!(
                 "{failed} of {} images in {} differ from {} beyond the thresholds, or are on one side only",
                 cases.len(),
-                args.actual.display(),
-                args.expected.display()
+                actual_dir.display(),
+                expected_dir.display()
             ),
         })
     }
+}
+
+/// One name: its pair compared, or on which side it is missing.
+fn judge_name(
+    name: &str,
+    expected: &BTreeSet<String>,
+    actual: &BTreeSet<String>,
+    expected_dir: &Path,
+    actual_dir: &Path,
+    judging: &Judging,
+) -> Case {
+    match (expected.contains(name), actual.contains(name)) {
+        (true, true) => {
+            match compare_files(&expected_dir.join(name), &actual_dir.join(name), judging) {
+                Ok(pair) => Case {
+                    name: name.to_string(),
+                    status: if pair.failures.is_empty() {
+                        "pass"
+                    } else {
+                        "fail"
+                    },
+                    figures: Some(serde_json::json!({
+                        "verdicts": pair.verdicts,
+                        "stats": pair.comparison.stats,
+                        "flip_mean": pair.comparison.flip.mean,
+                        "note": pair.note,
+                    })),
+                    failures: pair.failures,
+                    time_s: 0.0,
+                },
+                Err(e) => Case {
+                    name: name.to_string(),
+                    status: "error",
+                    failures: vec![e.message],
+                    figures: None,
+                    time_s: 0.0,
+                },
+            }
+        }
+        (true, false) => Case {
+            name: name.to_string(),
+            status: "missing",
+            failures: vec![format!("no {name} in {}", actual_dir.display())],
+            figures: None,
+            time_s: 0.0,
+        },
+        _ => Case {
+            name: name.to_string(),
+            status: "extra",
+            failures: vec![format!("no reference {name} in {}", expected_dir.display())],
+            figures: None,
+            time_s: 0.0,
+        },
+    }
+}
+
+impl Case {
+    /// The case as `--json` lists it.
+    fn json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "name": self.name,
+            "status": self.status,
+            "failures": self.failures,
+            "figures": self.figures,
+        })
+    }
+}
+
+/// One JUnit case per name.
+fn write_junit(path: &Path, cases: &[Case]) -> Result<(), Failure> {
+    let junit_cases: Vec<TestCase> = cases
+        .iter()
+        .map(|c| {
+            let mut case = junit_case(&c.name, &c.failures, c.time_s);
+            if matches!(c.status, "error" | "extra") {
+                // Nothing could be compared: an error, not a failure.
+                case.error = case.failure.take();
+            }
+            case
+        })
+        .collect();
+    std::fs::write(path, junit::render("shadelab diff", &junit_cases))
+        .map_err(|e| Failure::usage(format!("cannot write {}: {e}", path.display())))
+}
+
+/// A line per name, then the count that passed.
+fn print_cases(cases: &[Case], failed: usize) {
+    for c in cases {
+        let detail = match (&c.figures, c.failures.first()) {
+            (_, Some(_)) => c.failures.join("; "),
+            (Some(f), None) => format!(
+                "max_abs {}",
+                format_figure(f["stats"]["max_abs"].as_f64().unwrap_or(f64::NAN))
+            ),
+            (None, None) => String::new(),
+        };
+        println!("{:<8} {}  {detail}", c.status.to_uppercase(), c.name);
+    }
+    println!("{} of {} images passed", cases.len() - failed, cases.len());
 }

@@ -2,12 +2,19 @@
 
 mod args;
 mod bench;
+mod bench_timing;
 mod cases;
 mod check;
+mod check_cases;
+mod check_merge;
 mod check_report;
 mod compare;
+mod compare_folders;
+mod compare_table;
+mod compare_variants;
 mod diff;
 mod diff_folders;
+mod diff_judging;
 mod golden;
 mod golden_args;
 mod golden_case;
