@@ -318,8 +318,8 @@ pub fn build(
     let commands = OneShot::begin(context)?;
     for (kind, level) in &bottoms {
         let bottom = structure.add(context, commands.cmd, level, &mut scratches)?;
-        let info = vk::AccelerationStructureDeviceAddressInfoKHR::default()
-            .acceleration_structure(bottom);
+        let info =
+            vk::AccelerationStructureDeviceAddressInfoKHR::default().acceleration_structure(bottom);
         // SAFETY: the structure was just created on this device.
         let reference = unsafe {
             support
