@@ -1,22 +1,23 @@
 //! One raster frame: its resources (the scene's vertices, indices, lights
 //! and uniforms, the descriptors, the colour and depth images, the
-//! read-back buffer) and the commands that draw it and copy it back.
+//! read-back buffer; made by `frame_resources`) and the commands that draw
+//! it (each pass: begin rendering, bind, the draws) and copy it back.
 //! `raster::render_to` runs the phases in order: geometry, pipeline, this
 //! frame's upload, its recording, the submission, the read-back.
 
 use std::sync::Arc;
 
 use ash::vk;
-use gpu_allocator::MemoryLocation;
 
 use crate::camera::View;
 use crate::gpu::raster::flat::FlatMesh;
-use crate::gpu::raster::layout::{DrawConstants, FrameUniforms, PatternDrawConstants};
+use crate::gpu::raster::frame_resources::{FrameImages, MeshBuffers, ShadingBuffers};
+use crate::gpu::raster::layout::{DrawConstants, PatternDrawConstants};
 use crate::gpu::raster::pipeline::{bindings_of, SurfaceFeatures};
 use crate::gpu::raster::samples::{averaged, pass_viewport_origin, SampleDrawing};
 use crate::gpu::raster::scene::RasterGeometry as Geometry;
-use crate::gpu::raster::target::{ColorTarget, DEPTH_FORMAT, SCALED_UNORM16_RANGE};
-use crate::gpu::shared::lights::{lights, PatternConstants};
+use crate::gpu::raster::target::{ColorTarget, SCALED_UNORM16_RANGE};
+use crate::gpu::shared::lights::PatternConstants;
 use crate::gpu::vk::buffer::Buffer;
 use crate::gpu::vk::context::GpuContext;
 use crate::gpu::vk::descriptors::Descriptors;
@@ -73,91 +74,23 @@ impl Frame {
         let (width, height) = (scene.image.width, scene.image.height);
         let flat = mode == RasterMode::Flat;
         let flat_mesh = flat.then(|| FlatMesh::new(geometry));
-        let (vertex_bytes, index_data): (&[u8], &[u32]) = match &flat_mesh {
-            Some(m) => (bytemuck::cast_slice(&m.positions), &m.indices),
-            None => (bytemuck::cast_slice(&geometry.vertices), &geometry.indices),
-        };
-        let vertex_buffer = Buffer::with_data(
+        let MeshBuffers {
+            vertices: vertex_buffer,
+            colors: color_buffer,
+            uvs: uv_buffer,
+            indices: index_buffer,
+        } = MeshBuffers::upload(context, geometry, flat_mesh.as_ref())?;
+        let ShadingBuffers {
+            lights: light_buffer,
+            frame: frame_buffer,
+            faces: face_buffer,
+            textures: texture_buffers,
+        } = ShadingBuffers::upload(
             context,
-            "vertices",
-            vertex_bytes,
-            vk::BufferUsageFlags::VERTEX_BUFFER,
+            (scene, view, geometry),
+            flat_mesh.as_ref(),
+            features,
         )?;
-        let colors = match &flat_mesh {
-            Some(m) => &m.colors,
-            None => &geometry.vertex_colors,
-        };
-        let color_buffer = if colors.is_empty() {
-            None
-        } else {
-            Some(Buffer::with_data(
-                context,
-                "vertex colours",
-                bytemuck::cast_slice(colors),
-                vk::BufferUsageFlags::VERTEX_BUFFER,
-            )?)
-        };
-        let uv_buffer = if geometry.vertex_uvs.is_empty() || flat {
-            None
-        } else {
-            Some(Buffer::with_data(
-                context,
-                "texture coordinates",
-                bytemuck::cast_slice(&geometry.vertex_uvs),
-                vk::BufferUsageFlags::VERTEX_BUFFER,
-            )?)
-        };
-        let index_buffer = Buffer::with_data(
-            context,
-            "indices",
-            bytemuck::cast_slice(index_data),
-            vk::BufferUsageFlags::INDEX_BUFFER,
-        )?;
-        let light_buffer = Buffer::with_data(
-            context,
-            "lights",
-            bytemuck::cast_slice(&lights(scene, view.eye)),
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-        )?;
-        let ambient = scene.lighting.ambient.as_vec3();
-        let frame = FrameUniforms {
-            ambient_k: [ambient.x, ambient.y, ambient.z, scene.lighting.k as f32],
-        };
-        let frame_buffer = Buffer::with_data(
-            context,
-            "frame",
-            bytemuck::bytes_of(&frame),
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-        )?;
-        let face_buffer = match &flat_mesh {
-            Some(m) => Some(Buffer::with_data(
-                context,
-                "faces",
-                bytemuck::cast_slice(&m.faces),
-                vk::BufferUsageFlags::STORAGE_BUFFER,
-            )?),
-            None => None,
-        };
-        // The image textures, where the variant samples them.
-        let texture_buffers = if features.texture && !flat {
-            let table = &geometry.textures;
-            Some([
-                Buffer::with_data(
-                    context,
-                    "texture records",
-                    bytemuck::cast_slice(&table.records),
-                    vk::BufferUsageFlags::STORAGE_BUFFER,
-                )?,
-                Buffer::with_data(
-                    context,
-                    "texels",
-                    bytemuck::cast_slice(&table.texels),
-                    vk::BufferUsageFlags::STORAGE_BUFFER,
-                )?,
-            ])
-        } else {
-            None
-        };
         let mut bound = vec![&light_buffer, &frame_buffer];
         bound.extend(&face_buffer);
         bound.extend(texture_buffers.iter().flatten());
@@ -169,49 +102,13 @@ impl Frame {
         )?;
 
         let extent = vk::Extent2D { width, height };
-        let color_image = |name: &str| {
-            Image::new(
-                context,
-                name,
-                extent,
-                target.format(),
-                vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
-                vk::ImageAspectFlags::COLOR,
-            )
-        };
-        let color = color_image("color")?;
-        let pass_colors = (1..drawing.passes())
-            .map(|pass| color_image(&format!("color of sample {pass}")))
-            .collect::<Result<Vec<_>, _>>()?;
-        let samples = drawing.rasterization_samples();
-        let color_samples = if samples > 1 {
-            Some(Image::multisampled(
-                context,
-                "color samples",
-                extent,
-                (target.format(), samples),
-                vk::ImageUsageFlags::COLOR_ATTACHMENT,
-                vk::ImageAspectFlags::COLOR,
-            )?)
-        } else {
-            None
-        };
-        let depth = Image::multisampled(
-            context,
-            "depth",
-            extent,
-            (DEPTH_FORMAT, samples),
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
-            vk::ImageAspectFlags::DEPTH,
-        )?;
-        let pixel_bytes = target.bytes_per_pixel();
-        let readback = Buffer::new(
-            context,
-            "readback",
-            u64::from(width) * u64::from(height) * pixel_bytes * u64::from(drawing.passes()),
-            vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
-        )?;
+        let FrameImages {
+            color,
+            pass_colors,
+            color_samples,
+            depth,
+            readback,
+        } = FrameImages::new(context, extent, target, drawing)?;
         Ok(Self {
             vertex_buffer,
             color_buffer,
@@ -343,11 +240,33 @@ impl Frame {
         (scene, view, geometry): (&Scene, &View, &Geometry),
         pass: u32,
     ) {
+        self.begin_rendering(device, cmd, scene, pass);
+        self.bind(device, cmd, pipeline, pass);
+        self.record_draws(device, cmd, pipeline, (scene, view, geometry));
+        device.cmd_end_rendering(cmd);
+    }
+
+    /// The whole frame's area, which every pass renders and draws.
+    fn area(&self) -> vk::Rect2D {
+        vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent: self.extent,
+        }
+    }
+
+    /// Begins rendering pass `pass` into its colour image (through the
+    /// samples where multisampled) and the depth image, both cleared.
+    ///
+    /// # Safety
+    /// As `record`.
+    unsafe fn begin_rendering(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        scene: &Scene,
+        pass: u32,
+    ) {
         let (color, depth) = (&self.color, &self.depth);
-        let (vertex_buffer, index_buffer, descriptors) =
-            (&self.vertex_buffer, &self.index_buffer, &self.descriptors);
-        let extent = self.extent;
-        let (width, height) = (extent.width, extent.height);
         // In the target's scale, as the fragment stages write.
         let background = scene.image.background.as_vec3() * self.target.output_scale();
         let clear = vk::ClearValue {
@@ -389,16 +308,29 @@ impl Frame {
                     stencil: 0,
                 },
             });
-        let area = vk::Rect2D {
-            offset: vk::Offset2D { x: 0, y: 0 },
-            extent,
-        };
         let rendering = vk::RenderingInfo::default()
-            .render_area(area)
+            .render_area(self.area())
             .layer_count(1)
             .color_attachments(&color_attachments)
             .depth_attachment(&depth_attachment);
         device.cmd_begin_rendering(cmd, &rendering);
+    }
+
+    /// Binds the pipeline, pass `pass`'s viewport (shifted to its sample
+    /// position), the descriptors, the vertex streams and the indices.
+    ///
+    /// # Safety
+    /// As `record`.
+    unsafe fn bind(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        pipeline: &PipelineObjects,
+        pass: u32,
+    ) {
+        let (vertex_buffer, index_buffer, descriptors) =
+            (&self.vertex_buffer, &self.index_buffer, &self.descriptors);
+        let (width, height) = (self.extent.width, self.extent.height);
         device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.pipeline);
         let shift = pass_viewport_origin(self.drawing, pass);
         device.cmd_set_viewport(
@@ -413,7 +345,7 @@ impl Frame {
                 max_depth: 1.0,
             }],
         );
-        device.cmd_set_scissor(cmd, 0, &[area]);
+        device.cmd_set_scissor(cmd, 0, &[self.area()]);
         device.cmd_bind_descriptor_sets(
             cmd,
             vk::PipelineBindPoint::GRAPHICS,
@@ -430,6 +362,21 @@ impl Frame {
             device.cmd_bind_vertex_buffers(cmd, 2, &[uvs.raw], &[0]);
         }
         device.cmd_bind_index_buffer(cmd, index_buffer.raw, 0, vk::IndexType::UINT32);
+    }
+
+    /// Every draw of `geometry`: its material's constants pushed (with the
+    /// pattern's where the frame has texture coordinates), its culling
+    /// set, its indices drawn.
+    ///
+    /// # Safety
+    /// As `record`.
+    unsafe fn record_draws(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        pipeline: &PipelineObjects,
+        (scene, view, geometry): (&Scene, &View, &Geometry),
+    ) {
         let clip = view.clip_from_relative().as_mat4().to_cols_array_2d();
         for draw in &geometry.draws {
             let m = &scene.materials[draw.material];
@@ -465,7 +412,6 @@ impl Frame {
             device.cmd_set_cull_mode(cmd, cull);
             device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0);
         }
-        device.cmd_end_rendering(cmd);
     }
 
     /// The colour image copied into the read-back buffer, for the host.

@@ -108,6 +108,10 @@ pub(crate) fn bindings_of(
     }
 }
 
+/// The pipeline that draws `mode` with `features` into `target`: its
+/// layout, its two shader stages specialised with `spec` (and the
+/// lighting hook compiled in), its vertex streams and the fixed-function
+/// state.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn create_pipeline(
     context: &Arc<GpuContext>,
@@ -118,36 +122,10 @@ pub(crate) fn create_pipeline(
     lighting_hook: Option<&LightingHook>,
     features: SurfaceFeatures,
 ) -> Result<PipelineObjects, GpuError> {
-    let device = &context.device;
     let mut p = PipelineObjects::new(&context.device);
-    let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-    p.set_layout = create_set_layout(context, bindings_of(mode, features), stages)?;
-    let push_size = if features.pattern {
-        std::mem::size_of::<PatternDrawConstants>()
-    } else {
-        std::mem::size_of::<DrawConstants>()
-    };
-    let ranges = [vk::PushConstantRange::default()
-        .stage_flags(stages)
-        .size(push_size as u32)];
-    let set_layouts = [p.set_layout];
-    let layout_info = vk::PipelineLayoutCreateInfo::default()
-        .set_layouts(&set_layouts)
-        .push_constant_ranges(&ranges);
-    // SAFETY: as above.
-    p.layout = unsafe { device.create_pipeline_layout(&layout_info, None) }
-        .during("vkCreatePipelineLayout")?;
-
-    let (vert, frag) = shader_pair(mode, interpolation, features);
-    for blob in [vert, frag] {
-        let words = hook::module_words(blob, lighting_hook, &context.info)?;
-        let info = vk::ShaderModuleCreateInfo::default().code(&words);
-        // SAFETY: the words are SPIR-V validated by naga (at build time, or
-        // with the hook by `hook::module_words`).
-        let module =
-            unsafe { device.create_shader_module(&info, None) }.during("vkCreateShaderModule")?;
-        p.modules.push(module);
-    }
+    create_layout(context, &mut p, mode, features)?;
+    let shaders = shader_pair(mode, interpolation, features);
+    create_modules(context, &mut p, shaders, lighting_hook)?;
     let entries = Specialization::map_entries();
     let spec_info = vk::SpecializationInfo::default()
         .map_entries(&entries)
@@ -164,8 +142,79 @@ pub(crate) fn create_pipeline(
             .name(c"main")
             .specialization_info(&spec_info),
     ];
+    let (bindings, attributes) = vertex_streams(mode, features);
+    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+        .vertex_binding_descriptions(&bindings)
+        .vertex_attribute_descriptions(&attributes);
+    p.pipeline = create_graphics_pipeline(
+        &context.device,
+        (&stage_infos, &vertex_input),
+        p.layout,
+        (target, drawing),
+    )?;
+    Ok(p)
+}
+
+/// `p`'s descriptor set layout (the bindings `mode` reads) and its
+/// pipeline layout, with room for the draw constants `features` push.
+fn create_layout(
+    context: &Arc<GpuContext>,
+    p: &mut PipelineObjects,
+    mode: RasterMode,
+    features: SurfaceFeatures,
+) -> Result<(), GpuError> {
+    let device = &context.device;
+    let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+    p.set_layout = create_set_layout(context, bindings_of(mode, features), stages)?;
+    let push_size = if features.pattern {
+        std::mem::size_of::<PatternDrawConstants>()
+    } else {
+        std::mem::size_of::<DrawConstants>()
+    };
+    let ranges = [vk::PushConstantRange::default()
+        .stage_flags(stages)
+        .size(push_size as u32)];
+    let set_layouts = [p.set_layout];
+    let layout_info = vk::PipelineLayoutCreateInfo::default()
+        .set_layouts(&set_layouts)
+        .push_constant_ranges(&ranges);
+    // SAFETY: valid device and create info.
+    p.layout = unsafe { device.create_pipeline_layout(&layout_info, None) }
+        .during("vkCreatePipelineLayout")?;
+    Ok(())
+}
+
+/// The vertex and fragment modules of `(vert, frag)`, with the lighting
+/// hook where there is one, kept in `p.modules` in that order.
+fn create_modules(
+    context: &Arc<GpuContext>,
+    p: &mut PipelineObjects,
+    (vert, frag): (&ShaderBlob, &ShaderBlob),
+    lighting_hook: Option<&LightingHook>,
+) -> Result<(), GpuError> {
+    for blob in [vert, frag] {
+        let words = hook::module_words(blob, lighting_hook, &context.info)?;
+        let info = vk::ShaderModuleCreateInfo::default().code(&words);
+        // SAFETY: the words are SPIR-V validated by naga (at build time, or
+        // with the hook by `hook::module_words`).
+        let module = unsafe { context.device.create_shader_module(&info, None) }
+            .during("vkCreateShaderModule")?;
+        p.modules.push(module);
+    }
+    Ok(())
+}
+
+/// The vertex streams (bindings) and attributes `mode`'s vertex stage
+/// reads with `features`.
+fn vertex_streams(
+    mode: RasterMode,
+    features: SurfaceFeatures,
+) -> (
+    Vec<vk::VertexInputBindingDescription>,
+    Vec<vk::VertexInputAttributeDescription>,
+) {
     // Flat draws read positions alone, one vertex of its own per triangle
-    // (`raster::flat`).
+    // (`flat`).
     let stride = if mode == RasterMode::Flat {
         std::mem::size_of::<[f32; 3]>()
     } else {
@@ -173,7 +222,7 @@ pub(crate) fn create_pipeline(
     };
     // Positions (and normals) in stream 0; the colours in stream 1 and the
     // texture coordinates in stream 2 where the variant reads them
-    // (`raster::frame`), at the locations the shaders give them.
+    // (`frame`), at the locations the shaders give them.
     let stream = |binding: u32, stride: usize| {
         vk::VertexInputBindingDescription::default()
             .binding(binding)
@@ -203,16 +252,30 @@ pub(crate) fn create_pipeline(
         bindings.push(stream(2, std::mem::size_of::<[f32; 2]>()));
         attributes.push(attribute(3, 2, vk::Format::R32G32_SFLOAT, 0));
     }
-    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
-        .vertex_binding_descriptions(&bindings)
-        .vertex_attribute_descriptions(&attributes);
+    (bindings, attributes)
+}
+
+/// The graphics pipeline of `stages` reading `vertex_input`, in `layout`,
+/// with the fixed-function state every raster mode draws with: triangle
+/// lists, a dynamic viewport and scissor, culling set per draw, reversed
+/// Z, no blending, into `target` at `drawing`'s samples and the depth
+/// format.
+fn create_graphics_pipeline(
+    device: &ash::Device,
+    (stages, vertex_input): (
+        &[vk::PipelineShaderStageCreateInfo],
+        &vk::PipelineVertexInputStateCreateInfo,
+    ),
+    layout: vk::PipelineLayout,
+    (target, drawing): (ColorTarget, SampleDrawing),
+) -> Result<vk::Pipeline, GpuError> {
     let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
         .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
     let viewport = vk::PipelineViewportStateCreateInfo::default()
         .viewport_count(1)
         .scissor_count(1);
     // Culling is set per draw (dynamic state): only where back faces cannot
-    // show (raster_cull); planes and open meshes keep both sides, as in the
+    // show (`cull`); planes and open meshes keep both sides, as in the
     // ray tracer.
     let raster = vk::PipelineRasterizationStateCreateInfo::default()
         .polygon_mode(vk::PolygonMode::FILL)
@@ -242,8 +305,8 @@ pub(crate) fn create_pipeline(
         .color_attachment_formats(&color_formats)
         .depth_attachment_format(DEPTH_FORMAT);
     let info = vk::GraphicsPipelineCreateInfo::default()
-        .stages(&stage_infos)
-        .vertex_input_state(&vertex_input)
+        .stages(stages)
+        .vertex_input_state(vertex_input)
         .input_assembly_state(&assembly)
         .viewport_state(&viewport)
         .rasterization_state(&raster)
@@ -251,11 +314,10 @@ pub(crate) fn create_pipeline(
         .depth_stencil_state(&depth)
         .color_blend_state(&blend)
         .dynamic_state(&dynamic)
-        .layout(p.layout)
+        .layout(layout)
         .push_next(&mut rendering);
     // SAFETY: every pointer in `info` refers to locals alive for the call.
     let created =
         unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
-    p.pipeline = single_pipeline(created, "vkCreateGraphicsPipelines")?;
-    Ok(p)
+    single_pipeline(created, "vkCreateGraphicsPipelines")
 }

@@ -1,7 +1,7 @@
 //! Turns a `Scene` into what the raster pipelines consume: camera-relative
 //! vertices (subtracted in `f64`, then rounded to `f32`), indices, one
 //! record per triangle for flat shading, the draws (with back faces culled
-//! where they cannot show, `raster::cull`), and the specialization constants
+//! where they cannot show, `cull`), and the specialization constants
 //! that switch off what the scene does not use.
 //!
 //! Consecutive objects with the same material and culling share one draw:
@@ -10,7 +10,7 @@
 //! 20 000 draws. Merging keeps the objects' order, and so the order in which
 //! triangles reach the depth test: the image is the same.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use crate::camera::View;
 use crate::cpu::surface::pattern_color;
@@ -19,13 +19,13 @@ use crate::gpu::raster::layout::{GpuFace, Specialization, Vertex};
 use crate::gpu::shared::lights::SceneLighting;
 use crate::gpu::shared::texture_table::TextureTable;
 use crate::level_of_detail::flat_lambda;
-use crate::scene::{tessellate, tessellate_textured, Scene, Shape};
+use crate::scene::{tessellate, tessellate_textured, Object, Pattern, Scene, Shape, TriangleMesh};
 
 pub struct Draw {
     pub first_index: u32,
     pub index_count: u32,
     pub material: usize,
-    /// Draw with back faces culled: they cannot show (`raster::cull`).
+    /// Draw with back faces culled: they cannot show (`cull`).
     pub cull_back: bool,
 }
 
@@ -89,45 +89,90 @@ fn f32x4(v: DVec3) -> [f32; 4] {
     [x, y, z, 0.0]
 }
 
+/// Which streams and records a scene's geometry holds.
+#[derive(Clone, Copy)]
+struct Streams {
+    /// A vertex colour per vertex (some mesh has them).
+    coloured: bool,
+    /// Some object's material has a pattern.
+    patterned: bool,
+    /// The per-triangle records of flat shading.
+    with_faces: bool,
+    /// With the faces, a colour per face (`RasterGeometry::face_colors`).
+    face_colors: bool,
+}
+
 /// `with_faces`: also the per-triangle records, which only flat shading
 /// reads (`faces` stays empty otherwise).
 pub fn build_geometry(scene: &Scene, view: &View, with_faces: bool) -> RasterGeometry {
-    let eye = view.eye;
     let coloured = has_vertex_colors(scene);
     let patterned = has_patterns(scene);
-    let face_colors = with_faces && (coloured || patterned);
-    let mut geometry = RasterGeometry {
-        vertices: Vec::new(),
-        vertex_colors: Vec::new(),
-        indices: Vec::new(),
-        faces: Vec::new(),
-        face_colors: Vec::new(),
-        vertex_uvs: Vec::new(),
-        textures: TextureTable::default(),
-        draws: Vec::new(),
+    let streams = Streams {
+        coloured,
+        patterned,
+        with_faces,
+        face_colors: with_faces && (coloured || patterned),
     };
-    if !with_faces && has_textures(scene) {
-        geometry.textures = TextureTable::new(&scene.materials);
-    }
-    // Reserved exactly: growth by doubling left up to half of each list
-    // unused (`docs/memory.md`).
-    let (vertex_count, triangle_count) = scene
-        .objects
-        .iter()
-        .map(|o| tessellate::counts(&o.shape))
-        .fold((0, 0), |(v, t), (ov, ot)| (v + ov, t + ot));
-    geometry.vertices.reserve_exact(vertex_count as usize);
-    geometry.indices.reserve_exact(3 * triangle_count as usize);
-    if with_faces {
-        geometry.faces.reserve_exact(triangle_count as usize);
-    }
-    if coloured {
-        geometry.vertex_colors.reserve_exact(vertex_count as usize);
-    }
-    if face_colors {
-        geometry.face_colors.reserve_exact(triangle_count as usize);
-    }
+    let mut geometry = RasterGeometry::reserved(scene, streams);
     for object in &scene.objects {
+        geometry.add_object(scene, view, object, streams);
+    }
+    geometry
+}
+
+/// The vertex colour of `mesh`'s vertex `i`, one where the mesh has none.
+fn tint_at(mesh: &TriangleMesh, i: u32) -> DVec3 {
+    mesh.colors.get(i as usize).copied().unwrap_or(DVec3::ONE)
+}
+
+/// The texture coordinates of `mesh`'s vertex `i`, zero where it has none.
+fn uv_at(mesh: &TriangleMesh, i: u32) -> DVec2 {
+    mesh.uvs.get(i as usize).copied().unwrap_or_default()
+}
+
+impl RasterGeometry {
+    /// No geometry yet, with room for all of `scene`'s, and the image
+    /// textures where the fragment stage samples them.
+    fn reserved(scene: &Scene, streams: Streams) -> Self {
+        let mut geometry = RasterGeometry {
+            vertices: Vec::new(),
+            vertex_colors: Vec::new(),
+            indices: Vec::new(),
+            faces: Vec::new(),
+            face_colors: Vec::new(),
+            vertex_uvs: Vec::new(),
+            textures: TextureTable::default(),
+            draws: Vec::new(),
+        };
+        if !streams.with_faces && has_textures(scene) {
+            geometry.textures = TextureTable::new(&scene.materials);
+        }
+        // Reserved exactly: growth by doubling left up to half of each list
+        // unused (`docs/memory.md`).
+        let (vertex_count, triangle_count) = scene
+            .objects
+            .iter()
+            .map(|o| tessellate::counts(&o.shape))
+            .fold((0, 0), |(v, t), (ov, ot)| (v + ov, t + ot));
+        geometry.vertices.reserve_exact(vertex_count as usize);
+        geometry.indices.reserve_exact(3 * triangle_count as usize);
+        if streams.with_faces {
+            geometry.faces.reserve_exact(triangle_count as usize);
+        }
+        if streams.coloured {
+            geometry.vertex_colors.reserve_exact(vertex_count as usize);
+        }
+        if streams.face_colors {
+            geometry.face_colors.reserve_exact(triangle_count as usize);
+        }
+        geometry
+    }
+
+    /// `object` tessellated: its vertices (camera-relative) and their
+    /// streams, its triangles, and its draw, merged into the last where
+    /// the material and culling match.
+    fn add_object(&mut self, scene: &Scene, view: &View, object: &Object, streams: Streams) {
+        let eye = view.eye;
         let pattern = scene.materials[object.material].pattern.as_ref();
         let mesh = if pattern.is_some() {
             tessellate_textured(&object.shape)
@@ -135,13 +180,13 @@ pub fn build_geometry(scene: &Scene, view: &View, with_faces: bool) -> RasterGeo
             tessellate(&object.shape)
         };
         let draw = Draw {
-            first_index: geometry.indices.len() as u32,
+            first_index: self.indices.len() as u32,
             index_count: (mesh.triangles.len() * 3) as u32,
             material: object.material,
             cull_back: back_faces_hidden(&mesh, view),
         };
-        let base = geometry.vertices.len() as u32;
-        geometry.vertices.extend(
+        let base = self.vertices.len() as u32;
+        self.vertices.extend(
             mesh.positions
                 .iter()
                 .zip(&mesh.normals)
@@ -150,52 +195,61 @@ pub fn build_geometry(scene: &Scene, view: &View, with_faces: bool) -> RasterGeo
                     normal: f32x3(*n),
                 }),
         );
-        // The vertex colour, one where the mesh has none.
-        let tint_at = |i: u32| mesh.colors.get(i as usize).copied().unwrap_or(DVec3::ONE);
-        if coloured {
-            geometry
-                .vertex_colors
-                .extend((0..mesh.positions.len() as u32).map(|i| f32x3(tint_at(i))));
+        if streams.coloured {
+            self.vertex_colors
+                .extend((0..mesh.positions.len() as u32).map(|i| f32x3(tint_at(&mesh, i))));
         }
-        let uv_at = |i: u32| mesh.uvs.get(i as usize).copied().unwrap_or_default();
-        if patterned && !with_faces {
-            geometry
-                .vertex_uvs
-                .extend((0..mesh.positions.len() as u32).map(|i| uv_at(i).as_vec2().to_array()));
+        if streams.patterned && !streams.with_faces {
+            self.vertex_uvs.extend(
+                (0..mesh.positions.len() as u32).map(|i| uv_at(&mesh, i).as_vec2().to_array()),
+            );
         }
+        self.add_triangles(view, &mesh, (base, pattern), streams);
+        match self.draws.last_mut() {
+            Some(last) if last.material == draw.material && last.cull_back == draw.cull_back => {
+                last.index_count += draw.index_count;
+            }
+            _ => self.draws.push(draw),
+        }
+    }
+
+    /// `mesh`'s triangles as indices past `base`, and for flat shading
+    /// each one's record and colour (its corners' mean tint times its
+    /// `pattern` at their mean coordinates).
+    fn add_triangles(
+        &mut self,
+        view: &View,
+        mesh: &TriangleMesh,
+        (base, pattern): (u32, Option<&Pattern>),
+        streams: Streams,
+    ) {
+        let eye = view.eye;
         for tri in &mesh.triangles {
-            geometry.indices.extend(tri.map(|i| base + i));
-            if !with_faces {
+            self.indices.extend(tri.map(|i| base + i));
+            if !streams.with_faces {
                 continue;
             }
-            if face_colors {
-                let [ta, tb, tc] = tri.map(tint_at);
+            if streams.face_colors {
+                let [ta, tb, tc] = tri.map(|i| tint_at(mesh, i));
                 let mut color = (ta + tb + tc) / 3.0;
                 if let Some(pattern) = pattern {
-                    let uvs = tri.map(uv_at);
+                    let uvs = tri.map(|i| uv_at(mesh, i));
                     let uv = (uvs[0] + uvs[1] + uvs[2]) / 3.0;
                     let positions = tri.map(|i| mesh.positions[i as usize]);
                     let lambda = |image: &_| flat_lambda(image, view, positions, uvs);
                     color *= pattern_color(pattern, uv, lambda).0;
                 }
-                geometry.face_colors.push(f32x3(color));
+                self.face_colors.push(f32x3(color));
             }
             let [a, b, c] = tri.map(|i| mesh.positions[i as usize]);
             let normal = (b - a).cross(c - a).normalize_or_zero();
             let center = (a + b + c) / 3.0;
-            geometry.faces.push(GpuFace {
+            self.faces.push(GpuFace {
                 center: f32x4(center - eye),
                 normal: f32x4(normal),
             });
         }
-        match geometry.draws.last_mut() {
-            Some(last) if last.material == draw.material && last.cull_back == draw.cull_back => {
-                last.index_count += draw.index_count;
-            }
-            _ => geometry.draws.push(draw),
-        }
     }
-    geometry
 }
 
 /// Only what the scene uses (`SceneLighting`), and image textures through

@@ -1,5 +1,5 @@
 //! The ray-query engine's acceleration structures, built by the driver from
-//! the same records the compute tracer reads (`raytrace::records`): one bottom
+//! the same records the compute tracer reads (`records`): one bottom
 //! level per mesh (its triangles' corners taken from the triangle records,
 //! which `group_by_mesh` has made contiguous per mesh),
 //! one of bounding boxes per analytic kind that the scene has (spheres,
@@ -81,6 +81,25 @@ impl Drop for SceneStructure {
                     .destroy_acceleration_structure(structure, None)
             };
         }
+    }
+}
+
+impl SceneStructure {
+    /// Creates `level`'s structure, records its build into `cmd` and keeps
+    /// it; its scratch memory goes to `scratches`, to be freed once the
+    /// build has run.
+    fn add(
+        &mut self,
+        context: &Arc<GpuContext>,
+        cmd: vk::CommandBuffer,
+        level: &Level,
+        scratches: &mut Vec<Buffer>,
+    ) -> Result<vk::AccelerationStructureKHR, GpuError> {
+        let prepared = prepare(context, level)?;
+        record_build(context, cmd, level, &prepared);
+        self.structures.push((prepared.structure, prepared.buffer));
+        scratches.push(prepared.scratch);
+        Ok(prepared.structure)
     }
 }
 
@@ -285,69 +304,9 @@ pub fn build(
         });
     };
     let mut inputs: Vec<Buffer> = Vec::new();
-    let mut bottoms: Vec<(u32, Level)> = Vec::new();
-    if let Some(&(last, _)) = meshes.last() {
-        if last as usize > MAX_CUSTOM_INDEX {
-            return Err(GpuError::SceneTooLarge(format!(
-                "{} triangles, more than the ray-query engine's {MAX_CUSTOM_INDEX} before the last mesh; \
-                 use --traversal bvh",
-                last
-            )));
-        }
-    }
-    // Three corners per triangle, in record order, not indexed: the records
-    // hold them by axis, for the compute tracer's shuffles.
-    let corners: Vec<[f32; 3]> = r
-        .triangles
-        .iter()
-        .flat_map(GpuTriangleGeometry::corners)
-        .collect();
-    let mut base = 0;
-    if !corners.is_empty() {
-        let vertices = Buffer::with_data(
-            context,
-            "query vertices",
-            bytemuck::cast_slice(&corners),
-            INPUT,
-        )?;
-        base = address(context, &vertices);
-        inputs.push(vertices);
-    }
-    let corner_size = std::mem::size_of::<[f32; 3]>() as u64;
-    for &(first, count) in meshes {
-        let triangles = vk::AccelerationStructureGeometryTrianglesDataKHR::default()
-            .vertex_format(vk::Format::R32G32B32_SFLOAT)
-            .vertex_data(vk::DeviceOrHostAddressConstKHR {
-                device_address: base + 3 * u64::from(first) * corner_size,
-            })
-            .vertex_stride(corner_size)
-            .max_vertex(3 * count - 1)
-            .index_type(vk::IndexType::NONE_KHR);
-        // Opaque: the driver commits the nearest triangle itself, without a
-        // trip back to the shader for every candidate (on lavapipe within
-        // the noise of the trips; on hardware the trips are what costs).
-        let geometry = vk::AccelerationStructureGeometryKHR::default()
-            .geometry_type(vk::GeometryTypeKHR::TRIANGLES)
-            .flags(vk::GeometryFlagsKHR::OPAQUE)
-            .geometry(vk::AccelerationStructureGeometryDataKHR { triangles });
-        bottoms.push((first, Level::bottom(geometry, count)));
-    }
-    for (kind, boxes) in object_boxes(rt, r) {
-        if boxes.is_empty() {
-            continue;
-        }
-        let data = Buffer::with_data(context, "query boxes", aabb_bytes(&boxes), INPUT)?;
-        let aabbs = vk::AccelerationStructureGeometryAabbsDataKHR::default()
-            .data(vk::DeviceOrHostAddressConstKHR {
-                device_address: address(context, &data),
-            })
-            .stride(std::mem::size_of::<vk::AabbPositionsKHR>() as u64);
-        inputs.push(data);
-        let geometry = vk::AccelerationStructureGeometryKHR::default()
-            .geometry_type(vk::GeometryTypeKHR::AABBS)
-            .geometry(vk::AccelerationStructureGeometryDataKHR { aabbs });
-        bottoms.push((kind, Level::bottom(geometry, boxes.len() as u32)));
-    }
+    check_custom_index(meshes)?;
+    let mut bottoms = mesh_levels(context, r, meshes, &mut inputs)?;
+    bottoms.extend(box_levels(context, rt, r, &mut inputs)?);
 
     let mut structure = SceneStructure {
         context: context.clone(),
@@ -358,10 +317,9 @@ pub fn build(
     let mut instances = Vec::new();
     let commands = OneShot::begin(context)?;
     for (kind, level) in &bottoms {
-        let prepared = prepare(context, level)?;
-        record_build(context, commands.cmd, level, &prepared);
-        let info = vk::AccelerationStructureDeviceAddressInfoKHR::default()
-            .acceleration_structure(prepared.structure);
+        let bottom = structure.add(context, commands.cmd, level, &mut scratches)?;
+        let info =
+            vk::AccelerationStructureDeviceAddressInfoKHR::default().acceleration_structure(bottom);
         // SAFETY: the structure was just created on this device.
         let reference = unsafe {
             support
@@ -369,10 +327,6 @@ pub fn build(
                 .get_acceleration_structure_device_address(&info)
         };
         instances.push(instance(*kind, reference));
-        structure
-            .structures
-            .push((prepared.structure, prepared.buffer));
-        scratches.push(prepared.scratch);
     }
     // The top level reads the bottom levels the builds above write.
     let built = [vk::MemoryBarrier2::default()
@@ -393,29 +347,121 @@ pub fn build(
         instance_bytes(&instances),
         INPUT,
     )?;
-    let top = Level {
+    let top = top_level(context, &instance_data, instances.len() as u32);
+    structure.top = structure.add(context, commands.cmd, &top, &mut scratches)?;
+    commands.submit_and_wait()?;
+    drop((scratches, inputs, instance_data));
+    Ok(structure)
+}
+
+/// Refuses meshes whose first record the 24 bits of a custom index
+/// cannot hold.
+fn check_custom_index(meshes: &[(u32, u32)]) -> Result<(), GpuError> {
+    if let Some(&(last, _)) = meshes.last() {
+        if last as usize > MAX_CUSTOM_INDEX {
+            return Err(GpuError::SceneTooLarge(format!(
+                "{} triangles, more than the ray-query engine's {MAX_CUSTOM_INDEX} before the last mesh; \
+                 use --traversal bvh",
+                last
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// A bottom level of triangles per mesh, with its first record as custom
+/// index; the corners they read are uploaded into `inputs`.
+fn mesh_levels(
+    context: &Arc<GpuContext>,
+    r: &SceneRecords,
+    meshes: &[(u32, u32)],
+    inputs: &mut Vec<Buffer>,
+) -> Result<Vec<(u32, Level<'static>)>, GpuError> {
+    // Three corners per triangle, in record order, not indexed: the records
+    // hold them by axis, for the compute tracer's shuffles.
+    let corners: Vec<[f32; 3]> = r
+        .triangles
+        .iter()
+        .flat_map(GpuTriangleGeometry::corners)
+        .collect();
+    let mut base = 0;
+    if !corners.is_empty() {
+        let vertices = Buffer::with_data(
+            context,
+            "query vertices",
+            bytemuck::cast_slice(&corners),
+            INPUT,
+        )?;
+        base = address(context, &vertices);
+        inputs.push(vertices);
+    }
+    let corner_size = std::mem::size_of::<[f32; 3]>() as u64;
+    let mut bottoms = Vec::new();
+    for &(first, count) in meshes {
+        let triangles = vk::AccelerationStructureGeometryTrianglesDataKHR::default()
+            .vertex_format(vk::Format::R32G32B32_SFLOAT)
+            .vertex_data(vk::DeviceOrHostAddressConstKHR {
+                device_address: base + 3 * u64::from(first) * corner_size,
+            })
+            .vertex_stride(corner_size)
+            .max_vertex(3 * count - 1)
+            .index_type(vk::IndexType::NONE_KHR);
+        // Opaque: the driver commits the nearest triangle itself, without a
+        // trip back to the shader for every candidate (on lavapipe within
+        // the noise of the trips; on hardware the trips are what costs).
+        let geometry = vk::AccelerationStructureGeometryKHR::default()
+            .geometry_type(vk::GeometryTypeKHR::TRIANGLES)
+            .flags(vk::GeometryFlagsKHR::OPAQUE)
+            .geometry(vk::AccelerationStructureGeometryDataKHR { triangles });
+        bottoms.push((first, Level::bottom(geometry, count)));
+    }
+    Ok(bottoms)
+}
+
+/// A bottom level of bounding boxes per analytic kind the scene has, with
+/// the kind as custom index; the boxes are uploaded into `inputs`.
+fn box_levels(
+    context: &Arc<GpuContext>,
+    rt: &RtScene,
+    r: &SceneRecords,
+    inputs: &mut Vec<Buffer>,
+) -> Result<Vec<(u32, Level<'static>)>, GpuError> {
+    let mut bottoms = Vec::new();
+    for (kind, boxes) in object_boxes(rt, r) {
+        if boxes.is_empty() {
+            continue;
+        }
+        let data = Buffer::with_data(context, "query boxes", aabb_bytes(&boxes), INPUT)?;
+        let aabbs = vk::AccelerationStructureGeometryAabbsDataKHR::default()
+            .data(vk::DeviceOrHostAddressConstKHR {
+                device_address: address(context, &data),
+            })
+            .stride(std::mem::size_of::<vk::AabbPositionsKHR>() as u64);
+        inputs.push(data);
+        let geometry = vk::AccelerationStructureGeometryKHR::default()
+            .geometry_type(vk::GeometryTypeKHR::AABBS)
+            .geometry(vk::AccelerationStructureGeometryDataKHR { aabbs });
+        bottoms.push((kind, Level::bottom(geometry, boxes.len() as u32)));
+    }
+    Ok(bottoms)
+}
+
+/// The top level: `count` instances, one per bottom level, read from
+/// `instance_data`.
+fn top_level(context: &GpuContext, instance_data: &Buffer, count: u32) -> Level<'static> {
+    Level {
         ty: vk::AccelerationStructureTypeKHR::TOP_LEVEL,
         geometries: vec![vk::AccelerationStructureGeometryKHR::default()
             .geometry_type(vk::GeometryTypeKHR::INSTANCES)
             .geometry(vk::AccelerationStructureGeometryDataKHR {
                 instances: vk::AccelerationStructureGeometryInstancesDataKHR::default().data(
                     vk::DeviceOrHostAddressConstKHR {
-                        device_address: address(context, &instance_data),
+                        device_address: address(context, instance_data),
                     },
                 ),
             })],
-        counts: vec![instances.len() as u32],
-    };
-    let prepared = prepare(context, &top)?;
-    record_build(context, commands.cmd, &top, &prepared);
-    structure.top = prepared.structure;
-    structure
-        .structures
-        .push((prepared.structure, prepared.buffer));
-    scratches.push(prepared.scratch);
-    commands.submit_and_wait()?;
-    drop((scratches, inputs, instance_data));
-    Ok(structure)
+        counts: vec![count],
+    }
 }
 
 /// An instance of a bottom level at its place (identity transform: the

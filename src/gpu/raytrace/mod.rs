@@ -3,10 +3,13 @@
 //! `layout`, with one `bvh` over its triangles and long lists of
 //! objects (walked binary, or in its 4-wide form, `wide_bvh`); or, with
 //! `--traversal query`, hands the same records to the driver to build
-//! acceleration structures (`accel`) that ray queries walk.
+//! acceleration structures (`accel`) that ray queries walk. The records
+//! travel in the trace's `buffers`, which `dispatch` binds and runs.
 
 mod accel;
+mod buffers;
 pub mod bvh;
+mod dispatch;
 pub mod layout;
 mod records;
 mod renderer;

@@ -1,27 +1,29 @@
 //! The ray tracer: `shaders/raytrace.comp.glsl`, whose subgroups take the
 //! image from a work queue, over the scene's `RtScene` (exact primitives,
 //! triangles and BVH uploaded as storage buffers in the layouts of
-//! `raytrace::records`), writing linear float pixels to a buffer the host reads
+//! `records`), writing linear float pixels to a buffer the host reads
 //! back. The algorithm is docs/raytracing.md. Its hits come from the
 //! shader's own BVH walk or, with `Traversal::Query`, from ray queries
-//! through the structures of `raytrace::accel` (`engine_for` picks).
+//! through the structures of `accel` (`engine_for` picks). A render plans
+//! the scene, gets or builds its pipeline, uploads the `buffers`, then
+//! binds and dispatches them (`dispatch`) and reads the pixels back.
 
 use std::sync::Arc;
 use std::time::Instant;
 
 use ash::vk;
-use gpu_allocator::MemoryLocation;
 
 use crate::camera::View;
 use crate::gpu::raytrace::accel::{self, SceneStructure};
+use crate::gpu::raytrace::buffers::TraceBuffers;
 use crate::gpu::raytrace::bvh::BvhKinds;
+use crate::gpu::raytrace::dispatch::{cpu_threads, first_use, BoundTrace};
 use crate::gpu::raytrace::layout::*;
-use crate::gpu::raytrace::records::{records, v4};
+use crate::gpu::raytrace::records::{records, SceneRecords};
 use crate::gpu::shared::hook;
 use crate::gpu::shared::image_size::check_image_size;
-use crate::gpu::shared::lights::{lights, SceneLighting};
+use crate::gpu::shared::lights::SceneLighting;
 use crate::gpu::shared::shader_catalog::{RAYTRACE_COMP, RAYTRACE_QUERY_COMP, RAYTRACE_WIDE_COMP};
-use crate::gpu::vk::buffer::Buffer;
 use crate::gpu::vk::commands::OneShot;
 use crate::gpu::vk::context::DeviceInfo;
 use crate::gpu::vk::context::GpuContext;
@@ -31,7 +33,7 @@ use crate::gpu::vk::pipeline::{single_pipeline, PipelineObjects};
 use crate::gpu::vk::specialise::specialise;
 use crate::gpu::vk::timestamps::{ms_since, GpuTimings, Timestamps};
 use crate::linear_image::LinearImage;
-use crate::rt_scene::{sample_grid, RayStats, RtScene};
+use crate::rt_scene::{RayStats, RtScene};
 use crate::scene::{LightingHook, Scene, Traversal};
 
 pub struct TraceOutput {
@@ -226,220 +228,48 @@ pub fn render_with(
     scene: &Scene,
     options: TraceOptions,
 ) -> Result<TraceOutput, GpuError> {
-    let count_rays = options.count_rays;
     let started = Instant::now();
-    if let Some(why) = &context.info.no_ray_tracer_because {
-        return Err(GpuError::NoRayTracer {
-            device: context.info.name.clone(),
-            why: why.clone(),
-        });
-    }
     let (width, height) = (scene.image.width, scene.image.height);
-    check_image_size(context, width, height)?;
+    let traversal = check_and_choose_engine(context, scene)?;
     let view = View::new(scene, width, height);
-    // `auto` with a hook takes the BVH engine, which is the one a hook can
-    // run on (below), where a GPU's `auto` would take ray queries.
-    let traversal = match (scene.render.traversal, &scene.lighting_hook) {
-        (Traversal::Auto, Some(_)) => Traversal::Bvh,
-        (asked, _) => engine_for(asked, &context.info)?,
-    };
-    if let (Traversal::Query, Some(hook)) = (traversal, &scene.lighting_hook) {
-        return Err(GpuError::LightingHook(format!(
-            "{} cannot run with --traversal query: a hook's module is checked by naga, which cannot \
-             read ray queries; use --traversal bvh",
-            hook.path
-        )));
-    }
+
     let prepare_started = Instant::now();
-    let rt = RtScene::new(scene);
-    // Refuses what the records cannot hold before building the pipeline.
-    let mut r = records(&rt)?;
-    let meshes = match traversal {
-        Traversal::Query => accel::group_by_mesh(&mut r),
-        _ => Vec::new(),
-    };
-    let spec = specialization(scene, &rt, options);
+    let mut plan = TracePlan::new(scene, options, traversal)?;
     let prepare_ms = ms_since(prepare_started);
+
     let pipeline_started = Instant::now();
-    let hook = scene.lighting_hook.as_deref();
-    let wide = r.bvh.wide.is_some();
-    let driver_specialises = options.driver_specialises;
-    let key = format!(
-        "raytrace {traversal:?} wide {wide} driver {driver_specialises} spec {:?} hook {:016x}",
-        bytemuck::bytes_of(&spec),
-        crate::cache::digest(&hook.map(|h| &h.source)),
-    );
-    let pipeline = context.pipelines.get_or_create(key, || {
-        create_pipeline(context, &spec, hook, traversal, wide, driver_specialises)
-    })?;
+    let pipeline = get_or_build_pipeline(context, scene, &plan, options)?;
     let pipeline_ms = ms_since(pipeline_started);
 
     let upload_started = Instant::now();
-    if spec.has_bvh != 0 && r.bvh.root.is_none() {
+    if plan.spec.has_bvh != 0 && plan.records.bvh.root.is_none() {
         // The BVH walk compiled in for a scene with nothing in its BVH: a
         // leaf of one degenerate triangle, which no ray hits.
-        r.add_unhittable_triangle();
+        plan.records.add_unhittable_triangle();
     }
-    let (kx, ky) = sample_grid(rt.render.samples);
-    let uniforms = TraceUniforms {
-        ambient_k: v4(rt.lighting.ambient, rt.lighting.k as f32),
-        background: v4(rt.background, 0.0),
-        right_focal: v4(view.right, view.focal as f32),
-        up_aspect: v4(view.up, view.aspect as f32),
-        forward_cutoff: v4(view.forward, rt.render.cutoff as f32),
-        image: [width, height, rt.render.samples, rt.render.depth],
-        grid: [
-            kx,
-            ky,
-            rt.spheres.len() as u32,
-            r.bvh.walk_root().unwrap_or(0),
-        ],
-        leaf_bases: [
-            r.bvh.bases.spheres,
-            r.bvh.bases.planes,
-            r.bvh.bases.boxes,
-            0,
-        ],
-        bvh_sphere: r.bvh.bounding_sphere(),
-    };
-    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-    let upload = |name: &str, bytes: &[u8]| Buffer::with_data(context, name, bytes, storage);
-    let lights = upload("lights", bytemuck::cast_slice(&lights(scene, view.eye)))?;
-    let spheres = upload("spheres", bytemuck::cast_slice(&r.spheres))?;
-    let planes = upload("planes", bytemuck::cast_slice(&r.planes))?;
-    let boxes = upload("boxes", bytemuck::cast_slice(&r.boxes))?;
-    let triangles = upload("triangles", bytemuck::cast_slice(&r.triangles))?;
-    let nodes = upload("bvh nodes", r.bvh.walk_nodes())?;
-    let triangle_shading = upload(
-        "triangle shading",
-        bytemuck::cast_slice(&r.triangle_shading),
-    )?;
-    // Bound whether or not the scene has vertex colours, patterns or
-    // images: the bindings are in the module either way, read only where
-    // VERTEX_COLORS, PATTERNS or TEXTURES is on.
-    let triangle_colors = upload("triangle colours", bytemuck::cast_slice(&r.triangle_colors))?;
-    let triangle_uvs = upload(
-        "triangle texture coordinates",
-        bytemuck::cast_slice(&r.triangle_uvs),
-    )?;
-    let patterns = upload("patterns", bytemuck::cast_slice(&r.patterns))?;
-    let texture_records = upload("texture records", bytemuck::cast_slice(&r.texture_records))?;
-    let texels = upload("texels", bytemuck::cast_slice(&r.texels))?;
-    // Zeroed on the device before the dispatch (below), whatever memory
-    // the allocator hands out.
-    let work_queue = Buffer::new(
-        context,
-        "work queue",
-        4,
-        storage | vk::BufferUsageFlags::TRANSFER_DST,
-        MemoryLocation::GpuOnly,
-    )?;
-    let materials = upload("materials", bytemuck::cast_slice(&r.materials))?;
-    let uniform_buffer = Buffer::with_data(
-        context,
-        "trace uniforms",
-        bytemuck::bytes_of(&uniforms),
-        vk::BufferUsageFlags::UNIFORM_BUFFER,
-    )?;
-    let pixel_bytes = u64::from(width) * u64::from(height) * 16;
-    let output = Buffer::new(
-        context,
-        "pixels",
-        pixel_bytes,
-        storage,
-        MemoryLocation::GpuToCpu,
-    )?;
-    let mut stats = Buffer::new(context, "ray stats", 32, storage, MemoryLocation::GpuToCpu)?;
-    stats.mapped_mut()[..32].fill(0);
-    let descriptors = Descriptors::new(
-        context,
-        pipeline.set_layout,
-        BINDINGS,
-        &[
-            &lights,
-            &uniform_buffer,
-            &spheres,
-            &planes,
-            &boxes,
-            &triangles,
-            &nodes,
-            &triangle_shading,
-            &materials,
-            &output,
-            &stats,
-            &work_queue,
-            &triangle_colors,
-            &triangle_uvs,
-            &patterns,
-            &texture_records,
-            &texels,
-        ],
-    )?;
-
-    // The ray-query engine's structures, built (and waited for) before the
-    // timed work, as the compute BVH is built on the host before it.
-    let structure: Option<(SceneStructure, Descriptors)> = match traversal {
-        Traversal::Query => {
-            let built = accel::build(context, &rt, &r, &meshes)?;
-            let set = Descriptors::for_structure(
-                context,
-                pipeline.extra_set_layout,
-                QUERY_BINDINGS,
-                built.top,
-            )?;
-            Some((built, set))
-        }
-        _ => None,
-    };
-
-    let (groups_x, groups_y) = workgroups(width, height, context.info.is_cpu(), cpu_threads());
+    let buffers = TraceBuffers::upload(context, scene, &view, &plan.rt, &plan.records)?;
+    let descriptors = buffers.bind(context, pipeline.set_layout)?;
+    let structure = build_structure(context, &plan, &pipeline)?;
+    let groups = workgroups(width, height, context.info.is_cpu(), cpu_threads());
     let bound = BoundTrace {
         pipeline: &pipeline,
         set: descriptors.set,
         structure_set: structure.as_ref().map(|(_, set)| set.set),
-        work_queue: work_queue.raw,
+        work_queue: buffers.work_queue.raw,
     };
     let upload_ms = ms_since(upload_started);
+
     let codegen_ms = first_use(context, &bound)?;
     let timestamps = Timestamps::new(context)?;
     let commands = OneShot::begin(context)?;
-    let cmd = commands.cmd;
-    let device = &context.device;
     // SAFETY: every handle recorded here lives until after the submission
-    // completes (dropped at the end of this function); the barrier orders
-    // the shader's writes before the host reads.
-    unsafe {
-        bound.record(device, cmd, 0, |cmd| {
-            timestamps.start(cmd);
-            device.cmd_dispatch(cmd, groups_x, groups_y, 1);
-        });
-        let to_host = [vk::MemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::HOST | vk::PipelineStageFlags2::ALL_COMMANDS)
-            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-        device.cmd_pipeline_barrier2(
-            cmd,
-            &vk::DependencyInfo::default().memory_barriers(&to_host),
-        );
-        timestamps.stop(cmd);
-    }
+    // completes (dropped at the end of this function).
+    unsafe { bound.record_image(&context.device, commands.cmd, &timestamps, groups) };
     let (submit_ms, gpu_ms) = timestamps.submit_and_measure(&commands)?;
 
     let readback_started = Instant::now();
-    let image = LinearImage::from_rgba32f_bytes(width, height, output.mapped());
-    let counter = |i: usize| {
-        let b = &stats.mapped()[i * 4..i * 4 + 4];
-        u32::from_ne_bytes([b[0], b[1], b[2], b[3]])
-    };
-    let stats = count_rays.then(|| RayStats {
-        primary: u64::from(counter(0)),
-        shadow: u64::from(counter(1)),
-        reflected: u64::from(counter(2)),
-        refracted: u64::from(counter(3)),
-        pruned: u64::from(counter(4)),
-        max_depth_reached: counter(5),
-    });
+    let image = buffers.image(width, height);
+    let stats = options.count_rays.then(|| buffers.ray_stats());
     Ok(TraceOutput {
         image,
         timings: GpuTimings {
@@ -457,105 +287,110 @@ pub fn render_with(
     })
 }
 
-/// A work-queue head past any image's last item: a dispatch that starts
-/// from it takes no item, so every subgroup ends at once.
-const QUEUE_EXHAUSTED: u32 = 0x8000_0000;
-
-/// The ray tracer's pipeline and what it reads, bound for a dispatch.
-struct BoundTrace<'a> {
-    pipeline: &'a PipelineObjects,
-    set: vk::DescriptorSet,
-    /// The ray-query engine's set of the acceleration structure.
-    structure_set: Option<vk::DescriptorSet>,
-    work_queue: vk::Buffer,
-}
-
-impl BoundTrace<'_> {
-    /// Records the work queue set to `queue_head`, the pipeline and its
-    /// sets bound, then `dispatch`.
-    ///
-    /// # Safety
-    /// `cmd` is recording, and every handle in `self` lives until the
-    /// submission that runs it has completed.
-    unsafe fn record(
-        &self,
-        device: &ash::Device,
-        cmd: vk::CommandBuffer,
-        queue_head: u32,
-        dispatch: impl FnOnce(vk::CommandBuffer),
-    ) {
-        // An earlier dispatch's atomics on the queue (the first use's, in
-        // an earlier submission) come before this write.
-        let queue_used = [vk::MemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::CLEAR)
-            .dst_access_mask(vk::AccessFlags2::TRANSFER_WRITE)];
-        device.cmd_pipeline_barrier2(
-            cmd,
-            &vk::DependencyInfo::default().memory_barriers(&queue_used),
-        );
-        device.cmd_fill_buffer(cmd, self.work_queue, 0, vk::WHOLE_SIZE, queue_head);
-        let queue_set = [vk::MemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::CLEAR)
-            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-            .dst_access_mask(
-                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-            )];
-        device.cmd_pipeline_barrier2(
-            cmd,
-            &vk::DependencyInfo::default().memory_barriers(&queue_set),
-        );
-        let p = self.pipeline;
-        device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.pipeline);
-        let bind = vk::PipelineBindPoint::COMPUTE;
-        device.cmd_bind_descriptor_sets(cmd, bind, p.layout, 0, &[self.set], &[]);
-        if let Some(structure_set) = self.structure_set {
-            // The structures were built by an earlier submission on this
-            // queue: their writes must reach the shader's reads.
-            let built = [vk::MemoryBarrier2::default()
-                .src_stage_mask(vk::PipelineStageFlags2::ACCELERATION_STRUCTURE_BUILD_KHR)
-                .src_access_mask(vk::AccessFlags2::ACCELERATION_STRUCTURE_WRITE_KHR)
-                .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-                .dst_access_mask(vk::AccessFlags2::ACCELERATION_STRUCTURE_READ_KHR)];
-            device
-                .cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&built));
-            device.cmd_bind_descriptor_sets(cmd, bind, p.layout, QUERY_SET, &[structure_set], &[]);
-        }
-        dispatch(cmd);
-    }
-}
-
-/// The pipeline's first use, apart from the render, in milliseconds: one
-/// workgroup over an exhausted work queue, which traces nothing. Lavapipe
-/// generates a pipeline's machine code at its first dispatch (or loads it
-/// from Mesa's shader cache), so this is that cost alone, and `gpu_ms`
-/// after it is the trace alone, on a cold cache as on a warm one.
-fn first_use(context: &Arc<GpuContext>, bound: &BoundTrace) -> Result<f64, GpuError> {
-    let started = Instant::now();
-    let commands = OneShot::begin(context)?;
-    let device = &context.device;
-    // SAFETY: `bound`'s handles outlive this function, which waits for the
-    // submission; the shader takes no item and writes no pixel.
-    unsafe {
-        bound.record(device, commands.cmd, QUEUE_EXHAUSTED, |cmd| {
-            device.cmd_dispatch(cmd, 1, 1, 1)
+/// The engine that traces `scene`, after refusing what cannot be traced
+/// here: a device without the ray tracer, an image over the device's
+/// limits, an engine the device lacks, or a hook on ray queries.
+fn check_and_choose_engine(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+) -> Result<Traversal, GpuError> {
+    if let Some(why) = &context.info.no_ray_tracer_because {
+        return Err(GpuError::NoRayTracer {
+            device: context.info.name.clone(),
+            why: why.clone(),
         });
     }
-    commands.submit_and_wait()?;
-    context.check_validation()?;
-    Ok(ms_since(started))
+    check_image_size(context, scene.image.width, scene.image.height)?;
+    // `auto` with a hook takes the BVH engine, which is the one a hook can
+    // run on (below), where a GPU's `auto` would take ray queries.
+    let traversal = match (scene.render.traversal, &scene.lighting_hook) {
+        (Traversal::Auto, Some(_)) => Traversal::Bvh,
+        (asked, _) => engine_for(asked, &context.info)?,
+    };
+    if let (Traversal::Query, Some(hook)) = (traversal, &scene.lighting_hook) {
+        return Err(GpuError::LightingHook(format!(
+            "{} cannot run with --traversal query: a hook's module is checked by naga, which cannot \
+             read ray queries; use --traversal bvh",
+            hook.path
+        )));
+    }
+    Ok(traversal)
 }
 
-/// The threads a CPU device (lavapipe) runs a dispatch on: one per CPU,
-/// or `LP_NUM_THREADS` where that asks for more.
-fn cpu_threads() -> usize {
-    let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let asked = std::env::var("LP_NUM_THREADS")
-        .ok()
-        .and_then(|n| n.trim().parse::<usize>().ok());
-    cpus.max(asked.unwrap_or(0))
+/// The host's work on the scene before any Vulkan call: the scene both
+/// tracers read, its records, and what the pipeline specialises on.
+struct TracePlan {
+    traversal: Traversal,
+    rt: RtScene,
+    records: SceneRecords,
+    /// Each mesh's run of triangle records, for the ray-query engine's
+    /// structures; empty for the BVH engine.
+    meshes: Vec<(u32, u32)>,
+    spec: TraceSpecialization,
+}
+
+impl TracePlan {
+    fn new(scene: &Scene, options: TraceOptions, traversal: Traversal) -> Result<Self, GpuError> {
+        let rt = RtScene::new(scene);
+        // Refuses what the records cannot hold before building the pipeline.
+        let mut records = records(&rt)?;
+        let meshes = match traversal {
+            Traversal::Query => accel::group_by_mesh(&mut records),
+            _ => Vec::new(),
+        };
+        let spec = specialization(scene, &rt, options);
+        Ok(Self {
+            traversal,
+            rt,
+            records,
+            meshes,
+            spec,
+        })
+    }
+}
+
+/// The pipeline `plan` needs, from the context's cache or built now.
+fn get_or_build_pipeline(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    plan: &TracePlan,
+    options: TraceOptions,
+) -> Result<Arc<PipelineObjects>, GpuError> {
+    let (traversal, spec) = (plan.traversal, &plan.spec);
+    let hook = scene.lighting_hook.as_deref();
+    let wide = plan.records.bvh.wide.is_some();
+    let driver_specialises = options.driver_specialises;
+    let key = format!(
+        "raytrace {traversal:?} wide {wide} driver {driver_specialises} spec {:?} hook {:016x}",
+        bytemuck::bytes_of(spec),
+        crate::cache::digest(&hook.map(|h| &h.source)),
+    );
+    context.pipelines.get_or_create(key, || {
+        create_pipeline(context, spec, hook, traversal, wide, driver_specialises)
+    })
+}
+
+/// The ray-query engine's structures, built (and waited for) before the
+/// timed work, as the compute BVH is built on the host before it; with
+/// the set that binds them. None for the BVH engine.
+fn build_structure(
+    context: &Arc<GpuContext>,
+    plan: &TracePlan,
+    pipeline: &PipelineObjects,
+) -> Result<Option<(SceneStructure, Descriptors)>, GpuError> {
+    match plan.traversal {
+        Traversal::Query => {
+            let built = accel::build(context, &plan.rt, &plan.records, &plan.meshes)?;
+            let set = Descriptors::for_structure(
+                context,
+                pipeline.extra_set_layout,
+                QUERY_BINDINGS,
+                built.top,
+            )?;
+            Ok(Some((built, set)))
+        }
+        _ => Ok(None),
+    }
 }
 
 #[cfg(test)]
