@@ -10,12 +10,12 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::intersect::{Accel, Hit, Primitive, Ray};
+use super::intersect::{Accel, Hit, Ray};
 use super::lighting::{shade_visible, Surface};
 use super::surface::hit_tint;
 use crate::camera::View;
 use crate::linear_image::LinearImage;
-use crate::rt_scene::{sample_grid, RayStats, RtScene};
+use crate::rt_scene::{sample_grid, Primitive, RayStats, RtScene};
 use crate::scene::Scene;
 use crate::work_counter::WorkCounter;
 
