@@ -206,10 +206,10 @@ impl Raster<'_> {
 /// samples show different pattern cells is an edge too.
 fn resolve(samples: &BandSamples, mut near_edge: Vec<bool>, count: usize, n: usize) -> Band {
     let mut pixel_cells = Vec::with_capacity(count);
-    for i in 0..count {
+    for (i, edge) in near_edge.iter_mut().enumerate() {
         let own = &samples.cells[i * n..(i + 1) * n];
         if own.iter().any(|c| *c != own[0]) {
-            near_edge[i] = true;
+            *edge = true;
         }
         pixel_cells.push(own[0]);
     }
