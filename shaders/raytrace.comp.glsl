@@ -6,7 +6,7 @@
 #extension GL_EXT_ray_query : require
 #endif
 // Backward (Whitted) ray tracing, exactly as docs/raytracing.md specifies
-// (its CPU twin is src/cpu/raytrace.rs): stratified samples, nearest hits
+// (its CPU twin is src/cpu/raytrace/): stratified samples, nearest hits
 // with the object-order tie rule, shadow rays, reflection and refraction
 // with total internal reflection.
 //
@@ -1035,7 +1035,7 @@ vec3 hit_tint(Hit hit) {
 
 // 1e-4 of the larger of the hit's and its ray's origin's largest
 // coordinate: what the hit's rounding grows with (`offset_epsilon` in
-// src/cpu/raytrace.rs).
+// src/cpu/raytrace/secondary_rays.rs).
 float offset_epsilon(vec3 p, vec3 o) {
     vec3 a = max(abs(p), abs(o));
     return 1.0e-4 * max(a.x, max(a.y, a.z));
@@ -1101,7 +1101,7 @@ Surface surface_of(MaterialRecord m) {
 vec3 local_shading(Surfel s, Surface m, vec3 origin, vec3 d, bool lit) {
     vec3 intensity = ambient_term(m, frame.ambient_k.rgb);
     // The side the ray arrives on is lit (`facing_normal` in
-    // src/cpu/raytrace.rs): seen from behind its geometric normal, the
+    // src/cpu/raytrace/secondary_rays.rs): seen from behind its geometric normal, the
     // surface's back, with the shading normal negated.
     vec3 N = dot(s.geometric, d) > 0.0 ? -s.normal : s.normal;
     lit = lit && N != vec3(0.0);
@@ -1230,7 +1230,7 @@ vec3 trace_sample(vec3 dir, bool live) {
                         float eta = entering ? 1.0 / ior : ior;
                         float cos_i = -dot(n, ray.dir);
                         // sin^2(i) from the part along the surface, not
-                        // 1 - cos^2(i): the twin in src/cpu/raytrace.rs.
+                        // 1 - cos^2(i): the twin in src/cpu/raytrace/secondary_rays.rs.
                         vec3 along = ray.dir + cos_i * n;
                         float k = 1.0 - eta * eta * dot(along, along);
                         if (k < 0.0) {

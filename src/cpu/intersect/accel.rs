@@ -34,6 +34,7 @@ impl<'a> Accel<'a> {
     }
 
     /// The nearest hit on the spheres, planes and boxes, tested one by one.
+    #[inline]
     fn nearest_shape(&self, ray: &Ray) -> Option<Hit> {
         let s = self.scene;
         let mut best: Option<Hit> = None;
@@ -102,6 +103,7 @@ impl<'a> Accel<'a> {
 
     /// `best`, or a nearer (or tying and winning) hit on a mesh triangle,
     /// found through the BVH.
+    #[inline]
     fn nearest_triangle(&self, ray: &Ray, mut best: Option<Hit>) -> Option<Hit> {
         let s = self.scene;
         let frame = RayFrame::new(ray.dir);

@@ -20,6 +20,7 @@ struct Node {
 
 /// Entry distance of a ray into an axis-aligned box, if it meets the box at
 /// some `t` in `[0, t_max]`.
+#[inline]
 fn box_entry(ray: &Ray, min: DVec3, max: DVec3, t_max: f64) -> Option<f64> {
     let (mut lo, mut hi) = (0.0f64, t_max);
     for axis in 0..3 {
@@ -51,6 +52,7 @@ struct NodeStack {
 }
 
 impl NodeStack {
+    #[inline]
     fn new(root: u32) -> Self {
         let mut s = NodeStack {
             inline: [0; 64],
@@ -61,6 +63,7 @@ impl NodeStack {
         s
     }
 
+    #[inline]
     fn push(&mut self, node: u32) {
         if self.len < self.inline.len() {
             self.inline[self.len] = node;
@@ -70,6 +73,7 @@ impl NodeStack {
         }
     }
 
+    #[inline]
     fn pop(&mut self) -> Option<u32> {
         if let Some(node) = self.spill.pop() {
             return Some(node);

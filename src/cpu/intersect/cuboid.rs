@@ -11,6 +11,7 @@ use crate::rt_scene::RtBox;
 /// A slab parallel to the ray constrains nothing when the origin lies within
 /// it (boundary included) and misses otherwise. On equal `t` the slab of
 /// the lower axis gives the normal (X, then Y, then Z).
+#[inline]
 pub fn cuboid(ray: &Ray, b: &RtBox) -> Option<(f64, DVec3, u32)> {
     let rt = b.rotation.transpose();
     let o = rt * (ray.origin - b.center);

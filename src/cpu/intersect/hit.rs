@@ -34,6 +34,7 @@ pub struct Hit {
 /// Whether `(t, object, primitive)` beats the current best: nearer, or at
 /// exactly the same distance a lower object index, then (two triangles of
 /// one mesh) a lower triangle index.
+#[inline]
 pub(super) fn better(t: f64, object: u32, order: u32, best: Option<&Hit>) -> bool {
     match best {
         None => true,
@@ -45,6 +46,7 @@ pub(super) fn better(t: f64, object: u32, order: u32, best: Option<&Hit>) -> boo
 
 /// Tie-break index within one object (only meshes have more than one
 /// primitive per object).
+#[inline]
 fn primitive_order(p: Primitive) -> u32 {
     match p {
         Primitive::Triangle(i) => i,

@@ -4,6 +4,7 @@ use super::hit::Ray;
 use crate::rt_scene::RtPlane;
 
 /// A finite square; the edges themselves count (`<= half_size`).
+#[inline]
 pub fn plane(ray: &Ray, pl: &RtPlane) -> Option<f64> {
     let denom = ray.dir.dot(pl.normal);
     if denom == 0.0 {

@@ -5,6 +5,7 @@ use super::hit::Ray;
 use crate::rt_scene::{RtHugeSphere, RtSphere};
 
 /// `sign(x)` with `sign(0) = 1`, as the spec writes it.
+#[inline]
 pub(super) fn sign(x: f64) -> f64 {
     if x < 0.0 {
         -1.0
@@ -14,6 +15,7 @@ pub(super) fn sign(x: f64) -> f64 {
 }
 
 /// Ray Tracing Gems ch. 7, the stable form: the smaller positive root.
+#[inline]
 pub fn sphere(ray: &Ray, s: &RtSphere) -> Option<f64> {
     let f = ray.origin - s.center;
     let b = -f.dot(ray.dir);
@@ -32,6 +34,7 @@ pub fn sphere(ray: &Ray, s: &RtSphere) -> Option<f64> {
 /// its `r²` terms cancelled in the algebra, `b = -(g·d)/r - n·d` is the
 /// plain form's `b / r`, and the roots are `t0 = cr / q` and `t1 = q r`
 /// for `q = b + sign(b) sqrt(b² - cr/r)`.
+#[inline]
 pub fn huge_sphere(ray: &Ray, s: &RtHugeSphere) -> Option<f64> {
     let (anchor, n, r) = (s.anchor.point, s.anchor.normal, s.sphere.radius);
     let inv_r = 1.0 / r;
@@ -48,6 +51,7 @@ pub fn huge_sphere(ray: &Ray, s: &RtHugeSphere) -> Option<f64> {
 
 /// The smaller positive of two roots. NaN (q = 0: a ray grazing from its
 /// own tangent point) fails both.
+#[inline]
 fn nearer_positive(t0: f64, t1: f64) -> Option<f64> {
     let (lo, hi) = if t0 < t1 { (t0, t1) } else { (t1, t0) };
     if lo > 0.0 {

@@ -20,6 +20,7 @@ pub fn triangle(ray: &Ray, tri: &RtTriangle) -> Option<(f64, f64, f64)> {
     triangle_in(&RayFrame::new(ray.dir), ray, tri)
 }
 
+#[inline]
 pub(super) fn triangle_in(
     frame: &RayFrame,
     ray: &Ray,
@@ -47,6 +48,7 @@ pub(super) struct RayFrame {
 }
 
 impl RayFrame {
+    #[inline]
     pub(super) fn new(d: DVec3) -> Self {
         let a = d.abs();
         let kz = if a.x >= a.y && a.x >= a.z {
@@ -68,6 +70,7 @@ impl RayFrame {
 
     /// A point relative to the ray origin, sheared so that the ray is +z:
     /// `(x - Sx z, y - Sy z, Sz z)`.
+    #[inline]
     fn transform(&self, p: DVec3) -> DVec3 {
         let [kx, ky, kz] = self.axes;
         DVec3::new(
@@ -80,6 +83,7 @@ impl RayFrame {
 
 /// The normal at barycentrics `(u, v)`: `normalize((1-u-v) n0 + u n1 + v n2)`,
 /// or zero if that vanishes.
+#[inline]
 pub fn triangle_normal(tri: &RtTriangle, u: f64, v: f64) -> DVec3 {
     let [n0, n1, n2] = tri.normals;
     ((1.0 - u - v) * n0 + u * n1 + v * n2).normalize_or_zero()
