@@ -6,7 +6,7 @@
 #extension GL_EXT_ray_query : require
 #endif
 // Backward (Whitted) ray tracing, exactly as docs/raytracing.md specifies
-// (its CPU twin is src/cpu/raytrace.rs): stratified samples, nearest hits
+// (its CPU twin is src/cpu/raytrace/): stratified samples, nearest hits
 // with the object-order tie rule, shadow rays, reflection and refraction
 // with total internal reflection.
 //

@@ -4,7 +4,7 @@
 // number; 1 for a material without a pattern. Its CPU twin is
 // `Pattern::checker_at` (src/scene/model.rs). With TEXTURE, a pattern may
 // be an image instead, read at the level of detail of the pixel's quad
-// (`raster_lambda`; the CPU twin's is in src/cpu/raster.rs). Needs `draw`
+// (`raster_lambda`; the CPU twin's is in src/cpu/raster/shade.rs). Needs `draw`
 // (raster_interface.glsl) compiled with PATTERN.
 #ifdef TEXTURE
 #include "texture.glsl"

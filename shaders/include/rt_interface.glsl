@@ -3,7 +3,7 @@
 // side is src/gpu/raytrace/layout.rs (records built in src/gpu/raytrace/records.rs);
 // tests/shader_interface.rs checks the two agree. Positions are
 // camera-relative (the eye is the origin), computed in double precision on
-// the host (src/rt_scene.rs).
+// the host (src/rt_scene/).
 //
 // The records are laid out for lavapipe, where every buffer read at an
 // index that differs between invocations costs a scalar load per lane and

@@ -50,7 +50,7 @@ Children children_of(Ray ray, vec3 N, MaterialRecord material, float cutoff) {
             float eta = entering ? 1.0 / ior : ior;
             float cos_i = -dot(n, ray.dir);
             // sin^2(i) from the part along the surface, not
-            // 1 - cos^2(i): the twin in src/cpu/raytrace.rs.
+            // 1 - cos^2(i): the twin in src/cpu/raytrace/secondary_rays.rs.
             vec3 along = ray.dir + cos_i * n;
             float k = 1.0 - eta * eta * dot(along, along);
             if (k < 0.0) {

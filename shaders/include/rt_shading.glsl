@@ -3,7 +3,7 @@
 
 // 1e-4 of the larger of the hit's and its ray's origin's largest
 // coordinate: what the hit's rounding grows with (`offset_epsilon` in
-// src/cpu/raytrace.rs).
+// src/cpu/raytrace/secondary_rays.rs).
 float offset_epsilon(vec3 p, vec3 o) {
     vec3 a = max(abs(p), abs(o));
     return 1.0e-4 * max(a.x, max(a.y, a.z));
@@ -68,7 +68,7 @@ Surface surface_of(MaterialRecord m) {
 vec3 local_shading(Surfel s, Surface m, vec3 origin, vec3 d, bool lit) {
     vec3 intensity = ambient_term(m, frame.ambient_k.rgb);
     // The side the ray arrives on is lit (`facing_normal` in
-    // src/cpu/raytrace.rs): seen from behind its geometric normal, the
+    // src/cpu/raytrace/secondary_rays.rs): seen from behind its geometric normal, the
     // surface's back, with the shading normal negated.
     vec3 N = dot(s.geometric, d) > 0.0 ? -s.normal : s.normal;
     lit = lit && N != vec3(0.0);

@@ -5,7 +5,7 @@
 // value * w over that of w is sum(l_i value_i) / sum(l_i) = sum(l_i value_i)
 // for screen-space barycentrics l_i: exactly screen-linear. A triangle the
 // near plane clips gets new vertices whose values follow from clip-space
-// interpolation of value * w and w; the CPU reference (src/cpu/raster.rs)
+// interpolation of value * w and w; the CPU reference (src/cpu/raster/)
 // does the same arithmetic.
 //
 // Why not `noperspective`: lavapipe 22.3 returned infinities for it on

@@ -1,9 +1,10 @@
 //! The CPU reference renderer: double precision, parallel with rayon, and
 //! independent of the shaders (it shares only scene loading, tessellation,
 //! the ray tracer's scene (`rt_scene`) and the camera with the GPU path).
-//! `raster.rs` draws flat, Gouraud and Phong; `raytrace.rs` (with
-//! `intersect.rs`) is the ray tracer's twin. Every accuracy figure in the project is
-//! measured against it.
+//! `raster` draws flat, Gouraud and Phong; `raytrace` (with `intersect`)
+//! is the ray tracer's twin; `lighting` is the formula both shade with,
+//! `surface` the colour a surface point adds to it (its texture reads in
+//! `sample`). Every accuracy figure in the project is measured against it.
 
 mod clip;
 pub mod intersect;

@@ -7,10 +7,10 @@ use std::f64::consts::PI;
 
 use glam::{DVec2, DVec3};
 
-use super::intersect::{Hit, Primitive};
+use super::intersect::Hit;
 use super::sample::sample;
 use crate::level_of_detail::{cone_lambda, texel_area, triangle_density};
-use crate::rt_scene::RtScene;
+use crate::rt_scene::{Primitive, RtScene};
 use crate::scene::texcoords::{box_face_axes, box_uv, plane_uv, sphere_uv};
 use crate::scene::{Filter, ImageTexture, Pattern};
 
