@@ -34,6 +34,12 @@ ROOT = Path(__file__).resolve().parent.parent
 SRC = ROOT / "src"
 SHADERS = ROOT / "shaders"
 
+
+def set_root(root: Path):
+    """Checks another tree (ci/test_layout_check.py's small ones)."""
+    global ROOT, SRC, SHADERS
+    ROOT, SRC, SHADERS = root, root / "src", root / "shaders"
+
 IDENT = r"[A-Za-z_][A-Za-z0-9_]*"
 
 
@@ -133,6 +139,8 @@ def reexports(files, codes):
         for m in re.finditer(r"pub(\([^)]*\))?\s+use\s+([^;]+);", code):
             for path, alias in expand_use(m.group(2)):
                 full = absolute(module, files[module], path)
+                if full is None and path and tuple(module) + (path[0],) in files:
+                    full = tuple(module) + tuple(path)  # `pub use child::Thing`
                 if full is None:
                     continue
                 names[alias or path[-1]] = full
@@ -224,7 +232,11 @@ def resolve(files, exports, path, depth=0):
 
 
 def import_graph(files):
-    codes = {m: strip_comments_and_strings(p.read_text()) for m, p in files.items()}
+    # `pub(in crate::x)` names a module for visibility, not an import.
+    codes = {
+        m: re.sub(r"pub\(in [^)]*\)", lambda v: " " * len(v.group(0)), strip_comments_and_strings(p.read_text()))
+        for m, p in files.items()
+    }
     exports = reexports(files, codes)
     edges = {m: {} for m in files}
     for module, code in codes.items():
@@ -348,7 +360,10 @@ def glsl_functions(path: Path):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--list", action="store_true", help="list what is near or over the limits")
+    parser.add_argument("--root", type=Path, help="the repository to check (default: this one)")
     args = parser.parse_args()
+    if args.root:
+        set_root(args.root.resolve())
 
     problems = []
     sources = sorted(SRC.rglob("*.rs")) + sorted(SHADERS.rglob("*.glsl"))

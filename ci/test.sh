@@ -11,6 +11,7 @@ rustup component list --installed 2>/dev/null | grep -q rustfmt || rustup compon
 cargo fmt --all -- --check
 # The code as a map (docs/architecture.md): no file over 800 lines, no
 # function over 100, no import loop between files.
+PYTHONDONTWRITEBYTECODE=1 python3 -m unittest discover -s ci -p test_layout_check.py
 python3 ci/layout-check.py
 cargo clippy --release --all-targets -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps

@@ -70,7 +70,7 @@ void order_children(inout float ka, inout uint la, inout float ta, inout float k
     tb = swap ? t : tb;
 }
 
-// A 4-wide node's children (rt_wide) against the packet: each child's
+// A 4-wide node's children (gpu::raytrace::wide_bvh) against the packet: each child's
 // entry distance for this lane's ray and its link, and one butterfly for
 // which of them some lane enters (bit k: child k).
 struct WideChildren {
@@ -167,7 +167,7 @@ void search_leaf(uint link, vec3 o, vec3 d, RayFrame shear, bool any_hit, inout 
 // find a nearer hit in it. A lane tests everything its own walk would have
 // reached, and more, so its nearest hit (ties included) is what a walk of
 // its own would give. Compiled with WIDE_BVH, a step tests a 4-wide node's
-// children (rt_wide) the same way, the entered ones in the order lane 0
+// children (gpu::raytrace::wide_bvh) the same way, the entered ones in the order lane 0
 // enters them (a shadow query, which visits them all, in slot order).
 //
 // Nearest hit (`any_hit` false): best is the nearest hit. Shadow query
@@ -180,7 +180,7 @@ void walk_bvh(vec3 o, vec3 d, inout Hit best, bool any_hit) {
     // Cannot overflow: the host refuses a tree deeper than the stack
     // (rt_layout::BVH_STACK_SIZE), since a dropped node would be a miss,
     // and walks a tree 4-wide only where that walk's stack fits too
-    // (rt_wide::WideBvh::stack_need).
+    // (wide_bvh::WideBvh::stack_need).
     uint stack_link[BVH_STACK_SIZE];
     float stack_t[BVH_STACK_SIZE];
     int top = 0;

@@ -26,7 +26,7 @@ layout(constant_id = 5) const bool HAS_TRANSMISSION = true;  // kt > 0 somewhere
 // trip count known when the pipeline is built, so the driver unrolls them
 // and every record is read at a constant index (one load for all
 // invocations). A list too long to unroll goes into the BVH instead
-// (rt_bvh::BvhKinds), and its count here is 0.
+// (gpu::raytrace::bvh::BvhKinds), and its count here is 0.
 layout(constant_id = 6) const int SPHERE_COUNT = 0;
 layout(constant_id = 7) const int PLANE_COUNT = 0;
 layout(constant_id = 8) const int BOX_COUNT = 0;

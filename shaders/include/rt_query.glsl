@@ -15,7 +15,7 @@
 
 layout(set = 1, binding = 0) uniform accelerationStructureEXT scene_structure;
 
-// Instance custom indices (rt_accel::QUERY_*): the records an analytic
+// Instance custom indices (gpu::raytrace::accel::QUERY_*): the records an analytic
 // instance's primitive indices point into. A mesh's instance has its first
 // triangle record instead: a triangle hit's record is that plus the
 // primitive index.

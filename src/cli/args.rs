@@ -7,7 +7,7 @@ use clap::Args;
 use shadelab::scene::{LightingHook, Scene, Traversal, MAX_DEPTH, MAX_RESOLUTION};
 use shadelab::shading::Shading;
 
-use super::Failure;
+use super::failure::Failure;
 
 /// The flags that override a scene's settings in every command that renders
 /// it whole (render, bench, warm, golden), applied in this order.

@@ -18,9 +18,9 @@ use shadelab::shading::Shading;
 
 use super::args::{check_runs, ImageSize, ModeList, SceneFlags};
 use super::bench_timing::{measure, Row, Timing};
+use super::failure::Failure;
 use super::ignored;
 use super::render::load_scene;
-use super::Failure;
 
 #[derive(Args)]
 pub struct BenchArgs {

@@ -8,7 +8,7 @@ use std::sync::mpsc;
 
 use shadelab::memory::MemoryLimit;
 
-use super::Failure;
+use super::failure::Failure;
 
 /// How many cases run at once, each on a device of its own: two where there
 /// are two cores and the memory limit holds two of the largest case. Each

@@ -18,8 +18,8 @@ use super::cases::case_workers;
 use super::check_cases::{run_cases, Cases, Job, NamedScene};
 use super::check_merge::{merge, RECORD};
 use super::check_report::{CaseReport, KeepImages};
+use super::failure::Failure;
 use super::render::load_scene;
-use super::Failure;
 
 #[derive(Args)]
 pub struct CheckArgs {

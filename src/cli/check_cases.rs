@@ -18,8 +18,8 @@ use shadelab::work_counter::WorkCounter;
 
 use super::cases::in_order;
 use super::check_report::{CaseReport, KeepImages};
+use super::failure::Failure;
 use super::progress::Progress;
-use super::Failure;
 
 /// A scene of the run (or why it could not be had) and its name, unique in
 /// the run.

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use shadelab::junit;
 use shadelab::output::write_atomically;
 
-use super::Failure;
+use super::failure::Failure;
 
 /// The record a shard of `check` leaves in its --out for `--merge`.
 pub(super) const RECORD: &str = "check.json";

@@ -18,8 +18,8 @@ use super::args::{check_runs, ImageSize, MsaaArg};
 use super::compare_folders::{clear_earlier_run, merge_folders, same_folder};
 use super::compare_table::{budget_line, print_table};
 use super::compare_variants::{modes_of, over_the_limit, rendered_by, variants_of};
+use super::failure::Failure;
 use super::render::load_scene;
-use super::Failure;
 
 #[derive(Args)]
 pub struct CompareArgs {

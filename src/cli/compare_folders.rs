@@ -6,7 +6,7 @@ use std::path::{Component, Path, PathBuf};
 use shadelab::compare::run::merge;
 use shadelab::compare::Report;
 
-use super::Failure;
+use super::failure::Failure;
 
 /// Whether two paths name one folder.
 pub(super) fn same_folder(a: &Path, b: &Path) -> bool {

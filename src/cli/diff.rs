@@ -16,7 +16,7 @@ use super::diff_judging::{check_limit, compare_files, junit_case, PairOutcome};
 pub(super) use super::diff_judging::{
     compare_images, parse_thresholds, Judging, Preset, EDGE_THRESHOLD,
 };
-use super::Failure;
+use super::failure::Failure;
 
 #[derive(Args)]
 pub struct DiffArgs {

@@ -9,7 +9,7 @@ use shadelab::junit::{self, TestCase};
 use shadelab::metrics::format_figure;
 
 use super::diff_judging::{compare_files, junit_case, Judging};
-use super::Failure;
+use super::failure::Failure;
 
 /// The image files (`.png`, `.exr`) directly in `dir`, by name.
 fn image_names(dir: &Path) -> Result<BTreeSet<String>, Failure> {

@@ -9,7 +9,7 @@ use shadelab::linear_image::LinearImage;
 use shadelab::metrics::{self, Comparison, Settings, Thresholds, Verdict};
 use shadelab::output::{self, ImageFormat};
 
-use super::Failure;
+use super::failure::Failure;
 
 /// The `--edge-threshold` default: a step of 0.1 in linear intensity between
 /// neighbours counts as an edge (see `metrics::edges::gradient_mask`).

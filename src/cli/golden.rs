@@ -18,6 +18,7 @@ use shadelab::metrics::{Settings, Thresholds};
 use shadelab::output;
 
 use super::diff::{parse_thresholds, Judging, Preset, EDGE_THRESHOLD};
+use super::failure::Failure;
 use super::golden_args::GoldenArgs;
 use super::golden_case::Judged;
 use super::golden_judge::Plan;
@@ -27,7 +28,6 @@ use super::golden_report::{
     case_figure_html, case_json, case_row_html, junit_cases, junit_json, print_case, ReportCase,
 };
 use super::render::{file_name, Batch, CaseView, Made, RenderArgs};
-use super::Failure;
 
 /// Plan the batch, judge each case as it is rendered, then write the
 /// record and reports (`golden_record.rs`); `--merge` joins shards instead.

@@ -11,11 +11,11 @@ use shadelab::metrics;
 use shadelab::output::{self, ImageFormat, ImageMetadata};
 
 use super::diff::{compare_images, Judging};
+use super::failure::Failure;
 use super::golden_args::GoldenArgs;
 use super::golden_case::{Judged, Pictures, Status};
 use super::golden_keys;
 use super::render::{image_metadata, non_finite_failure, CaseView, Made};
-use super::Failure;
 
 /// Where a case's reference is: this driver's, then the shared one.
 fn find_reference(references: &Path, key: &str, file: &str) -> Option<(PathBuf, &'static str)> {

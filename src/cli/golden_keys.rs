@@ -7,7 +7,7 @@
 
 use std::path::{Component, Path, PathBuf};
 
-use super::Failure;
+use super::failure::Failure;
 
 /// Each scene's `{scene}` in reference names: its path relative to `root`
 /// (or to the deepest folder holding every scene), without its extension,

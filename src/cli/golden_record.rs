@@ -11,11 +11,11 @@ use shadelab::junit;
 use shadelab::output;
 
 use super::diff::Preset;
+use super::failure::Failure;
 use super::golden_args::GoldenArgs;
 use super::golden_case::Status;
 use super::golden_report::{junit_from_json, write_page, PageHead};
 use super::shards;
-use super::Failure;
 
 /// What a golden run (or a shard of one) was, beside its cases: the
 /// record's head in `golden.json`, and the page's.

@@ -13,9 +13,9 @@ use shadelab::metrics::format_figure;
 use shadelab::output::write_atomically;
 use shadelab::shading::Shading;
 
+use super::failure::Failure;
 use super::golden_case::{Judged, Status};
 use super::render::CaseView;
-use super::Failure;
 
 /// A case as the report shows it.
 pub(super) struct ReportCase {

@@ -3,7 +3,7 @@
 use clap::Args;
 use shadelab::gpu::{list_devices, GpuContext, GpuOptions};
 
-use super::Failure;
+use super::failure::Failure;
 
 #[derive(Args)]
 pub struct InfoArgs {

@@ -15,6 +15,7 @@ mod compare_variants;
 mod diff;
 mod diff_folders;
 mod diff_judging;
+mod failure;
 mod golden;
 mod golden_args;
 mod golden_case;
@@ -72,47 +73,6 @@ enum Command {
     /// Fill the caches (specialised modules, lavapipe's machine code) for
     /// scenes, so that later renders of them start warm.
     Warm(warm::WarmArgs),
-}
-
-/// An error that knows its exit status.
-#[derive(Debug, Clone)]
-pub struct Failure {
-    pub code: u8,
-    pub message: String,
-}
-
-impl Failure {
-    /// Bad input or usage: exit status 2.
-    pub fn usage(message: String) -> Self {
-        Failure { code: 2, message }
-    }
-}
-
-impl From<shadelab::Error> for Failure {
-    fn from(e: shadelab::Error) -> Self {
-        Failure {
-            code: e.exit_code() as u8,
-            message: e.to_string(),
-        }
-    }
-}
-
-impl From<shadelab::gpu::GpuError> for Failure {
-    fn from(e: shadelab::gpu::GpuError) -> Self {
-        shadelab::Error::from(e).into()
-    }
-}
-
-impl From<shadelab::scene::SceneError> for Failure {
-    fn from(e: shadelab::scene::SceneError) -> Self {
-        shadelab::Error::from(e).into()
-    }
-}
-
-impl From<shadelab::output::OutputError> for Failure {
-    fn from(e: shadelab::output::OutputError) -> Self {
-        shadelab::Error::from(e).into()
-    }
 }
 
 /// The parser's error as every other error reads: one `shadelab: error:`

@@ -7,8 +7,8 @@
 
 use std::path::{Path, PathBuf};
 
+use super::failure::Failure;
 use super::golden_keys::fnv1a;
-use super::Failure;
 
 /// `I/N` with `1 <= I <= N`.
 pub fn parse_shard(text: &str) -> Result<(usize, usize), String> {

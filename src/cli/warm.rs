@@ -15,8 +15,8 @@ use shadelab::memory::MemoryLimit;
 use shadelab::render::render_gpu;
 
 use super::args::{ModeList, SceneFlags};
+use super::failure::Failure;
 use super::render::load_scene;
-use super::Failure;
 
 /// The size each scene is rendered at: the pipelines are the same at any.
 const WARM_SIZE: u32 = 16;

@@ -18,8 +18,8 @@ use super::image::{color_target, effective_settings, image_metadata};
 use super::plan::{check_pattern, file_name, plan_case, plan_scenes, PlannedCase, PlannedScene};
 use super::scene::apply_overrides;
 use crate::cli::cases::{case_workers, in_order};
+use crate::cli::failure::Failure;
 use crate::cli::progress::Progress;
-use crate::cli::Failure;
 
 /// A batch planned: its scenes loaded, its cases' backends chosen, the
 /// device opened if a case needs it.

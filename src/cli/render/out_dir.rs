@@ -12,7 +12,7 @@ use shadelab::shading::Shading;
 use super::args::RenderArgs;
 use super::batch::{non_finite_failure, Batch, CaseView, Made};
 use super::stats::print_stats;
-use crate::cli::Failure;
+use crate::cli::failure::Failure;
 
 /// What one case came to: the JSON object, the line for people, the ray
 /// statistics to print, and the failure if it failed.

@@ -9,8 +9,8 @@ use shadelab::scene::{self, Scene};
 use shadelab::shading::Shading;
 
 use super::args::RenderArgs;
+use crate::cli::failure::Failure;
 use crate::cli::ignored::{self, Backends};
-use crate::cli::Failure;
 
 /// Loads `path` (the default scene when `None`), refusing a glTF file whose
 /// geometry alone would exceed `memory`, and returns it with its name.

@@ -19,7 +19,7 @@ use super::args::RenderArgs;
 use super::image::{color_target, effective_settings, image_metadata};
 use super::scene::{apply_overrides, load_scene};
 use super::stats::print_stats;
-use crate::cli::Failure;
+use crate::cli::failure::Failure;
 
 /// The GPU opened on a thread of its own while the scene loads (on a
 /// 2-core machine the two overlap): `ms` is how long the opening took.

@@ -64,7 +64,7 @@ pub struct GpuBvh {
     pub plane_order: Vec<u32>,
     pub box_order: Vec<u32>,
     /// The tree's 4-wide form, which the shader walks where it has one
-    /// (`rt_wide::widen`).
+    /// (`wide_bvh::widen`).
     pub wide: Option<WideBvh>,
 }
 

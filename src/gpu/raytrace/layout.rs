@@ -155,10 +155,10 @@ pub struct TraceUniforms {
     /// width, height, samples, maximum depth.
     pub image: [u32; 4],
     /// The sample grid kx, ky; the first huge sphere's record
-    /// (`rt_records::sphere_records`); the BVH's root link (`GpuBvhNode`).
+    /// (`records::sphere_records`); the BVH's root link (`GpuBvhNode`).
     pub grid: [u32; 4],
     /// Where the BVH's spheres, planes and boxes start in its leaf index
-    /// space (`rt_bvh::LeafBases`); unused.
+    /// space (`bvh::LeafBases`); unused.
     pub leaf_bases: [u32; 4],
     /// A sphere around the whole BVH (`GpuBvh::bounding_sphere`): centre,
     /// radius (negative for an empty tree).
@@ -294,7 +294,7 @@ pub const LEAF_BIT: u32 = 1 << 31;
 /// Primitives a leaf may hold: its count less one fills bits 26 to 30.
 pub const MAX_LEAF_PRIMITIVES: u32 = 32;
 /// Primitives the BVH may hold (triangles and the objects it takes, in the
-/// leaf index space of `rt_bvh::LeafBases`): a leaf's first index fills
+/// leaf index space of `bvh::LeafBases`): a leaf's first index fills
 /// bits 0 to 25.
 pub const MAX_BVH_PRIMITIVES: usize = (1 << 26) - 1;
 
