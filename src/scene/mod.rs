@@ -2,7 +2,7 @@
 //!
 //! This module owns everything between a file on disk and the plain data in
 //! [`model`]: the TOML scene format of `docs/interface.md`
-//! ([`toml`](self::toml)), glTF 2.0 files as meshes or as whole scenes
+//! ([`toml`]), glTF 2.0 files as meshes or as whole scenes
 //! ([`gltf`]), image files as textures within the memory limit
 //! ([`image_file`]), the values both use for what a file leaves out
 //! ([`defaults`]), the built-in default scene (`default.toml`), and the
@@ -15,7 +15,7 @@
 //! # Scene files
 //!
 //! - `.toml`: the format of `docs/interface.md`; keys, defaults and
-//!   constraints are listed in [`toml`](self::toml).
+//!   constraints are listed in [`toml`].
 //! - `.gltf` / `.glb` as a whole scene: every mesh primitive of the default
 //!   scene (geometry and material rules in [`gltf`]); the camera is
 //!   the first perspective camera met in a depth-first walk of the node tree

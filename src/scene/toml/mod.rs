@@ -1,5 +1,5 @@
 //! The TOML scene format of `docs/interface.md`, deserialised strictly and
-//! converted into a validated [`Scene`].
+//! converted into a validated [`Scene`](crate::scene::Scene).
 //!
 //! Every table denies unknown keys; every number must be finite (TOML's
 //! `nan` and `inf` are rejected where they appear); values that parse but
