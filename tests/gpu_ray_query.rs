@@ -66,7 +66,7 @@ fn the_query_engine_holds_checks_limits_on_every_asset() {
 }
 
 /// Each mesh is a bottom level of its own, its corners found by its first
-/// record (`gpu::raytrace` accel::build); the assets have one mesh each, where every
+/// record (`build` in src/gpu/raytrace/accel.rs); the assets have one mesh each, where every
 /// mesh starts at record 0. Three copies of rt-mesh's cube, side by side:
 /// a second or third mesh read from the wrong records would be drawn as
 /// another cube's faces, or none, and miss `check`'s limits.

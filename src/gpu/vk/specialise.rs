@@ -14,7 +14,7 @@
 //! few milliseconds more.
 //!
 //! The result is kept in the cache folder (`spirv/`), keyed by the module,
-//! the values and the optimizer's version, so a scene seen before pays
+//! the values and which `spirv-opt` made it, so a scene seen before pays
 //! neither step.
 //!
 //! Why a program and not the library: SPIRV-Tools compiled from source
@@ -95,26 +95,30 @@ pub fn specialise(
     Ok(Some(out))
 }
 
-/// The first line of `spirv-opt --version` (such as "SPIRV-Tools v2023.1
-/// ..."), asked once a process: part of the cache key, since another
-/// version may write other modules; `None` where it does not run.
-pub fn optimizer_version() -> Option<&'static str> {
+/// Which `spirv-opt` would run, as the cache key needs it: its path, size
+/// and modification time, since another build may write other modules.
+/// Found on `PATH` once a process, by looking and not by running it, so a
+/// render whose module is cached starts no process at all; `None` where
+/// there is none.
+fn optimizer_version() -> Option<&'static str> {
     static VERSION: OnceLock<Option<String>> = OnceLock::new();
     VERSION
         .get_or_init(|| {
-            let output = std::process::Command::new("spirv-opt")
-                .arg("--version")
-                .output()
-                .ok()
-                .filter(|o| o.status.success())?;
-            let text = String::from_utf8_lossy(&output.stdout);
-            Some(
-                text.lines()
-                    .next()
-                    .unwrap_or("spirv-opt")
-                    .trim()
-                    .to_string(),
-            )
+            let path = std::env::var_os("PATH")?;
+            std::env::split_paths(&path).find_map(|dir| {
+                let program = dir.join("spirv-opt");
+                let meta = std::fs::metadata(&program).ok().filter(|m| m.is_file())?;
+                let modified = meta
+                    .modified()
+                    .ok()
+                    .and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok())
+                    .map_or(0, |d| d.as_secs());
+                Some(format!(
+                    "spirv-opt {} {} bytes {modified}",
+                    program.display(),
+                    meta.len()
+                ))
+            })
         })
         .as_deref()
 }
