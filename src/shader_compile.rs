@@ -1,65 +1,101 @@
-//! GLSL to validated SPIR-V and its reflection: glslang compiles, naga
-//! parses, validates and reflects. Shared by build.rs (the built-in
-//! shaders, through `#[path]`) and `gpu::shared::hook` (the built-in shaders with a
-//! user's lighting hook, at run time), so both go through the same steps.
-//! Depends on glslang and naga alone.
+//! GLSL to validated SPIR-V and its reflection: glslang compiles (through
+//! shaderc, Google's front end to it, linked from the system's
+//! `libshaderc-dev`), naga parses, validates and reflects. Shared by
+//! build.rs (the built-in shaders, through `#[path]`) and
+//! `gpu::shared::hook` (the built-in shaders with a user's lighting hook,
+//! at run time), so both go through the same steps. Depends on shaderc and
+//! naga alone.
+
+pub use shaderc::ShaderKind as Stage;
+// Debian's shaderc leaves glslang and SPIRV-Tools to its user to link.
+use system_glslang as _;
 
 /// Where `#include "name"` finds its text: `(name to report, text)`.
-pub type Include<'a> = dyn FnMut(&str) -> Option<(String, String)> + 'a;
+pub type Include<'a> = dyn Fn(&str) -> Option<(String, String)> + 'a;
 
 /// Compiles `text` (reported as `name`) for `stage` with `defines`.
 /// The error is glslang's log, which names the file and line of each
 /// message.
 pub fn compile(
-    compiler: &glslang::Compiler,
     text: &str,
-    stage: glslang::ShaderStage,
+    name: &str,
+    stage: Stage,
     defines: &[(&str, Option<&str>)],
-    include: &mut Include<'_>,
+    include: &Include<'_>,
 ) -> Result<Vec<u32>, String> {
-    let source = glslang::ShaderSource::from(text.to_string());
-    let options = glslang::CompilerOptions {
-        source_language: glslang::SourceLanguage::GLSL,
-        target: glslang::Target::Vulkan {
-            version: glslang::VulkanVersion::Vulkan1_3,
-            spirv_version: glslang::SpirvVersion::SPIRV1_6,
-        },
-        version_profile: None,
-        messages: glslang::ShaderMessage::DEFAULT,
-    };
-    let mut includes = Includes { include };
-    let input =
-        glslang::ShaderInput::new(&source, stage, &options, Some(defines), Some(&mut includes))
-            .map_err(|e| e.to_string())?;
-    let shader = compiler.create_shader(input).map_err(log_of)?;
-    shader.compile().map_err(log_of)
+    let compiler =
+        shaderc::Compiler::new().map_err(|e| format!("glslang could not be initialised: {e}"))?;
+    let mut options = shaderc::CompileOptions::new()
+        .map_err(|e| format!("glslang's options could not be made: {e}"))?;
+    options.set_source_language(shaderc::SourceLanguage::GLSL);
+    options.set_target_env(
+        shaderc::TargetEnv::Vulkan,
+        shaderc::EnvVersion::Vulkan1_3 as u32,
+    );
+    options.set_target_spirv(shaderc::SpirvVersion::V1_6);
+    for (define, value) in defines {
+        options.add_macro_definition(define, *value);
+    }
+    options.set_include_callback(|requested, _kind, _from, _depth| {
+        include(requested)
+            .map(|(resolved_name, content)| shaderc::ResolvedInclude {
+                resolved_name,
+                content,
+            })
+            .ok_or_else(|| format!("no include file {requested:?}"))
+    });
+    let artifact = compiler
+        .compile_into_spirv(text, stage, name, "main", Some(&options))
+        .map_err(log_of)?;
+    let mut words = artifact.as_binary().to_vec();
+    local_size_by_value(&mut words);
+    Ok(words)
 }
 
-/// glslang's own messages, without the crate's framing.
-fn log_of(e: glslang::error::GlslangError) -> String {
-    use glslang::error::GlslangError as E;
-    match e {
-        E::PreprocessError(log) | E::ParseError(log) | E::MapIoError(log) | E::LinkError(log) => {
-            log.log
+/// Rewrites `OpExecutionModeId LocalSizeId` whose sizes are plain
+/// constants into the `OpExecutionMode LocalSize` they mean, in place (both
+/// are six words). glslang 12 (Debian 12's) writes the first for SPIR-V 1.6
+/// and glslang 15 the second; naga reads only the second.
+fn local_size_by_value(words: &mut [u32]) {
+    const OP_CONSTANT: u32 = 43;
+    const OP_EXECUTION_MODE: u32 = 16;
+    const OP_EXECUTION_MODE_ID: u32 = 331;
+    const LOCAL_SIZE: u32 = 17;
+    const LOCAL_SIZE_ID: u32 = 38;
+    let mut constants = std::collections::HashMap::new();
+    let mut modes = Vec::new();
+    let mut at = 5; // after the header
+    while at < words.len() {
+        let count = (words[at] >> 16) as usize;
+        let opcode = words[at] & 0xffff;
+        if count == 0 || at + count > words.len() {
+            return; // malformed: naga will say so
         }
-        other => other.to_string(),
+        if opcode == OP_CONSTANT && count == 4 {
+            constants.insert(words[at + 2], words[at + 3]);
+        }
+        if opcode == OP_EXECUTION_MODE_ID && count == 6 && words[at + 2] == LOCAL_SIZE_ID {
+            modes.push(at);
+        }
+        at += count;
+    }
+    for at in modes {
+        let sizes: Option<Vec<u32>> = (3..6)
+            .map(|i| constants.get(&words[at + i]).copied())
+            .collect();
+        if let Some(sizes) = sizes {
+            words[at] = (6 << 16) | OP_EXECUTION_MODE;
+            words[at + 2] = LOCAL_SIZE;
+            words[at + 3..at + 6].copy_from_slice(&sizes);
+        }
     }
 }
 
-struct Includes<'a, 'b> {
-    include: &'a mut Include<'b>,
-}
-
-impl glslang::include::IncludeHandler for Includes<'_, '_> {
-    fn include(
-        &mut self,
-        _ty: glslang::include::IncludeType,
-        header_name: &str,
-        _includer_name: &str,
-        _include_depth: usize,
-    ) -> Option<glslang::include::IncludeResult> {
-        let (name, data) = (self.include)(header_name)?;
-        Some(glslang::include::IncludeResult { name, data })
+/// glslang's own messages, without shaderc's framing.
+fn log_of(e: shaderc::Error) -> String {
+    match e {
+        shaderc::Error::CompilationError(_, log) => log,
+        other => other.to_string(),
     }
 }
 

@@ -81,14 +81,12 @@ fn evaluates_formula(blob: &ShaderBlob) -> bool {
 }
 
 fn compile(blob: &ShaderBlob, hook: &LightingHook) -> Result<Vec<u32>, GpuError> {
-    let compiler = glslang::Compiler::acquire()
-        .ok_or_else(|| GpuError::LightingHook("glslang could not be initialised".into()))?;
     let stage = match blob.stage {
-        ShaderStage::Vertex => glslang::ShaderStage::Vertex,
-        ShaderStage::Fragment => glslang::ShaderStage::Fragment,
-        ShaderStage::Compute => glslang::ShaderStage::Compute,
+        ShaderStage::Vertex => shader_compile::Stage::Vertex,
+        ShaderStage::Fragment => shader_compile::Stage::Fragment,
+        ShaderStage::Compute => shader_compile::Stage::Compute,
     };
-    let mut include = |name: &str| {
+    let include = |name: &str| {
         if name == HOOK_INCLUDE {
             return Some((hook.path.clone(), hook.source.clone()));
         }
@@ -97,7 +95,8 @@ fn compile(blob: &ShaderBlob, hook: &LightingHook) -> Result<Vec<u32>, GpuError>
             .find(|(n, _)| *n == name)
             .map(|(n, text)| (format!("shaders/include/{n}"), text.to_string()))
     };
-    let words = shader_compile::compile(compiler, blob.source, stage, blob.defines, &mut include)
+    let name = format!("shaders/{}", blob.name);
+    let words = shader_compile::compile(blob.source, &name, stage, blob.defines, &include)
         .map_err(|log| compile_error(hook, &log))?;
     let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
     let reflection = shader_compile::reflect(&bytes).map_err(|e| {
@@ -169,7 +168,7 @@ fn check_interface(
 fn cache_key(blob: &ShaderBlob, hook: &LightingHook, driver: &str) -> String {
     let digest = cache::digest(&(blob.source, INCLUDES, &hook.source));
     format!(
-        "shadelab {} glslang 0.9 {} {:?} {driver} {:016x}",
+        "shadelab {} glslang (shaderc 0.10) {} {:?} {driver} {:016x}",
         env!("CARGO_PKG_VERSION"),
         blob.name,
         blob.defines,
