@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Installs what shadelab needs on Debian/Ubuntu, only where it is missing:
 # the Vulkan loader, Mesa lavapipe (software Vulkan), the Khronos validation
-# layer, the C/C++ toolchain and cmake that the glslang crate builds with, and
-# spirv-tools (spirv-val checks the ray-query shader at build time).
+# layer, the C/C++ toolchain, and the shader compiler's libraries: shaderc
+# and glslang (libshaderc-dev, glslang-dev) and SPIRV-Tools (spirv-tools,
+# whose spirv-val also checks the ray-query shader at build time), linked
+# statically instead of compiled from source.
 # Safe to run again: it installs nothing that is already there, and runs no
 # apt-get update when nothing is missing.
 #
@@ -53,9 +55,13 @@ have_file() { compgen -G "$1" >/dev/null; }
 # pipefail would take that for a missing loader.
 ldconfig -p 2>/dev/null | grep 'libvulkan\.so\.1' >/dev/null || missing+=(libvulkan1)
 have_file '/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json' || missing+=(vulkan-validationlayers)
-command -v cmake >/dev/null || missing+=(cmake)
-# spirv-val validates at build time the shader naga cannot read (ray queries).
+# spirv-val validates at build time the shader naga cannot read (ray
+# queries); the package also has SPIRV-Tools' static libraries.
 command -v spirv-val >/dev/null || missing+=(spirv-tools)
+have_file '/usr/lib/*/libSPIRV-Tools-opt.a' || have_file '/usr/lib/libSPIRV-Tools-opt.a' || missing+=(spirv-tools)
+# Debian's libshaderc-dev ships shaderc alone; glslang-dev has glslang.
+have_file '/usr/lib/*/libshaderc_combined.a' || have_file '/usr/lib/libshaderc_combined.a' || missing+=(libshaderc-dev)
+have_file '/usr/lib/*/libglslang.a' || have_file '/usr/lib/libglslang.a' || missing+=(glslang-dev)
 command -v c++ >/dev/null || missing+=(g++)
 command -v cc >/dev/null || missing+=(gcc)
 if [ "$with_chromium" = 1 ]; then

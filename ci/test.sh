@@ -13,7 +13,7 @@ cargo fmt --all -- --check
 # function over 100, no import loop between files.
 PYTHONDONTWRITEBYTECODE=1 python3 -m unittest discover -s ci -p test_layout_check.py
 python3 ci/layout-check.py
-cargo clippy --release --all-targets -- -D warnings
+cargo clippy --release --workspace --all-targets -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps
 export SHADELAB_VALIDATION=1
 cargo test --release

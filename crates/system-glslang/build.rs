@@ -6,19 +6,27 @@
 
 use std::path::{Path, PathBuf};
 
-/// Each library after the ones that use it.
-const LIBRARIES: &[&str] = &[
-    "shaderc_combined",
-    "SPIRV",
-    "glslang",
-    "MachineIndependent",
-    "OSDependent",
-    "GenericCodeGen",
-    "OGLCompiler",
-    "HLSL",
-    "SPIRV-Tools-opt",
-    "SPIRV-Tools",
+/// Each library after the ones that use it. Debian 12's glslang (12.0)
+/// splits itself into more libraries than newer ones do (glslang 14 has no
+/// OGLCompiler or HLSL library): those are linked where they exist.
+const LIBRARIES: &[(&str, Need)] = &[
+    ("shaderc_combined", Need::Required),
+    ("SPIRV", Need::WhereItExists),
+    ("glslang", Need::Required),
+    ("MachineIndependent", Need::WhereItExists),
+    ("OSDependent", Need::WhereItExists),
+    ("GenericCodeGen", Need::WhereItExists),
+    ("OGLCompiler", Need::WhereItExists),
+    ("HLSL", Need::WhereItExists),
+    ("SPIRV-Tools-opt", Need::Required),
+    ("SPIRV-Tools", Need::Required),
 ];
+
+#[derive(PartialEq)]
+enum Need {
+    Required,
+    WhereItExists,
+}
 
 fn main() {
     println!("cargo:rerun-if-env-changed=SHADERC_LIB_DIR");
@@ -31,12 +39,12 @@ fn main() {
         )
     });
     println!("cargo:rustc-link-search=native={}", dir.display());
-    for library in LIBRARIES {
+    for (library, _) in LIBRARIES.iter().filter(|(l, _)| has_library(&dir, l)) {
         println!("cargo:rustc-link-lib=static={library}");
     }
 }
 
-/// The first folder that holds every library: SHADERC_LIB_DIR where set,
+/// The first folder that holds every required library: SHADERC_LIB_DIR where set,
 /// else Debian's multiarch folder, else /usr/lib.
 fn library_dir() -> Option<PathBuf> {
     let arch = std::env::var("CARGO_CFG_TARGET_ARCH").unwrap_or_default();
@@ -45,10 +53,11 @@ fn library_dir() -> Option<PathBuf> {
         Some(PathBuf::from(format!("/usr/lib/{arch}-linux-gnu"))),
         Some(PathBuf::from("/usr/lib")),
     ];
-    candidates
-        .into_iter()
-        .flatten()
-        .find(|dir| LIBRARIES.iter().all(|l| has_library(dir, l)))
+    candidates.into_iter().flatten().find(|dir| {
+        LIBRARIES
+            .iter()
+            .all(|(l, need)| *need == Need::WhereItExists || has_library(dir, l))
+    })
 }
 
 fn has_library(dir: &Path, name: &str) -> bool {
