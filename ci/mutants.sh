@@ -47,7 +47,7 @@ glsl_mutants=(
     "shaders/gouraud.vert.glsl|Gouraud intensity off by 1%|s|    out_intensity = intensity;|    out_intensity = intensity * 0.99;|"
     "shaders/flat.vert.glsl|flat's view vector reversed|s|normalize(-P)|normalize(P)|"
     "shaders/include/rt_ray_tree.glsl|refraction ratio inverted|s|float eta = entering ? 1.0 / ior : ior;|float eta = entering ? ior : 1.0 / ior;|"
-    "shaders/include/rt_shading.glsl|secondary-ray offset 100x smaller|s|float eps = 1.0e-4 \*|float eps = 1.0e-6 *|"
+    "shaders/include/rt_shading.glsl|secondary-ray offset 100x smaller|s|return 1.0e-4 \* max(a.x|return 1.0e-6 * max(a.x|"
 )
 
 if [ $run_glsl = 1 ]; then

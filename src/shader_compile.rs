@@ -270,6 +270,31 @@ mod tests {
     use super::*;
     use crate::gpu::shared::shader_catalog::{RAYTRACE_COMP, RAYTRACE_QUERY_COMP};
 
+    /// glslang 12's `LocalSizeId` of three constants becomes the
+    /// `LocalSize` naga reads, with their values; one whose size is not a
+    /// plain constant (a specialization constant) is left as it is.
+    #[test]
+    fn local_size_ids_of_constants_become_local_sizes() {
+        const HEADER: [u32; 5] = [0x0723_0203, 0x0001_0600, 0, 20, 0];
+        let mode_id = |x: u32| [(6 << 16) | 331, 1, 38, x, 11, 11];
+        let constants = [[(4 << 16) | 43, 2, 10, 64], [(4 << 16) | 43, 2, 11, 1]];
+        let mut words: Vec<u32> = HEADER.to_vec();
+        words.extend(mode_id(10));
+        constants.iter().for_each(|c| words.extend(c));
+        local_size_by_value(&mut words);
+        assert_eq!(words[5..11], [(6 << 16) | 16, 1, 17, 64, 1, 1]);
+        assert_eq!(words[11..], constants.concat()[..]);
+
+        // %12 is a specialization constant (OpSpecConstant, 50).
+        let mut words: Vec<u32> = HEADER.to_vec();
+        words.extend(mode_id(12));
+        constants.iter().for_each(|c| words.extend(c));
+        words.extend([(4 << 16) | 50, 2, 12, 64]);
+        let before = words.clone();
+        local_size_by_value(&mut words);
+        assert_eq!(words, before);
+    }
+
     /// The decorations of the built ray tracers: the compute one's set 0,
     /// and the ray-query one's set 0 plus its acceleration structure.
     #[test]
