@@ -52,6 +52,29 @@ pub fn compile(
     Ok(words)
 }
 
+/// A module's instructions after its five-word header, as `(index of the
+/// first word, opcode, word count)`; an error, and then nothing, at the
+/// first one whose word count is zero or runs past the end. The one walk
+/// over SPIR-V words that build.rs, the lighting hook and the specialiser
+/// all use.
+pub fn instructions(
+    words: &[u32],
+) -> impl Iterator<Item = Result<(usize, u32, usize), String>> + '_ {
+    let mut at = 5;
+    std::iter::from_fn(move || {
+        let word = *words.get(at)?;
+        let (count, opcode) = ((word >> 16) as usize, word & 0xffff);
+        if count == 0 || at + count > words.len() {
+            let error = format!("a malformed instruction at word {at}");
+            at = words.len();
+            return Some(Err(error));
+        }
+        let instruction = (at, opcode, count);
+        at += count;
+        Some(Ok(instruction))
+    })
+}
+
 /// Rewrites `OpExecutionModeId LocalSizeId` whose sizes are plain
 /// constants into the `OpExecutionMode LocalSize` they mean, in place (both
 /// are six words). glslang 12 (Debian 12's) writes the first for SPIR-V 1.6
@@ -64,20 +87,14 @@ fn local_size_by_value(words: &mut [u32]) {
     const LOCAL_SIZE_ID: u32 = 38;
     let mut constants = std::collections::HashMap::new();
     let mut modes = Vec::new();
-    let mut at = 5; // after the header
-    while at < words.len() {
-        let count = (words[at] >> 16) as usize;
-        let opcode = words[at] & 0xffff;
-        if count == 0 || at + count > words.len() {
-            return; // malformed: naga will say so
-        }
+    // A malformed module is left as it is: naga will say what is wrong.
+    for (at, opcode, count) in instructions(words).map_while(Result::ok) {
         if opcode == OP_CONSTANT && count == 4 {
             constants.insert(words[at + 2], words[at + 3]);
         }
         if opcode == OP_EXECUTION_MODE_ID && count == 6 && words[at + 2] == LOCAL_SIZE_ID {
             modes.push(at);
         }
-        at += count;
     }
     for at in modes {
         let sizes: Option<Vec<u32>> = (3..6)
@@ -199,13 +216,8 @@ pub fn decorated_bindings(spirv: &[u32]) -> Result<Vec<(u32, u32)>, String> {
     const DESCRIPTOR_SET: u32 = 34;
     let mut sets = std::collections::BTreeMap::new();
     let mut bindings = std::collections::BTreeMap::new();
-    let mut at = 5; // after the header
-    while at < spirv.len() {
-        let count = (spirv[at] >> 16) as usize;
-        let opcode = spirv[at] & 0xffff;
-        if count == 0 || at + count > spirv.len() {
-            return Err(format!("a malformed instruction at word {at}"));
-        }
+    for instruction in instructions(spirv) {
+        let (at, opcode, count) = instruction?;
         if opcode == OP_DECORATE && count == 4 {
             let (target, decoration, value) = (spirv[at + 1], spirv[at + 2], spirv[at + 3]);
             match decoration {
@@ -218,7 +230,6 @@ pub fn decorated_bindings(spirv: &[u32]) -> Result<Vec<(u32, u32)>, String> {
                 _ => {}
             }
         }
-        at += count;
     }
     let mut out: Vec<(u32, u32)> = sets
         .iter()

@@ -50,18 +50,10 @@ const FLOAT16_CAPABILITY: u32 = 9;
 /// open every module, right after the five-word header).
 fn declares_capability(words: &[u32], capability: u32) -> bool {
     const OP_CAPABILITY: u32 = 17;
-    let mut at = 5;
-    while let Some(&word) = words.get(at) {
-        let (count, opcode) = ((word >> 16) as usize, word & 0xffff);
-        if opcode != OP_CAPABILITY || count == 0 {
-            return false;
-        }
-        if words.get(at + 1) == Some(&capability) {
-            return true;
-        }
-        at += count;
-    }
-    false
+    shader_compile::instructions(words)
+        .map_while(Result::ok)
+        .take_while(|&(_, opcode, _)| opcode == OP_CAPABILITY)
+        .any(|(at, _, _)| words.get(at + 1) == Some(&capability))
 }
 
 /// The module, from the cache or compiled (and then cached).

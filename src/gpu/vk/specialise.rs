@@ -31,6 +31,7 @@ use spirv_tools::opt::{Optimizer, Passes};
 
 use crate::cache;
 use crate::gpu::vk::error::GpuError;
+use crate::shader_compile;
 
 /// The cache folder's subfolder of specialised modules.
 const SPECIALISED_CACHE: &str = "spirv";
@@ -160,21 +161,9 @@ const OP_SPEC_CONSTANT: u32 = 50;
 /// (a `VkBool32`), a scalar takes the 32 bits as they are. The freeze pass
 /// then turns the defaults into constants.
 fn set_defaults(module: &mut [u32], values: &[(u32, u32)]) -> Result<(), GpuError> {
-    let malformed = || GpuError::Specialise("the module is not well-formed SPIR-V".into());
-    let instructions = |module: &[u32]| -> Result<Vec<(usize, u32, usize)>, GpuError> {
-        let mut at = 5;
-        let mut out = Vec::new();
-        while at < module.len() {
-            let (count, opcode) = ((module[at] >> 16) as usize, module[at] & 0xffff);
-            if count == 0 || at + count > module.len() {
-                return Err(malformed());
-            }
-            out.push((at, opcode, count));
-            at += count;
-        }
-        Ok(out)
-    };
-    let listed = instructions(module)?;
+    let listed: Vec<(usize, u32, usize)> = shader_compile::instructions(module)
+        .collect::<Result<_, _>>()
+        .map_err(|e| GpuError::Specialise(format!("the module is not well-formed SPIR-V: {e}")))?;
     // Result id -> constant id, from the SpecId decorations.
     let spec_ids: std::collections::HashMap<u32, u32> = listed
         .iter()
