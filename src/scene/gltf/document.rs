@@ -1,9 +1,11 @@
 //! A glTF or GLB file as a parsed document with its buffers loaded:
 //! reading the bytes, the checks before the `gltf` crate parses them, and
-//! the buffers' URIs (data URIs, or files beside the glTF, percent-decoded).
+//! the checks of the buffers' URIs before `buffers.rs` reads them.
 
 use std::path::{Path, PathBuf};
 
+use super::buffers::load_buffers;
+use super::uris::{percent_decoded, percent_decoded_bytes};
 use super::validation::{
     check_glb_header, check_images_and_textures, check_primitive_references, check_samplers,
     raw_parts, RawParts,
@@ -18,7 +20,8 @@ pub(super) struct GltfFile {
     /// Where files it names (buffers, images) lie.
     pub(super) base: PathBuf,
     pub(super) doc: gltf::Document,
-    pub(super) buffers: Vec<gltf::buffer::Data>,
+    /// Every buffer's bytes, by index.
+    pub(super) buffers: Vec<Vec<u8>>,
     /// The raw JSON of what the `gltf` crate does not read for us.
     pub(super) raw: RawParts,
 }
@@ -65,14 +68,7 @@ pub(super) fn parse(
         .map_err(|e| SceneError::mesh(&label, format!("not a valid glTF 2.0 file ({e})")))?;
     check_buffer_uris(&label, &document)?;
     check_buffer_files(&label, &document, base)?;
-    let buffers = gltf::import_buffers(&document, Some(base), blob).map_err(|e| {
-        SceneError::mesh(
-            &label,
-            format!(
-                "cannot load the glTF buffers ({e}); check that every .bin file it names exists"
-            ),
-        )
-    })?;
+    let buffers = load_buffers(&label, &document, base, blob)?;
     Ok(GltfFile {
         label,
         stem,
@@ -136,37 +132,6 @@ fn check_buffer_files(
         }
     }
     Ok(())
-}
-
-/// `uri` with its %XX escapes decoded, as text (checked UTF-8 by
-/// `check_buffer_uris` before).
-fn percent_decoded(uri: &str) -> String {
-    String::from_utf8_lossy(&percent_decoded_bytes(uri)).into_owned()
-}
-
-/// `uri`'s bytes with each `%XX` escape replaced by its byte; a `%` not
-/// followed by two hex digits is kept as it is.
-pub(super) fn percent_decoded_bytes(uri: &str) -> Vec<u8> {
-    let bytes = uri.as_bytes();
-    let mut decoded = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        let hex = bytes
-            .get(i + 1..i + 3)
-            .filter(|h| h.iter().all(u8::is_ascii_hexdigit))
-            .and_then(|h| u8::from_str_radix(std::str::from_utf8(h).ok()?, 16).ok());
-        match (bytes[i], hex) {
-            (b'%', Some(byte)) => {
-                decoded.push(byte);
-                i += 3;
-            }
-            (byte, _) => {
-                decoded.push(byte);
-                i += 1;
-            }
-        }
-    }
-    decoded
 }
 
 #[cfg(test)]

@@ -4,7 +4,8 @@
 use std::borrow::Cow;
 use std::path::PathBuf;
 
-use super::document::{percent_decoded_bytes, GltfFile};
+use super::document::GltfFile;
+use super::uris::percent_decoded_bytes;
 use crate::scene::error::SceneError;
 
 /// Where an image's bytes lie.
@@ -98,7 +99,7 @@ pub(super) fn image_bytes<'f>(
             let bytes = file
                 .buffers
                 .get(view.buffer().index())
-                .and_then(|b| b.0.get(view.offset()..view.offset().checked_add(view.length())?));
+                .and_then(|b| b.get(view.offset()..view.offset().checked_add(view.length())?));
             bytes.map(Cow::Borrowed).ok_or_else(|| {
                 err(format!(
                     "is in buffer view {}, which runs past the end of buffer {}",

@@ -28,7 +28,7 @@ pub(super) fn primitive_mesh(
         return Ok(None);
     };
     let pos_acc = checked_accessors(file, &what, prim)?;
-    let reader = prim.reader(|b| file.buffers.get(b.index()).map(|d| &d.0[..]));
+    let reader = prim.reader(|b| file.buffers.get(b.index()).map(|d| &d[..]));
     let positions = world_positions(file, &what, &pos_acc, &reader, world)?;
     let n = positions.len();
     let stored_normals = stored_normals(file, &what, prim, &reader, &placement, n, warnings);

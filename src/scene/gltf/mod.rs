@@ -75,8 +75,9 @@
 //!
 //! - `import.rs`: the entry points (meshes for a TOML `mesh` object, a
 //!   whole scene from a file or from memory);
-//! - `document.rs`: the file read and parsed, its buffers loaded, after
-//!   the checks of `validation.rs` on its raw JSON;
+//! - `document.rs`: the file read and parsed, after the checks of
+//!   `validation.rs` on its raw JSON, and its buffers loaded by
+//!   `buffers.rs` (the GLB's binary chunk, data URIs, files);
 //! - `contents.rs`: what a file contributes, walking `nodes.rs` (node
 //!   transforms, the instanced size);
 //! - `meshes.rs` (with `accessors.rs` and `vertex_attributes.rs`): a
@@ -84,9 +85,11 @@
 //! - `materials.rs`, `textures.rs`, `images.rs`: materials and their base
 //!   colour textures;
 //! - `cameras_and_lights.rs`: a whole scene's camera and lights;
-//! - `locations.rs`: how messages name a node, mesh or material.
+//! - `locations.rs`: how messages name a node, mesh or material;
+//! - `uris.rs`: percent escapes in the file names URIs give.
 
 mod accessors;
+mod buffers;
 mod cameras_and_lights;
 mod contents;
 mod document;
@@ -99,6 +102,7 @@ mod nodes;
 #[cfg(test)]
 mod test_support;
 mod textures;
+mod uris;
 mod validation;
 mod vertex_attributes;
 
