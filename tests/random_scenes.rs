@@ -21,7 +21,7 @@ use glam::{DMat3, DVec3};
 use proptest::prelude::*;
 use shadelab::check::{check, CheckThresholds};
 use shadelab::gpu::GpuContext;
-use shadelab::scene::{Material, Object, PointLight, Scene, Shape};
+use shadelab::scene::{Falloff, Material, Object, PointLight, Scene, Shape};
 use shadelab::shading::Shading;
 
 fn context() -> &'static Arc<GpuContext> {
@@ -108,7 +108,16 @@ fn random_scene() -> impl Strategy<Value = Scene> {
         prop::collection::vec(material(), 1..4),
         prop::collection::vec((shape(), 0usize..3), 1..5),
         prop::collection::vec((point(6.0), 0.2..12.0f64), 1..4),
-        (0.0..0.4f64, 0.0..2.0f64, any::<bool>(), 0u32..4),
+        (
+            0.0..0.4f64,
+            0.0..2.0f64,
+            prop_oneof![
+                Just(Falloff::Lecture),
+                Just(Falloff::InverseSquare),
+                Just(Falloff::None)
+            ],
+            0u32..4,
+        ),
     )
         .prop_filter(
             "up must not be along the view",
@@ -121,7 +130,7 @@ fn random_scene() -> impl Strategy<Value = Scene> {
                 materials,
                 objects,
                 lights,
-                (ambient, k, attenuation, depth),
+                (ambient, k, falloff, depth),
             )| {
                 let mut s = scene(width, height, fov);
                 s.camera.position = look_at + dir * distance;
@@ -145,7 +154,7 @@ fn random_scene() -> impl Strategy<Value = Scene> {
                     .collect();
                 s.lighting.ambient = DVec3::splat(ambient);
                 s.lighting.k = k;
-                s.lighting.attenuation = attenuation;
+                s.lighting.falloff = falloff;
                 s.render.depth = depth;
                 s
             },

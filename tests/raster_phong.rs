@@ -7,7 +7,7 @@ mod common;
 use common::*;
 use glam::DVec3;
 use shadelab::cpu::lighting::{shade, Surface};
-use shadelab::scene::{Object, PointLight, Scene, Shape};
+use shadelab::scene::{Falloff, Object, PointLight, Scene, Shape};
 use shadelab::shading::Shading;
 use shadelab::LinearImage;
 
@@ -48,17 +48,8 @@ fn phong_tolerance(scene: &Scene) -> f64 {
         .iter()
         .map(|l| {
             let d_min = (l.position.length() - RADIUS).max(0.0);
-            let k = if scene.lighting.attenuation {
-                scene.lighting.k
-            } else {
-                0.0
-            };
-            let attenuation = if scene.lighting.attenuation {
-                d_min + k
-            } else {
-                1.0
-            };
-            l.intensity.max_element() / attenuation
+            let divisor = scene.lighting.falloff.divisor(d_min, scene.lighting.k);
+            l.intensity.max_element() / divisor.unwrap_or(1.0)
         })
         .sum();
     light_scale * (m.kd * m.color.max_element() + 2.0 * m.p * m.ks) * dtheta + 1e-5
@@ -259,11 +250,26 @@ fn attenuation_constant_k() {
     );
 }
 
+/// `falloff = "inverse-square"`: Il / d^2, about a tenth of the lecture's
+/// 10 / (d + 1) at d ~ 10, so the image darkens by most of its diffuse
+/// light, as the formula says pixel by pixel.
+#[test]
+fn inverse_square_falloff() {
+    let lecture = sphere_scene();
+    let mut physical = sphere_scene();
+    physical.lighting.falloff = Falloff::InverseSquare;
+    assert_change_as_predicted(
+        &assert_matches_formula(&lecture),
+        &assert_matches_formula(&physical),
+        0.05,
+    );
+}
+
 #[test]
 fn attenuation_switched_off() {
     let on = sphere_scene();
     let mut off = sphere_scene();
-    off.lighting.attenuation = false;
+    off.lighting.falloff = Falloff::None;
     // Unattenuated, 3 is about three times the 10 / (d + 1) the light gives at d ~ 10.
     off.lights[0].intensity = DVec3::splat(3.0);
     assert_change_as_predicted(

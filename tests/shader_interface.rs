@@ -220,6 +220,10 @@ fn specialization_constants_match_by_id_and_name() {
             "HUGE_SPHERE_COUNT",
             offset_of!(TraceSpecialization, huge_sphere_count),
         ),
+        (
+            "INVERSE_SQUARE",
+            offset_of!(TraceSpecialization, inverse_square),
+        ),
     ];
     assert_eq!(fields.len(), rt_layout::SPEC_CONSTANTS.len());
     for (name, offset) in fields {
@@ -233,6 +237,11 @@ fn specialization_constants_match_by_id_and_name() {
     assert_eq!(
         &rt_layout::SPEC_CONSTANTS[..3],
         &raster_layout::SPEC_CONSTANTS[..3]
+    );
+    assert_eq!(
+        rt_layout::SPEC_CONSTANTS.last(),
+        raster_layout::SPEC_CONSTANTS.last(),
+        "lights.glsl's INVERSE_SQUARE, last in both"
     );
 }
 

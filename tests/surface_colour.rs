@@ -12,7 +12,7 @@ mod common;
 use common::*;
 use glam::DVec2;
 use glam::DVec3;
-use shadelab::scene::{Object, Pattern, Scene, Shape, TriangleMesh};
+use shadelab::scene::{Falloff, Object, Pattern, Scene, Shape, TriangleMesh};
 use shadelab::shading::Shading;
 use shadelab::LinearImage;
 
@@ -253,7 +253,7 @@ fn gouraud_adds_the_highlight_after_the_pattern() {
         scale: 2.0,
         colors: [DVec3::new(1.0, 0.0, 0.0), DVec3::new(0.0, 0.0, 1.0)],
     });
-    scene.lighting.attenuation = false;
+    scene.lighting.falloff = Falloff::None;
     scene.lights[0].position = DVec3::new(0.0, 0.0, 10.0);
     scene.lights[0].intensity = DVec3::ONE;
     let gpu_image = render(&context, &scene, Shading::Gouraud);

@@ -4,7 +4,7 @@
 // to 1 than R.V; about 4p matches Phong's size at normal incidence, which
 // this hook leaves out on purpose, so the difference shows).
 vec3 shade_light(vec3 N, vec3 V, vec3 L, float d, vec3 intensity, Surface m, float k) {
-    vec3 light = USE_ATTENUATION ? intensity / (d + k) : intensity;
+    vec3 light = USE_ATTENUATION ? intensity / (INVERSE_SQUARE ? d * d : d + k) : intensity;
     vec3 reflected = m.kd * m.color * dot(N, L);
     if (USE_SPECULAR) {
         vec3 H = normalize(L + V);

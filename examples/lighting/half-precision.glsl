@@ -10,7 +10,7 @@
 vec3 shade_light(vec3 N, vec3 V, vec3 L, float d, vec3 intensity, Surface m, float k) {
     f16vec3 n = f16vec3(N);
     f16vec3 l = f16vec3(L);
-    f16vec3 light = f16vec3(USE_ATTENUATION ? intensity / (d + k) : intensity);
+    f16vec3 light = f16vec3(USE_ATTENUATION ? intensity / (INVERSE_SQUARE ? d * d : d + k) : intensity);
     float16_t n_dot_l = dot(n, l);
     f16vec3 reflected = float16_t(m.kd) * f16vec3(m.color) * n_dot_l;
     if (USE_SPECULAR) {

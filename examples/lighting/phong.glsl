@@ -5,7 +5,7 @@
 vec3 shade_light(vec3 N, vec3 V, vec3 L, float d, vec3 intensity, Surface m, float k) {
     vec3 light = intensity;
     if (USE_ATTENUATION) {
-        light /= d + k;
+        light /= INVERSE_SQUARE ? d * d : d + k;
     }
     float n_dot_l = dot(N, L);
     vec3 reflected = m.kd * m.color * n_dot_l;

@@ -3,7 +3,7 @@
 // Trades: a division for pow (exp2 and log2 on most hardware), with a
 // highlight of about the same width but a longer, brighter tail.
 vec3 shade_light(vec3 N, vec3 V, vec3 L, float d, vec3 intensity, Surface m, float k) {
-    vec3 light = USE_ATTENUATION ? intensity / (d + k) : intensity;
+    vec3 light = USE_ATTENUATION ? intensity / (INVERSE_SQUARE ? d * d : d + k) : intensity;
     float n_dot_l = dot(N, L);
     vec3 reflected = m.kd * m.color * n_dot_l;
     if (USE_SPECULAR) {

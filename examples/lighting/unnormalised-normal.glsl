@@ -11,7 +11,7 @@ vec3 surface_normal(vec3 interpolated) {
 
 // The lecture's formula, unchanged (phong.glsl).
 vec3 shade_light(vec3 N, vec3 V, vec3 L, float d, vec3 intensity, Surface m, float k) {
-    vec3 light = USE_ATTENUATION ? intensity / (d + k) : intensity;
+    vec3 light = USE_ATTENUATION ? intensity / (INVERSE_SQUARE ? d * d : d + k) : intensity;
     float n_dot_l = dot(N, L);
     vec3 reflected = m.kd * m.color * n_dot_l;
     if (USE_SPECULAR) {

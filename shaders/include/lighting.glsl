@@ -2,7 +2,8 @@
 // Its CPU twin is src/cpu/lighting.rs; a change here is a change there.
 //
 // Needs, from the including interface: the specialization constants
-// LIGHT_COUNT, USE_SPECULAR and USE_ATTENUATION, and the `lights` buffer.
+// LIGHT_COUNT, USE_SPECULAR, USE_ATTENUATION and INVERSE_SQUARE, and the
+// `lights` buffer.
 //
 // Defined answers where naive float code is undefined (the same on the CPU):
 // - a zero normal (N = 0) receives the ambient term only;

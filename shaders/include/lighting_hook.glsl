@@ -9,11 +9,13 @@
 //   intensity: the light's Il (RGB)
 //   m:       the material (color, ka, kd, ks, p)
 //   k:       the attenuation constant of Il / (d + k)
-// and may read the specialization constants USE_SPECULAR, USE_ATTENUATION.
+// and may read the specialization constants USE_SPECULAR, USE_ATTENUATION
+// and INVERSE_SQUARE (the scene's falloff: with USE_ATTENUATION, Il / d^2
+// when set, else Il / (d + k); without it, Il).
 vec3 shade_light(vec3 N, vec3 V, vec3 L, float d, vec3 intensity, Surface m, float k) {
     vec3 light = intensity;
     if (USE_ATTENUATION) {
-        light /= d + k;
+        light /= INVERSE_SQUARE ? d * d : d + k;
     }
     float n_dot_l = dot(N, L);
     vec3 reflected = m.kd * m.color * n_dot_l;

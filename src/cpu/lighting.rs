@@ -103,11 +103,7 @@ pub fn shade_visible(
         if !facing(n_dot_l, d, (p - eye).length()) || !visible(j, light) {
             continue;
         }
-        let il = if lighting.attenuation {
-            light.intensity / (d + lighting.k)
-        } else {
-            light.intensity
-        };
+        let il = lighting.falloff.attenuate(light.intensity, d, lighting.k);
         let r = 2.0 * n_dot_l * n - l;
         let r_dot_v = r.dot(v).max(0.0);
         let s = if material.p == 0.0 {
@@ -142,7 +138,7 @@ mod tests {
             ambient: DVec3::splat(0.2),
             k: 1.0,
             interpolation: Interpolation::Perspective,
-            attenuation: true,
+            falloff: crate::scene::Falloff::Lecture,
         }
     }
 
@@ -183,6 +179,41 @@ mod tests {
             (i - expected).abs().max_element() < 1e-12,
             "{i} vs {expected}"
         );
+    }
+
+    /// The same light 3 units above under each falloff: Il divided by
+    /// d + k = 4, by d^2 = 9, or by nothing.
+    #[test]
+    fn each_falloff_divides_by_what_it_names() {
+        let light = PointLight {
+            position: DVec3::new(0.0, 3.0, 0.0),
+            intensity: DVec3::splat(8.0),
+        };
+        let direct = |falloff: crate::scene::Falloff| {
+            let lit = Lighting {
+                falloff,
+                ..lighting()
+            };
+            let ambient = lit.ambient * 0.5 * DVec3::new(1.0, 0.5, 0.25);
+            shade(
+                &lit,
+                &[light],
+                Surface::plain(&material(20.0)),
+                DVec3::ZERO,
+                DVec3::Y,
+                DVec3::new(0.0, 4.0, 0.0),
+            ) - ambient
+        };
+        let unattenuated = DVec3::new(1.0, 0.5, 0.25) * (8.0 * 0.6) + DVec3::splat(8.0 * 0.4);
+        use crate::scene::Falloff::*;
+        for (falloff, divisor) in [(Lecture, 4.0), (InverseSquare, 9.0), (None, 1.0)] {
+            let want = unattenuated / divisor;
+            let got = direct(falloff);
+            assert!(
+                (got - want).abs().max_element() < 1e-12,
+                "{falloff:?}: {got} vs {want}"
+            );
+        }
     }
 
     #[test]

@@ -9,7 +9,9 @@
 
 use glam::DVec3;
 
-use super::model::{ImageSettings, Interpolation, Lighting, Material, RenderSettings, Traversal};
+use super::model::{
+    Falloff, ImageSettings, Interpolation, Lighting, Material, RenderSettings, Traversal,
+};
 
 /// Vertical field of view in degrees, for a camera that does not give one.
 pub const DEFAULT_FOV_Y_DEG: f64 = 40.0;
@@ -54,7 +56,7 @@ impl Default for Lighting {
             ambient: DVec3::splat(DEFAULT_AMBIENT),
             k: 1.0,
             interpolation: Interpolation::Perspective,
-            attenuation: true,
+            falloff: Falloff::Lecture,
         }
     }
 }

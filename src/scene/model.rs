@@ -92,9 +92,51 @@ pub struct Lighting {
     /// The constant k in Il / (d + k).
     pub k: f64,
     pub interpolation: Interpolation,
-    /// When false, lights are not attenuated with distance: Il instead of
-    /// Il / (d + k) (the lecture's formula before attenuation is introduced).
-    pub attenuation: bool,
+    /// How a point light's intensity falls with distance.
+    pub falloff: Falloff,
+}
+
+/// How a point light's intensity `Il` falls with the distance `d` to the lit
+/// point (docs/lighting-model.md, "Falloff").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Falloff {
+    /// `Il / (d + k)`, the lecture's.
+    #[default]
+    Lecture,
+    /// `Il / d^2`, physically based lights (`Il` a radiant intensity).
+    InverseSquare,
+    /// `Il`: the formula before attenuation is introduced.
+    None,
+}
+
+impl Falloff {
+    /// The spelling of scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Falloff::Lecture => "lecture",
+            Falloff::InverseSquare => "inverse-square",
+            Falloff::None => "none",
+        }
+    }
+
+    /// What `Il` is divided by at distance `d`, with the constant `k`;
+    /// none when it is not divided.
+    pub fn divisor(self, d: f64, k: f64) -> Option<f64> {
+        match self {
+            Falloff::Lecture => Some(d + k),
+            Falloff::InverseSquare => Some(d * d),
+            Falloff::None => None,
+        }
+    }
+
+    /// `intensity` as it arrives at distance `d`.
+    pub fn attenuate(self, intensity: DVec3, d: f64, k: f64) -> DVec3 {
+        match self.divisor(d, k) {
+            Some(divisor) => intensity / divisor,
+            None => intensity,
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]

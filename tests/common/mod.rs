@@ -119,7 +119,7 @@ pub fn scene(width: u32, height: u32, fov_y_deg: f64) -> Scene {
             ambient: DVec3::splat(0.2),
             k: 1.0,
             interpolation: Interpolation::Perspective,
-            attenuation: true,
+            falloff: Falloff::Lecture,
         },
         lights: vec![PointLight {
             position: DVec3::new(4.0, 5.0, 8.0),

@@ -58,6 +58,7 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (5, "BACK_FACES"),
     (6, "OUTPUT_SCALE"),
     (7, "AT_LEAST_ZERO"),
+    (32, "INVERSE_SQUARE"),
 ];
 
 #[repr(C)]
@@ -118,10 +119,11 @@ pub struct Specialization {
     /// Multisampled and shaded per pixel: a colour below 0 (extrapolated
     /// inputs) is written as 0.
     pub at_least_zero: u32,
+    pub inverse_square: u32,
 }
 
 impl Specialization {
-    pub fn map_entries() -> [vk::SpecializationMapEntry; 8] {
+    pub fn map_entries() -> [vk::SpecializationMapEntry; 9] {
         let entry = |index: usize| vk::SpecializationMapEntry {
             constant_id: u32::from(SPEC_CONSTANTS[index].0),
             offset: index as u32 * 4,
@@ -136,6 +138,7 @@ impl Specialization {
             entry(5),
             entry(6),
             entry(7),
+            entry(8),
         ]
     }
 }

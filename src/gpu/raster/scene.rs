@@ -267,6 +267,7 @@ pub fn specialization(scene: &Scene) -> Specialization {
         back_faces: 1,
         output_scale: 1.0,
         at_least_zero: 0,
+        inverse_square: u32::from(lighting.inverse_square),
     }
 }
 

@@ -142,6 +142,7 @@ pub const SPEC_CONSTANTS: &[(u16, &str)] = &[
     (19, "SAMPLER_FIXED"),
     (20, "FIXED_SAMPLER"),
     (21, "HUGE_SPHERE_COUNT"),
+    (32, "INVERSE_SQUARE"),
 ];
 
 #[repr(C)]
@@ -366,6 +367,7 @@ pub struct TraceSpecialization {
     pub sampler_fixed: u32,
     pub fixed_sampler: u32,
     pub huge_sphere_count: i32,
+    pub inverse_square: u32,
 }
 
 impl TraceSpecialization {

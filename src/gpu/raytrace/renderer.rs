@@ -179,6 +179,7 @@ fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSp
         light_count: lighting.light_count,
         use_specular: on(lighting.use_specular),
         use_attenuation: u32::from(lighting.use_attenuation),
+        inverse_square: u32::from(lighting.inverse_square),
         shadows: u32::from(rt.render.shadows && !rt.lights.is_empty()),
         has_reflection: on(rt.has_reflection() && rt.render.depth > 0),
         has_transmission: on(rt.has_transmission() && rt.render.depth > 0),
@@ -459,7 +460,7 @@ mod tests {
         for m in &mut scene.materials {
             (m.ks, m.kr, m.kt) = (0.0, 0.0, 0.0);
         }
-        scene.lighting.attenuation = false;
+        scene.lighting.falloff = crate::scene::Falloff::None;
         scene.render.depth = 3;
         let rt = RtScene::new(&scene);
         let plain = specialization(&scene, &rt, TraceOptions::default());

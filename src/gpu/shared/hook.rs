@@ -136,7 +136,7 @@ fn check_interface(
         .collect();
     if let Some(extra) = bindings.iter().find(|b| !expected.contains(b)) {
         return Err(GpuError::LightingHook(format!(
-            "{}: declares a resource of its own (set {}, binding {}); a hook may use only what shadelab supplies (its arguments, the Surface fields, USE_SPECULAR, USE_ATTENUATION)",
+            "{}: declares a resource of its own (set {}, binding {}); a hook may use only what shadelab supplies (its arguments, the Surface fields, USE_SPECULAR, USE_ATTENUATION, INVERSE_SQUARE)",
             hook.path, extra.0, extra.1
         )));
     }

@@ -7,7 +7,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 
-use crate::scene::Scene;
+use crate::scene::{Falloff, Scene};
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -75,12 +75,15 @@ fn f32x4(v: DVec3) -> [f32; 4] {
 
 /// The lighting terms a scene uses, which every pipeline's specialization
 /// constants carry: the loop over exactly its lights, specular only if
-/// some drawn material has `ks > 0`, attenuation only if enabled.
+/// some drawn material has `ks > 0`, attenuation only if the scene's
+/// falloff has one.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SceneLighting {
     pub light_count: i32,
     pub use_specular: bool,
     pub use_attenuation: bool,
+    /// The attenuation is `1 / d^2`, not the lecture's `1 / (d + k)`.
+    pub inverse_square: bool,
 }
 
 impl SceneLighting {
@@ -91,7 +94,8 @@ impl SceneLighting {
                 .objects
                 .iter()
                 .any(|o| scene.materials[o.material].ks > 0.0),
-            use_attenuation: scene.lighting.attenuation,
+            use_attenuation: scene.lighting.falloff != Falloff::None,
+            inverse_square: scene.lighting.falloff == Falloff::InverseSquare,
         }
     }
 }

@@ -9,7 +9,7 @@ use super::checks::{spanned_map, Ctx};
 use super::schema::{v3, CameraRaw, LightRaw, LightingRaw};
 use crate::scene::defaults::DEFAULT_FOV_Y_DEG;
 use crate::scene::error::SceneError;
-use crate::scene::model::{Camera, ImageSettings, Lighting, PointLight};
+use crate::scene::model::{Camera, Falloff, ImageSettings, Lighting, PointLight};
 
 /// The camera, refused where it cannot see: `look_at` at `position`, a
 /// zero `up` or one along the view, `fov_y` outside (0, 180).
@@ -98,7 +98,20 @@ pub(super) fn lighting(cx: &Ctx, raw: Option<&LightingRaw>) -> Result<Lighting, 
             lighting.interpolation = i;
         }
         if let Some(a) = l.attenuation {
-            lighting.attenuation = a;
+            lighting.falloff = if a { Falloff::Lecture } else { Falloff::None };
+        }
+        if let Some(f) = &l.falloff {
+            let falloff = *f.get_ref();
+            if let Some(a) = l.attenuation.filter(|&a| a != (falloff != Falloff::None)) {
+                return Err(cx.err(
+                    f,
+                    format!(
+                        "`lighting.falloff = \"{}\"` contradicts `lighting.attenuation = {a}`; give `falloff` alone",
+                        falloff.name()
+                    ),
+                ));
+            }
+            lighting.falloff = falloff;
         }
     }
     Ok(lighting)

@@ -16,7 +16,8 @@
 //! | `lighting.ambient` | `0.2` | number or `[r, g, b]`, each >= 0 |
 //! | `lighting.k` | `1.0` | >= 0 |
 //! | `lighting.interpolation` | `"perspective"` | or `"screen"` |
-//! | `lighting.attenuation` | `true` | `false`: Il instead of Il / (d + k) |
+//! | `lighting.falloff` | `"lecture"` | Il / (d + k); `"inverse-square"`: Il / d^2; `"none"`: Il |
+//! | `lighting.attenuation` | `true` | `false` is `falloff = "none"` (the older spelling) |
 //! | `lights[].position`, `lights[].intensity` | required | intensity number or `[r, g, b]`, each >= 0 |
 //! | `materials.NAME.color` | `[1, 1, 1]` | each >= 0 |
 //! | `ka`, `kd`, `ks`, `p`, `kr`, `kt` | 0.2, 0.8, 0, 32, 0, 0 | >= 0 |

@@ -76,7 +76,7 @@ mod tests {
     use super::super::test_support::*;
     use super::*;
     use crate::scene::model::{
-        ImageSettings, Interpolation, Lighting, Material, RenderSettings, Shape, Traversal,
+        Falloff, ImageSettings, Interpolation, Lighting, Material, RenderSettings, Shape, Traversal,
     };
 
     /// The example of `docs/interface.md`, verbatim.
@@ -167,7 +167,7 @@ msaa    = 1                       # raster modes: samples per pixel ("4,per-samp
         assert_eq!(s.lighting.ambient, DVec3::splat(0.2));
         assert_eq!(s.lighting.k, 1.0);
         assert_eq!(s.lighting.interpolation, Interpolation::Perspective);
-        assert!(s.lighting.attenuation);
+        assert_eq!(s.lighting.falloff, Falloff::Lecture);
         assert_eq!(s.lights.len(), 1);
         assert_eq!(s.lights[0].position, DVec3::new(4.0, 6.0, 5.0));
         assert_eq!(s.lights[0].intensity, DVec3::splat(8.0));
@@ -259,7 +259,7 @@ msaa    = 1                       # raster modes: samples per pixel ("4,per-samp
                 ambient: DVec3::splat(0.2),
                 k: 1.0,
                 interpolation: Interpolation::Perspective,
-                attenuation: true
+                falloff: Falloff::Lecture,
             }
         );
         assert!(s.lights.is_empty());
@@ -303,6 +303,37 @@ msaa    = 1                       # raster modes: samples per pixel ("4,per-samp
         assert_eq!(s.render, RenderSettings::default());
     }
 
+    /// `falloff` by name; the older `attenuation` agrees with it or is an
+    /// error at the `falloff` line; an unknown name lists the known ones.
+    #[test]
+    fn falloff_by_name_and_its_older_spelling() {
+        let falloff = |lighting: &str| {
+            parse_ok(&with_camera(&format!("[lighting]\n{lighting}\n")))
+                .lighting
+                .falloff
+        };
+        assert_eq!(
+            falloff("falloff = \"inverse-square\""),
+            Falloff::InverseSquare
+        );
+        assert_eq!(falloff("falloff = \"none\""), Falloff::None);
+        assert_eq!(falloff("falloff = \"lecture\""), Falloff::Lecture);
+        assert_eq!(falloff("attenuation = false"), Falloff::None);
+        assert_eq!(
+            falloff("attenuation = false\nfalloff = \"none\""),
+            Falloff::None
+        );
+        let e = parse_err(&with_camera(
+            "[lighting]\nattenuation = false\nfalloff = \"inverse-square\"\n",
+        ));
+        assert!(
+            e.contains("contradicts `lighting.attenuation = false`"),
+            "{e}"
+        );
+        let e = parse_err(&with_camera("[lighting]\nfalloff = \"quadratic\"\n"));
+        assert!(e.contains("inverse-square"), "{e}");
+    }
+
     #[test]
     fn extensions_and_alternative_forms() {
         let s = parse_ok(&with_camera(
@@ -314,7 +345,7 @@ msaa    = 1                       # raster modes: samples per pixel ("4,per-samp
         assert_eq!(s.lighting.ambient, DVec3::new(0.1, 0.2, 0.3));
         assert_eq!(s.lighting.k, 0.0);
         assert_eq!(s.lighting.interpolation, Interpolation::Screen);
-        assert!(!s.lighting.attenuation);
+        assert_eq!(s.lighting.falloff, Falloff::None);
         assert_eq!(s.lights[0].intensity, DVec3::new(1.0, 0.5, 0.0));
         let Shape::Box {
             half_extents,

@@ -14,7 +14,7 @@ use serde::de::{self, Deserializer, IgnoredAny, SeqAccess, Visitor};
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::scene::model::{Interpolation, Traversal};
+use crate::scene::model::{Falloff, Interpolation, Traversal};
 
 /// A finite number; TOML integers are accepted too.
 #[derive(Debug, Clone, Copy)]
@@ -150,6 +150,7 @@ pub(super) struct LightingRaw {
     pub(super) k: Option<Spanned<Finite>>,
     pub(super) interpolation: Option<Interpolation>,
     pub(super) attenuation: Option<bool>,
+    pub(super) falloff: Option<Spanned<Falloff>>,
 }
 
 #[derive(Deserialize)]
