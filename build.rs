@@ -129,6 +129,13 @@ fn variants() -> Vec<Variant> {
     out.push(compute("RAYTRACE_COMP", &[]));
     out.push(compute("RAYTRACE_WIDE_COMP", &[("WIDE_BVH", None)]));
     out.push(compute("RAYTRACE_QUERY_COMP", &[("RAY_QUERY", None)]));
+    // Diffuse bounces (secondary illumination): modules of their own, so
+    // that a Whitted render neither compiles nor carries them.
+    out.push(compute("RAYTRACE_PATHS_COMP", &[("PATHS", None)]));
+    out.push(compute(
+        "RAYTRACE_WIDE_PATHS_COMP",
+        &[("WIDE_BVH", None), ("PATHS", None)],
+    ));
     out
 }
 

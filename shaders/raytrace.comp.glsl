@@ -36,8 +36,13 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 // checks each against its constant there), in one place.
 //
 // Depth is at most 64 (checked on the host). Only a ray that both reflects
-// and refracts leaves a ray waiting, one per level (rt_ray_tree.glsl).
+// and refracts leaves a ray waiting, one per level (rt_ray_tree.glsl); with
+// diffuse bounces (PATHS) a bounce can wait beside it, two per level.
+#ifdef PATHS
+const int STACK_SIZE = 128;
+#else
 const int STACK_SIZE = 64;
+#endif
 // Packets each subgroup traces per work item (rt_layout::ITEM_PACKETS): a
 // 4 x 4 arrangement of packets, each packet 4 pixels wide, so an item is
 // ITEM_WIDTH pixels wide.
@@ -65,6 +70,9 @@ const int UNROLLED_MATERIALS = 8;
 #include "rt_search.glsl"      // nearest hit and shadow query: lists, then BVH (or ray queries)
 #include "rt_surface.glsl"     // what shading needs at a hit: normal, uv, pattern, tint
 #include "rt_shading.glsl"     // materials, offsets, direct light with shadow rays
+#ifdef PATHS
+#include "rt_bounce.glsl"      // diffuse bounces: random numbers, directions
+#endif
 #include "rt_ray_tree.glsl"    // one sample's reflection and refraction tree
 
 void main() {
@@ -143,7 +151,12 @@ void main() {
                 vec2 cell = vec2(column + 0.5, row + 0.5) * vec2(inv_kx, inv_ky);
                 vec2 ndc = (vec2(pixel) + cell) * ndc_per_pixel - 1.0;
                 vec3 dir = frame.forward_cutoff.xyz + right_per_ndc * ndc.x - up_per_ndc * ndc.y;
+#ifdef PATHS
+                uvec2 key = uvec2(pixel.y * width + pixel.x, i);
+                sum += trace_sample(dir * inversesqrt(dot(dir, dir)), on_image, key);
+#else
                 sum += trace_sample(dir * inversesqrt(dot(dir, dir)), on_image);
+#endif
                 if (++i >= samples) {
                     break;
                 }

@@ -34,7 +34,7 @@ fn traced(scene: &Scene, origin: DVec3, dir: DVec3) -> (DVec3, RayStats) {
         origin,
         dir: dir.normalize(),
     };
-    let (value, _) = tracer.trace(ray, &mut stats, &mut PathSignature::default());
+    let (value, _) = tracer.trace(ray, (0, 0), &mut stats, &mut PathSignature::default());
     (value, stats)
 }
 
@@ -365,7 +365,7 @@ fn samples_average_the_spec_positions() {
     let mut sum = DVec3::ZERO;
     for (sx, sy) in [(0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75)] {
         let ray = tracer.primary_ray(f64::from(x) + sx, f64::from(y) + sy);
-        let (value, _) = tracer.trace(ray, &mut stats, &mut PathSignature::default());
+        let (value, _) = tracer.trace(ray, (0, 0), &mut stats, &mut PathSignature::default());
         sum += value;
     }
     assert_eq!(got.color, sum / 4.0);

@@ -65,7 +65,8 @@ layout(std140, set = 0, binding = 1) uniform TraceUniforms {
     uvec4 image;          // x: width, y: height, z: samples, w: maximum depth
     uvec4 grid;           // x, y: the sample grid kx, ky; z: the first huge sphere's record; w: the BVH's root link
     // x, y, z: the BVH leaf index of its first sphere, plane and box (its
-    // triangles start at 0; a leaf's kind is the range its first index is in)
+    // triangles start at 0; a leaf's kind is the range its first index is
+    // in); w: the diffuse bounces a path may take (read with PATHS)
     uvec4 leaf_bases;
     // xyz: centre, w: radius of a sphere around the whole BVH (negative for
     // an empty tree)

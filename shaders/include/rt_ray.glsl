@@ -31,12 +31,29 @@ struct Hit {
     uint object;
 };
 
+#ifdef PATHS
+// Diffuse bounces (docs/lighting-model.md, "Secondary illumination")
+// multiply a ray's weight by a colour: weights are RGB, and a ray knows the
+// bounces its path has taken.
+#define WEIGHT vec3
+#define LARGEST(w) max((w).x, max((w).y, (w).z))
+struct Ray {
+    vec3 origin;
+    vec3 dir;
+    vec3 weight;
+    int depth;
+    int bounces;
+};
+#else
+#define WEIGHT float
+#define LARGEST(w) (w)
 struct Ray {
     vec3 origin;
     vec3 dir;
     float weight;
     int depth;
 };
+#endif
 
 uint local_counts[5];  // primary, shadow, reflected, refracted, pruned
 int deepest = 0;

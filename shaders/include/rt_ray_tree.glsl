@@ -1,5 +1,25 @@
 // The ray tracer's recursion: reflection and refraction, one sample's ray
-// tree walked with a stack of the rays that wait.
+// tree walked with a stack of the rays that wait; compiled with PATHS,
+// diffuse bounces too (docs/lighting-model.md, "Secondary illumination").
+
+#ifdef PATHS
+// The diffuse albedo kd C of the hit `shade_hit` shaded last, after
+// vertex colours, patterns and images: a bounce's weight.
+vec3 hit_albedo = vec3(0.0);
+// Bounces wait on the stack, as refracted rays' siblings do.
+#define RAYS_WAIT true
+// The background lights nothing: only eye rays (no bounce yet) see it.
+#define AND_AN_EYE_RAY && ray.bounces == 0
+// A sample's pixel and index, which seed its bounces.
+#define SAMPLE_KEY , uvec2 key
+// A ray's bounces so far, after its depth.
+#define BOUNCES_SO_FAR(n) , n
+#else
+#define RAYS_WAIT HAS_TRANSMISSION
+#define AND_AN_EYE_RAY
+#define SAMPLE_KEY
+#define BOUNCES_SO_FAR(n)
+#endif
 
 // The local model's light at a hit, shadow rays included, and the surface
 // and material the hit's children need. Call in uniform control flow
@@ -21,6 +41,13 @@ vec3 shade_hit(Ray ray, Hit hit, bool hits, vec2 cone, inout Surfel s, out Mater
             surface.color *= hit_pattern(hit, s, ray.dir, cone.x + cone.y * hit.t);
         }
     }
+#ifdef PATHS
+    hit_albedo = surface.kd * surface.color;
+    // After a diffuse bounce the Phong lobe counts no more.
+    if (ray.bounces > 0) {
+        surface.ks = 0.0;
+    }
+#endif
     return local_shading(s, surface, ray.origin, ray.dir, hits);
 }
 
@@ -29,10 +56,10 @@ vec3 shade_hit(Ray ray, Hit hit, bool hits, vec2 cone, inout Surfel s, out Mater
 // the cut-off is pruned (and counted).
 struct Children {
     bool reflects;
-    float reflect_weight;
+    WEIGHT reflect_weight;
     bool refracts;
     vec3 refract_dir;
-    float refract_weight;
+    WEIGHT refract_weight;
 };
 
 Children children_of(Ray ray, vec3 N, MaterialRecord material, float cutoff) {
@@ -40,7 +67,7 @@ Children children_of(Ray ray, vec3 N, MaterialRecord material, float cutoff) {
     // Decided by kr and total internal reflection, not by the
     // weight, as on the CPU: a weight that underflows in f32 is
     // still a child (pruned).
-    Children c = Children(kr > 0.0, ray.weight * kr, false, vec3(0.0), 0.0);
+    Children c = Children(kr > 0.0, ray.weight * kr, false, vec3(0.0), WEIGHT(0.0));
     if (HAS_TRANSMISSION) {
         float kt = material.kt_ior.x;
         float ior = material.kt_ior.y;
@@ -63,11 +90,11 @@ Children children_of(Ray ray, vec3 N, MaterialRecord material, float cutoff) {
             }
         }
     }
-    if (c.reflects && c.reflect_weight < cutoff) {
+    if (c.reflects && LARGEST(c.reflect_weight) < cutoff) {
         c.reflects = false;
         count(4);
     }
-    if (c.refracts && c.refract_weight < cutoff) {
+    if (c.refracts && LARGEST(c.refract_weight) < cutoff) {
         c.refracts = false;
         count(4);
     }
@@ -93,9 +120,46 @@ void child_cones(vec2 cone, Hit hit, out vec2 refracted_cone, out vec2 reflected
 
 // A child of `ray` at its hit `s`: leaving along `dir`, from an origin off
 // the surface, one level deeper.
-Ray child_ray(Ray ray, Surfel s, vec3 dir, float weight) {
-    return Ray(offset_origin(s.p, ray.origin, s.geometric, dir), dir, weight, ray.depth + 1);
+Ray child_ray(Ray ray, Surfel s, vec3 dir, WEIGHT weight) {
+    return Ray(offset_origin(s.p, ray.origin, s.geometric, dir), dir, weight, ray.depth + 1 BOUNCES_SO_FAR(ray.bounces));
 }
+
+#ifdef PATHS
+// The diffuse bounce of `ray`'s hit `s` (at distance `t`, albedo
+// `hit_albedo`) and its cone, drawn with the numbers of `key`: false where
+// the hit takes none (the depth or the bounce limit reached, a zero
+// normal, a black surface), where Russian roulette ends the path, or where
+// the direction leaves below the surface's geometric side
+// (src/cpu/raytrace/tracer.rs, `bounce`).
+bool bounce_of(Ray ray, Surfel s, float t, vec2 cone, uvec2 key, out Ray bounced, out vec2 bounce_cone) {
+    bounce_cone = vec2(0.0);
+    if (TEXTURES) {
+        // As a refracted ray's: as wide as this one at the hit.
+        bounce_cone = vec2(cone.x + cone.y * t, cone.y);
+    }
+    bool kept = ray.depth < int(frame.image.w) && s.normal != vec3(0.0) && ray.bounces < int(frame.leaf_bases.w) &&
+                hit_albedo != vec3(0.0);
+    vec3 u = bounce_numbers(key, ray.depth);
+    vec3 weight = ray.weight * hit_albedo;
+    if (kept && ray.bounces >= ROULETTE_AFTER) {
+        float q = min(LARGEST(weight), 1.0);
+        kept = u.z < q;
+        if (kept) {
+            weight /= q;
+        } else {
+            count(4);
+        }
+    }
+    vec3 facing = dot(s.geometric, ray.dir) > 0.0 ? -s.normal : s.normal;
+    vec3 dir = cosine_direction(facing, u.x, u.y);
+    kept = kept && dot(s.geometric, dir) * dot(s.geometric, ray.dir) < 0.0;
+    bounced = Ray(offset_origin(s.p, ray.origin, s.geometric, dir), dir, weight, ray.depth + 1, ray.bounces + 1);
+    if (kept) {
+        count(2);
+    }
+    return kept;
+}
+#endif
 
 // Whether the packet goes on: some lane has a ray (`live`). Without
 // refraction no ray waits, so where nothing was hit the packet is done,
@@ -104,7 +168,7 @@ Ray child_ray(Ray ray, Surfel s, vec3 dir, float weight) {
 bool packet_goes_on_with(bool live, bool packet_hits) {
     bool goes_on;
     if (HAS_BVH) {
-        if (HAS_TRANSMISSION) {
+        if (RAYS_WAIT) {
             goes_on = packet_any(live);
         } else {
             goes_on = packet_hits && packet_any(live);
@@ -120,19 +184,28 @@ bool packet_goes_on_with(bool live, bool packet_hits) {
 // ray in hand goes on to its first child; only a reflected ray whose
 // sibling is refracted waits on the stack. The subgroup goes on while any
 // lane has a ray (the walks are packets); `live` says whether this one has.
-vec3 trace_sample(vec3 dir, bool live) {
+//
+// Each ray's cone (an image's level of detail) is its width at the origin
+// and its growth per unit of distance, kept beside the rays and touched
+// only with TEXTURES, so that a scene without images carries none of it
+// (its pipeline compiled as fast as before them). A primary cone widens by
+// a pixel's height per unit of distance (level_of_detail::pixel_spread).
+//
+// Shading walks shadow rays as packets: the whole subgroup comes to it, or
+// none of it (where every ray left the scene). With no BVH nothing there
+// shuffles, so each lane goes its own way and the driver's masks do what
+// the votes did, for less (a vote is three shuffles; the four spheres took
+// 0.9x the time without).
+//
+// With PATHS a hit's diffuse bounce waits on the stack below its mirror
+// and glass children, so it is traced after them, as on the CPU.
+vec3 trace_sample(vec3 dir, bool live SAMPLE_KEY) {
     Ray waiting[STACK_SIZE];
-    // Each ray's cone (an image's level of detail): its width at the
-    // origin and its growth per unit of distance. Kept beside the rays and
-    // touched only with TEXTURES, so that a scene without images carries
-    // none of it (its pipeline compiled as fast as before them).
     vec2 waiting_cones[STACK_SIZE];
     int top = 0;
-    Ray ray = Ray(vec3(0.0), dir, 1.0, 0);
+    Ray ray = Ray(vec3(0.0), dir, WEIGHT(1.0), 0 BOUNCES_SO_FAR(0));
     vec2 cone = vec2(0.0);
     if (TEXTURES) {
-        // A primary cone widens by a pixel's height per unit of distance
-        // (level_of_detail::pixel_spread).
         cone.y = 2.0 / (frame.right_focal.w * float(frame.image.y));
     }
     if (live) {
@@ -150,17 +223,12 @@ vec3 trace_sample(vec3 dir, bool live) {
         }
         Hit hit = nearest(ray.origin, ray.dir, live);
         bool hits = live && hit.shape != NO_SHAPE;
-        if (live && !hits) {
+        if (live && !hits AND_AN_EYE_RAY) {
             total += ray.weight * frame.background.rgb;
         }
         Surfel s = Surfel(vec3(0.0), vec3(0.0), vec3(0.0), 0u);
         MaterialRecord material = MaterialRecord(vec4(0.0), vec4(0.0), vec2(0.0));
         vec3 local = vec3(0.0);
-        // Shading walks shadow rays as packets: the whole subgroup comes
-        // here, or none of it (where every ray left the scene). With no
-        // BVH nothing below shuffles, so each lane goes its own way and
-        // the driver's masks do what the votes did, for less (a vote is
-        // three shuffles; the four spheres took 0.9x the time without).
         bool packet_hits = HAS_BVH ? packet_any(hits) : hits;
         if (packet_hits) {
             local = shade_hit(ray, hit, hits, cone, s, material);
@@ -176,6 +244,16 @@ vec3 trace_sample(vec3 dir, bool live) {
                 // or refract about.
                 may_branch = ray.depth < max_depth && s.normal != vec3(0.0);
             }
+#ifdef PATHS
+            Ray bounced;
+            vec2 bounce_cone;
+            if (bounce_of(ray, s, hit.t, cone, key, bounced, bounce_cone)) {
+                if (TEXTURES) {
+                    waiting_cones[top] = bounce_cone;
+                }
+                waiting[top++] = bounced;
+            }
+#endif
             if (may_branch) {
                 Children c = children_of(ray, s.normal, material, cutoff);
                 vec2 refracted_cone, reflected_cone;
@@ -208,7 +286,7 @@ vec3 trace_sample(vec3 dir, bool live) {
                 }
             }
         }
-        if (HAS_TRANSMISSION && !live && top > 0) {
+        if (RAYS_WAIT && !live && top > 0) {
             ray = waiting[--top];
             if (TEXTURES) {
                 cone = waiting_cones[top];

@@ -174,20 +174,34 @@ impl MsaaArg {
     }
 }
 
-/// `--depth`: the ray tracer's maximum depth, overriding the scene's.
-#[derive(Args, Clone)]
+/// `--depth` and `--bounces`: how far the ray tracer's trees go,
+/// overriding the scene's.
+#[derive(Args, Clone, Default)]
 pub struct DepthArg {
     /// Ray tracing: maximum recursion depth (overrides the scene's
     /// render.depth).
     #[arg(long)]
     pub depth: Option<u32>,
+    /// Ray tracing: diffuse bounces, secondary illumination (overrides the
+    /// scene's render.bounces; 0, the default, is the Whitted tracer).
+    #[arg(long)]
+    pub bounces: Option<u32>,
 }
 
 impl DepthArg {
-    /// Sets the depth on `scene`, refusing one out of range.
+    /// Sets the depth and the bounces on `scene`, refusing either out of
+    /// range.
     pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
         if let Some(d) = self.depth {
             scene.render.depth = check_depth(d)?;
+        }
+        if let Some(b) = self.bounces {
+            if b > MAX_DEPTH {
+                return Err(Failure::usage(format!(
+                    "--bounces {b} is out of range; expected 0 to {MAX_DEPTH} (a bounce is a level of the ray tree, which --depth bounds)"
+                )));
+            }
+            scene.render.bounces = b;
         }
         Ok(())
     }

@@ -77,6 +77,10 @@ impl BenchArgs {
         flag("--width", self.size.width.map(|v| v.to_string()));
         flag("--height", self.size.height.map(|v| v.to_string()));
         flag("--depth", self.settings.depth.depth.map(|v| v.to_string()));
+        flag(
+            "--bounces",
+            self.settings.depth.bounces.map(|v| v.to_string()),
+        );
         flag("--traversal", self.settings.traversal.traversal.clone());
         let gpu = match &self.settings.lighting.lighting {
             Some(hook) => vec!["--lighting".into(), hook.into()],
@@ -143,7 +147,7 @@ fn load(
     memory: &MemoryLimit,
 ) -> Result<(Scene, String), Failure> {
     let s = &args.settings;
-    let mut given = ignored::scene_flags_given(&s.traversal, &s.msaa, s.depth.depth);
+    let mut given = ignored::scene_flags_given(&s.traversal, &s.msaa, &s.depth);
     if args.cpu {
         given.push("--cpu");
     }

@@ -13,7 +13,7 @@ use shadelab::msaa::Msaa;
 use shadelab::output::write_atomically;
 use shadelab::shading::Shading;
 
-use super::args::{ImageSize, LightingArg, ModeList, MsaaArg, TraversalArg};
+use super::args::{DepthArg, ImageSize, LightingArg, ModeList, MsaaArg, TraversalArg};
 use super::cases::case_workers;
 use super::check_cases::{run_cases, Cases, Job, NamedScene};
 use super::check_merge::{merge, RECORD};
@@ -80,7 +80,7 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     }
     let modes = args.modes.modes();
     super::ignored::warn(
-        &super::ignored::scene_flags_given(&args.traversal, &args.msaa, None),
+        &super::ignored::scene_flags_given(&args.traversal, &args.msaa, &DepthArg::default()),
         &modes,
         super::ignored::Backends::Both,
     );

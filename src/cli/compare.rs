@@ -14,7 +14,7 @@ use shadelab::memory::MemoryLimit;
 use shadelab::output::write_atomically;
 use shadelab::shading::Shading;
 
-use super::args::{check_runs, ImageSize, MsaaArg};
+use super::args::{check_runs, DepthArg, ImageSize, MsaaArg};
 use super::compare_folders::{clear_earlier_run, merge_folders, same_folder};
 use super::compare_table::{budget_line, print_table};
 use super::compare_variants::{modes_of, over_the_limit, rendered_by, variants_of};
@@ -223,7 +223,8 @@ fn render_variants(
     args.size.apply(&mut scene)?;
     args.msaa.apply(&mut scene)?;
     let variants = variants_of(&args.variants, &scene)?;
-    let given = super::ignored::scene_flags_given(&Default::default(), &args.msaa, None);
+    let given =
+        super::ignored::scene_flags_given(&Default::default(), &args.msaa, &DepthArg::default());
     super::ignored::warn(&given, &modes_of(&variants), super::ignored::Backends::Gpu);
     // The references alone must fit: without them no variant is measured.
     memory.check(&name, &scene, &[], &[Shading::Raytrace])?;

@@ -96,7 +96,7 @@ pub fn first_clash(cases: &[(String, String)]) -> Option<(&str, &str, &str)> {
 /// in a PNG's `shadelab:settings` (`render::image::effective_settings`),
 /// plus the reference's key and the hook's source digest that `golden`
 /// adds.
-const PIXEL_SETTINGS: [&str; 12] = [
+const PIXEL_SETTINGS: [&str; 13] = [
     "golden_scene",
     "shading",
     "width",
@@ -106,6 +106,7 @@ const PIXEL_SETTINGS: [&str; 12] = [
     "traversal",
     "depth",
     "samples",
+    "bounces",
     "shadows",
     "cutoff",
     "backend",

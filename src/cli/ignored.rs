@@ -114,10 +114,11 @@ pub fn warn(given: &[&str], modes: &[Shading], backends: Backends) {
 pub fn scene_flags_given(
     traversal: &super::args::TraversalArg,
     msaa: &super::args::MsaaArg,
-    depth: Option<u32>,
+    depth: &super::args::DepthArg,
 ) -> Vec<&'static str> {
     [
-        ("--depth", depth.is_some()),
+        ("--depth", depth.depth.is_some()),
+        ("--bounces", depth.bounces.is_some()),
         ("--traversal", traversal.traversal.is_some()),
         ("--msaa", msaa.msaa.is_some()),
     ]

@@ -53,7 +53,7 @@ pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result
     // Said once the flags are known to be valid: a bad one is the answer.
     let s = &args.settings;
     super::ignored::warn(
-        &super::ignored::scene_flags_given(&s.traversal, &s.msaa, s.depth.depth),
+        &super::ignored::scene_flags_given(&s.traversal, &s.msaa, &s.depth),
         &modes,
         super::ignored::Backends::Gpu,
     );

@@ -26,6 +26,9 @@ pub struct Variant {
     pub depth: Option<u32>,
     pub cutoff: Option<f64>,
     pub samples: Option<u32>,
+    /// The ray tracer's diffuse bounces (`--bounces`).
+    #[serde(default)]
+    pub bounces: Option<u32>,
     pub shadows: Option<bool>,
     /// A lighting hook's file (`--lighting`), for every mode.
     #[serde(default)]
@@ -51,6 +54,7 @@ impl Variant {
             depth: None,
             cutoff: None,
             samples: None,
+            bounces: None,
             shadows: None,
             lighting: None,
             traversal: None,
@@ -84,6 +88,9 @@ impl Variant {
         }
         if let Some(n) = self.samples {
             s.render.samples = n;
+        }
+        if let Some(n) = self.bounces {
+            s.render.bounces = n;
         }
         if let Some(on) = self.shadows {
             s.render.shadows = on;
@@ -125,6 +132,9 @@ impl fmt::Display for Variant {
         }
         if let Some(n) = self.samples {
             keys.push(format!("samples={n}"));
+        }
+        if let Some(n) = self.bounces {
+            keys.push(format!("bounces={n}"));
         }
         if let Some(on) = self.shadows {
             keys.push(format!("shadows={on}"));
@@ -258,6 +268,14 @@ impl Variant {
                 }
                 self.samples = Some(n);
             }
+            "bounces" => {
+                setting.only(!raster, "raytrace")?;
+                let n: u32 = value.parse().map_err(|_| bad("an integer from 0 to 64"))?;
+                if n > MAX_DEPTH {
+                    return Err(bad("an integer from 0 to 64"));
+                }
+                self.bounces = Some(n);
+            }
             "shadows" => {
                 setting.only(!raster, "raytrace")?;
                 self.shadows = Some(value.parse().map_err(|_| bad("true or false"))?);
@@ -284,7 +302,7 @@ impl Variant {
             }
             key => {
                 return Err(format!(
-                    "variant `{}`: unknown setting `{key}`; expected segments, interpolation, depth, cutoff, samples, shadows, lighting, traversal, filter or msaa",
+                    "variant `{}`: unknown setting `{key}`; expected segments, interpolation, depth, cutoff, samples, bounces, shadows, lighting, traversal, filter or msaa",
                     setting.text
                 ))
             }

@@ -2,11 +2,13 @@
 //! independent of the shaders (it shares only scene loading, tessellation,
 //! the ray tracer's scene (`rt_scene`) and the camera with the GPU path).
 //! `raster` draws flat, Gouraud and Phong; `raytrace` (with `intersect`)
-//! is the ray tracer's twin; `lighting` is the formula both shade with,
+//! is the ray tracer's twin, `forward` traces light from the lights (the
+//! forward tracer; its GPU twin is to come); `lighting` is the formula both shade with,
 //! `surface` the colour a surface point adds to it (its texture reads in
 //! `sample`). Every accuracy figure in the project is measured against it.
 
 mod clip;
+pub mod forward;
 pub mod intersect;
 pub mod lighting;
 pub mod raster;

@@ -85,7 +85,17 @@ impl RtScene {
                     intensity: l.intensity,
                 })
                 .collect(),
-            lighting: scene.lighting,
+            // Secondary illumination follows the light the ambient term
+            // stood for; keeping it would count that light twice
+            // (docs/lighting-model.md, "Secondary illumination").
+            lighting: Lighting {
+                ambient: if scene.render.bounces > 0 {
+                    DVec3::ZERO
+                } else {
+                    scene.lighting.ambient
+                },
+                ..scene.lighting
+            },
             background: scene.image.background,
             render: scene.render,
         }

@@ -68,6 +68,7 @@ impl Default for RenderSettings {
             cutoff: 0.001,
             shadows: true,
             samples: 1,
+            bounces: 0,
             traversal: Traversal::Auto,
             msaa: crate::msaa::Msaa::default(),
         }

@@ -391,6 +391,9 @@ pub struct RenderSettings {
     pub shadows: bool,
     /// Ray tracing: samples per pixel.
     pub samples: u32,
+    /// Ray tracing: diffuse bounces a path may take (secondary
+    /// illumination, docs/lighting-model.md); 0 is the Whitted tracer.
+    pub bounces: u32,
     /// Ray tracing on the GPU: the engine that finds hits.
     pub traversal: Traversal,
     /// The raster modes: samples per pixel and where they are shaded.

@@ -34,6 +34,7 @@ pub(super) fn effective_settings(
         "height": rendered.image.height,
         "depth": ray_traced.then_some(r.depth),
         "samples": ray_traced.then_some(r.samples),
+        "bounces": ray_traced.then_some(r.bounces),
         "shadows": ray_traced.then_some(r.shadows),
         "cutoff": ray_traced.then_some(r.cutoff),
         "traversal": rendered.traversal.map(|t| t.name()),

@@ -79,7 +79,7 @@ pub(super) fn apply_overrides(
 /// by flag: those every command shares and render's own.
 fn options_given(args: &RenderArgs) -> Vec<&'static str> {
     let s = &args.settings;
-    let mut given = ignored::scene_flags_given(&s.traversal, &s.msaa, s.depth.depth);
+    let mut given = ignored::scene_flags_given(&s.traversal, &s.msaa, &s.depth);
     for (flag, present) in [
         ("--cutoff", args.cutoff.is_some()),
         ("--samples", args.samples.is_some()),

@@ -12,13 +12,15 @@ pub enum RayKind {
     Primary = 0,
     Reflected = 1,
     Refracted = 2,
+    /// A diffuse bounce (secondary illumination).
+    Diffuse = 5,
 }
 
 /// FNV-1a 64 over the discrete events of a pixel's ray trees, in the order
 /// they happen (`docs/raytracing.md`, "Path signature"):
 ///
 /// - every traced ray: its kind (1 byte: 0 primary, 1 reflected,
-///   2 refracted), its depth (u32), the object hit (u32, `u32::MAX` on a
+///   2 refracted, 5 a diffuse bounce), its depth (u32), the object hit (u32, `u32::MAX` on a
 ///   miss) and the part of it (u32: a box's face `2 axis + (0 for -, 1 for
 ///   +)`, else 0; `u32::MAX` on a miss); integers little-endian;
 /// - after a hit's ray record, for every light the shading asks about

@@ -43,14 +43,14 @@ pub fn offset_origin(p: DVec3, o: DVec3, geometric_normal: DVec3, dir: DVec3) ->
 }
 
 /// The children of a hit at normal `n` (outward, nonzero) of a ray along
-/// `d` whose weight is `weight`: reflected, then refracted (so the
+/// `d` whose weight is `weight` (RGB): reflected, then refracted (so the
 /// refracted one is traced first), each `(direction, weight, kind)`.
-pub(super) fn children(
+pub(crate) fn children(
     d: DVec3,
     n: DVec3,
     material: &Material,
-    weight: f64,
-) -> [Option<(DVec3, f64, RayKind)>; 2] {
+    weight: DVec3,
+) -> [Option<(DVec3, DVec3, RayKind)>; 2] {
     let (kr, kt) = (material.kr, material.kt);
     let mut reflected_weight = (kr > 0.0).then_some(weight * kr);
     let mut refracted = None;

@@ -1,10 +1,12 @@
 //! The ray tree of one pixel's samples: an explicit stack of pending rays
 //! in `docs/raytracing.md`'s order, each hit shaded with its shadow rays
 //! and its reflected and refracted children pushed, weights and cones
-//! carried along.
+//! carried along; with `render.bounces`, a diffuse bounce too
+//! (docs/lighting-model.md, "Secondary illumination").
 
 use glam::DVec3;
 
+use super::bounce::{bounce_numbers, cosine_direction, roulette, ROULETTE_AFTER};
 use super::path_signature::{PathSignature, RayKind};
 use super::secondary_rays::{children, facing_normal, offset_epsilon, offset_origin};
 use crate::camera::View;
@@ -12,7 +14,7 @@ use crate::cpu::intersect::{Accel, Hit, Ray};
 use crate::cpu::lighting::{shade_visible, Surface};
 use crate::cpu::surface::hit_tint;
 use crate::rt_scene::{sample_grid, Primitive, RayStats, RtScene};
-use crate::scene::PointLight;
+use crate::scene::{Material, PointLight};
 
 /// The sub-pixel sample positions `(sx, sy)` for `n` samples: the cell
 /// centres of a `kx x ky` grid, `kx = ceil(sqrt(n))`, `ky = ceil(n / kx)`,
@@ -43,8 +45,11 @@ pub struct PixelTrace {
 #[derive(Debug, Clone, Copy)]
 struct Pending {
     ray: Ray,
-    weight: f64,
+    /// RGB: a diffuse bounce multiplies it by a colour.
+    weight: DVec3,
     depth: u32,
+    /// Diffuse bounces on the path so far.
+    bounces: u32,
     kind: RayKind,
     /// The ray's cone (texture level of detail): its width at the origin
     /// and how fast it widens per unit of distance.
@@ -59,6 +64,9 @@ pub struct Tracer<'a> {
     offsets: Vec<(f64, f64)>,
     /// A primary ray's cone spread (`level_of_detail::pixel_spread`).
     pixel_spread: f64,
+    /// The scene's materials without their Phong lobe, as a path sees them
+    /// after a diffuse bounce (empty without bounces).
+    diffuse_materials: Vec<Material>,
 }
 
 impl<'a> Tracer<'a> {
@@ -70,6 +78,15 @@ impl<'a> Tracer<'a> {
             pixel_spread: crate::level_of_detail::pixel_spread(&view),
             view,
             offsets: sample_offsets(scene.render.samples),
+            diffuse_materials: if scene.render.bounces > 0 {
+                let diffuse = |m: &Material| Material {
+                    ks: 0.0,
+                    ..m.clone()
+                };
+                scene.materials.iter().map(diffuse).collect()
+            } else {
+                Vec::new()
+            },
         }
     }
 
@@ -86,10 +103,12 @@ impl<'a> Tracer<'a> {
         let mut signature = PathSignature::default();
         let mut sum = DVec3::ZERO;
         let mut object = None;
+        let pixel = y.wrapping_mul(self.view.width).wrapping_add(x);
         for (i, &(sx, sy)) in self.offsets.iter().enumerate() {
             let ray = self.primary_ray(f64::from(x) + sx, f64::from(y) + sy);
             stats.primary += 1;
-            let (value, hit) = self.trace(ray, stats, &mut signature);
+            let key = (pixel, i as u32);
+            let (value, hit) = self.trace(ray, key, stats, &mut signature);
             if i == 0 {
                 object = hit;
             }
@@ -103,10 +122,13 @@ impl<'a> Tracer<'a> {
     }
 
     /// The value of the ray tree rooted at `ray` (weight 1, depth 0), and
-    /// the object the root ray hit. Counts every ray but the root.
+    /// the object the root ray hit. Counts every ray but the root. `key`
+    /// (the pixel's index `y * width + x`, the sample's) seeds its diffuse
+    /// bounces.
     pub fn trace(
         &self,
         ray: Ray,
+        key: (u32, u32),
         stats: &mut RayStats,
         signature: &mut PathSignature,
     ) -> (DVec3, Option<u32>) {
@@ -115,8 +137,9 @@ impl<'a> Tracer<'a> {
         let mut stack = Vec::with_capacity(settings.depth as usize + 1);
         stack.push(Pending {
             ray,
-            weight: 1.0,
+            weight: DVec3::ONE,
             depth: 0,
+            bounces: 0,
             kind: RayKind::Primary,
             cone_width: 0.0,
             cone_spread: self.pixel_spread,
@@ -128,7 +151,10 @@ impl<'a> Tracer<'a> {
             let hit = self.accel.nearest(&pending.ray);
             signature.ray(pending.kind, pending.depth, hit.as_ref());
             let Some(hit) = hit else {
-                sum += pending.weight * scene.background;
+                // The background lights nothing: only eye rays see it.
+                if pending.bounces == 0 {
+                    sum += pending.weight * scene.background;
+                }
                 continue;
             };
             if pending.kind == RayKind::Primary {
@@ -136,12 +162,22 @@ impl<'a> Tracer<'a> {
             }
             let p = pending.ray.origin + hit.t * pending.ray.dir;
             let cone_width = pending.cone_width + pending.cone_spread * hit.t;
-            let local = self.shade_hit(&pending.ray, &hit, (p, cone_width), stats, signature);
+            let (local, albedo) = self.shade_hit(&pending, &hit, (p, cone_width), stats, signature);
             sum += pending.weight * local;
             // No children at the depth limit, nor from a zero normal: there
             // is no direction to reflect or refract about.
             if pending.depth >= settings.depth || hit.normal == DVec3::ZERO {
                 continue;
+            }
+            // Pushed first, so traced after the mirror and glass children.
+            if pending.bounces < settings.bounces && albedo != DVec3::ZERO {
+                let geometry = (p, hit.normal, hit.geometric_normal);
+                let numbers = bounce_numbers(key.0, key.1, pending.depth);
+                if let Some(child) =
+                    self.bounce(&pending, geometry, (albedo, cone_width), numbers, stats)
+                {
+                    stack.push(child);
+                }
             }
             self.push_children(&pending, &hit, (p, cone_width), stats, &mut stack);
         }
@@ -149,25 +185,34 @@ impl<'a> Tracer<'a> {
     }
 
     /// The local model at `hit` (point `p`, reached by a cone
-    /// `cone_width` wide) of `ray`, asking a shadow ray of each light it
-    /// needs whether the light is visible (with shadows on).
+    /// `cone_width` wide) of `pending`'s ray, asking a shadow ray of each
+    /// light it needs whether the light is visible (with shadows on); and
+    /// the surface's diffuse albedo `kd C`. After a diffuse bounce the
+    /// Phong lobe counts no more (docs/lighting-model.md, "Secondary
+    /// illumination").
     fn shade_hit(
         &self,
-        ray: &Ray,
+        pending: &Pending,
         hit: &Hit,
         (p, cone_width): (DVec3, f64),
         stats: &mut RayStats,
         signature: &mut PathSignature,
-    ) -> DVec3 {
+    ) -> (DVec3, DVec3) {
         let scene = self.accel.scene;
-        let Ray { origin, dir: d } = *ray;
-        let material = &scene.materials[hit.material as usize];
+        let Ray { origin, dir: d } = pending.ray;
+        let materials = if pending.bounces > 0 {
+            &self.diffuse_materials
+        } else {
+            &scene.materials
+        };
+        let material = &materials[hit.material as usize];
         let (tint, cell) = hit_tint(scene, hit, p, d, cone_width);
         if let Some(cell) = cell {
             signature.cell(cell);
         }
         let surface = Surface { material, tint };
-        shade_visible(
+        let albedo = material.kd * surface.color();
+        let local = shade_visible(
             &scene.lighting,
             &scene.lights,
             surface,
@@ -183,7 +228,51 @@ impl<'a> Tracer<'a> {
                 signature.light(j, visible);
                 visible
             },
-        )
+        );
+        (local, albedo)
+    }
+
+    /// The diffuse bounce of `pending`'s hit at `p` (normals `n`, `ng`;
+    /// albedo `albedo`; a cone `cone_width` wide), drawn with `numbers`:
+    /// `None` where Russian roulette ends the path or the direction leaves
+    /// below the surface's geometric side.
+    fn bounce(
+        &self,
+        pending: &Pending,
+        (p, n, ng): (DVec3, DVec3, DVec3),
+        (albedo, cone_width): (DVec3, f64),
+        [u0, u1, u2]: [f64; 3],
+        stats: &mut RayStats,
+    ) -> Option<Pending> {
+        let mut weight = pending.weight * albedo;
+        if pending.bounces >= ROULETTE_AFTER {
+            let Some(kept) = roulette(weight, u2) else {
+                stats.pruned += 1;
+                return None;
+            };
+            weight = kept;
+        }
+        let d = pending.ray.dir;
+        let dir = cosine_direction(facing_normal(n, ng, d), u0, u1);
+        // Back out on the side the ray came from, or nothing: an
+        // interpolated normal may tilt the hemisphere through the surface.
+        if ng.dot(dir) * ng.dot(d) >= 0.0 {
+            return None;
+        }
+        stats.reflected += 1;
+        Some(Pending {
+            ray: Ray {
+                origin: offset_origin(p, pending.ray.origin, ng, dir),
+                dir,
+            },
+            weight,
+            depth: pending.depth + 1,
+            bounces: pending.bounces + 1,
+            kind: RayKind::Diffuse,
+            // As a refracted ray's: as wide as the parent's at the hit.
+            cone_width,
+            cone_spread: pending.cone_spread,
+        })
     }
 
     /// Whether nothing blocks the shadow ray from `p` (found by a ray from
@@ -223,7 +312,7 @@ impl<'a> Tracer<'a> {
             .into_iter()
             .flatten()
         {
-            if weight < scene.render.cutoff {
+            if weight.max_element() < scene.render.cutoff {
                 stats.pruned += 1;
                 continue;
             }
@@ -247,6 +336,7 @@ impl<'a> Tracer<'a> {
                 },
                 weight,
                 depth: pending.depth + 1,
+                bounces: pending.bounces,
                 kind,
                 cone_width,
                 cone_spread: pending.cone_spread + curvature,

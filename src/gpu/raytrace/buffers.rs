@@ -201,7 +201,7 @@ fn uniforms(view: &View, rt: &RtScene, r: &SceneRecords) -> TraceUniforms {
             r.bvh.bases.spheres,
             r.bvh.bases.planes,
             r.bvh.bases.boxes,
-            0,
+            rt.render.bounces,
         ],
         bvh_sphere: r.bvh.bounding_sphere(),
     }

@@ -159,7 +159,7 @@ pub struct TraceUniforms {
     /// (`records::sphere_records`); the BVH's root link (`GpuBvhNode`).
     pub grid: [u32; 4],
     /// Where the BVH's spheres, planes and boxes start in its leaf index
-    /// space (`bvh::LeafBases`); unused.
+    /// space (`bvh::LeafBases`); the diffuse bounces a path may take.
     pub leaf_bases: [u32; 4],
     /// A sphere around the whole BVH (`GpuBvh::bounding_sphere`): centre,
     /// radius (negative for an empty tree).

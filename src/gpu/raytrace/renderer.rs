@@ -23,7 +23,10 @@ use crate::gpu::raytrace::records::{records, SceneRecords};
 use crate::gpu::shared::hook;
 use crate::gpu::shared::image_size::check_image_size;
 use crate::gpu::shared::lights::SceneLighting;
-use crate::gpu::shared::shader_catalog::{RAYTRACE_COMP, RAYTRACE_QUERY_COMP, RAYTRACE_WIDE_COMP};
+use crate::gpu::shared::shader_catalog::{
+    RAYTRACE_COMP, RAYTRACE_PATHS_COMP, RAYTRACE_QUERY_COMP, RAYTRACE_WIDE_COMP,
+    RAYTRACE_WIDE_PATHS_COMP,
+};
 use crate::gpu::vk::commands::OneShot;
 use crate::gpu::vk::context::DeviceInfo;
 use crate::gpu::vk::context::GpuContext;
@@ -72,13 +75,14 @@ pub fn engine_for(asked: Traversal, info: &DeviceInfo) -> Result<Traversal, GpuE
 
 /// The ray tracer's pipeline for `traversal`; `wide_bvh`: the BVH walk
 /// compiled for the tree's 4-wide form (`raytrace::wide_bvh`), a module of its own so
-/// that a scene without a big tree neither compiles nor carries it.
+/// that a scene without a big tree neither compiles nor carries it; `paths`:
+/// with diffuse bounces, likewise a module of its own.
 fn create_pipeline(
     context: &Arc<GpuContext>,
     spec: &TraceSpecialization,
     lighting_hook: Option<&LightingHook>,
     traversal: Traversal,
-    wide_bvh: bool,
+    (wide_bvh, paths): (bool, bool),
     driver_specialises: bool,
 ) -> Result<PipelineObjects, GpuError> {
     let device = &context.device;
@@ -91,10 +95,13 @@ fn create_pipeline(
             create_set_layout(context, QUERY_BINDINGS, vk::ShaderStageFlags::COMPUTE)?;
         set_layouts.push(p.extra_set_layout);
         &RAYTRACE_QUERY_COMP
-    } else if wide_bvh {
-        &RAYTRACE_WIDE_COMP
     } else {
-        &RAYTRACE_COMP
+        match (wide_bvh, paths) {
+            (true, true) => &RAYTRACE_WIDE_PATHS_COMP,
+            (true, false) => &RAYTRACE_WIDE_COMP,
+            (false, true) => &RAYTRACE_PATHS_COMP,
+            (false, false) => &RAYTRACE_COMP,
+        }
     };
     let layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
     // SAFETY: valid device and create infos throughout this function.
@@ -304,8 +311,11 @@ fn check_and_choose_engine(
     check_image_size(context, scene.image.width, scene.image.height)?;
     // `auto` with a hook takes the BVH engine, which is the one a hook can
     // run on (below), where a GPU's `auto` would take ray queries.
+    let bounces = scene.render.bounces > 0;
     let traversal = match (scene.render.traversal, &scene.lighting_hook) {
         (Traversal::Auto, Some(_)) => Traversal::Bvh,
+        (Traversal::Auto, None) if bounces => Traversal::Bvh,
+        (Traversal::Query, _) if bounces => return Err(GpuError::BouncesNeedBvh),
         (asked, _) => engine_for(asked, &context.info)?,
     };
     if let (Traversal::Query, Some(hook)) = (traversal, &scene.lighting_hook) {
@@ -360,14 +370,22 @@ fn get_or_build_pipeline(
     let (traversal, spec) = (plan.traversal, &plan.spec);
     let hook = scene.lighting_hook.as_deref();
     let wide = plan.records.bvh.wide.is_some();
+    let paths = plan.rt.render.bounces > 0;
     let driver_specialises = options.driver_specialises;
     let key = format!(
-        "raytrace {traversal:?} wide {wide} driver {driver_specialises} spec {:?} hook {:016x}",
+        "raytrace {traversal:?} wide {wide} paths {paths} driver {driver_specialises} spec {:?} hook {:016x}",
         bytemuck::bytes_of(spec),
         crate::cache::digest(&hook.map(|h| &h.source)),
     );
     context.pipelines.get_or_create(key, || {
-        create_pipeline(context, spec, hook, traversal, wide, driver_specialises)
+        create_pipeline(
+            context,
+            spec,
+            hook,
+            traversal,
+            (wide, paths),
+            driver_specialises,
+        )
     })
 }
 

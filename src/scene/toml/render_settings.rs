@@ -1,6 +1,6 @@
 //! `[image]` and `[render]`: the picture's size and background, and how
-//! the renderers take it (depth, cut-off, shadows, samples, traversal,
-//! MSAA), each in its range.
+//! the renderers take it (depth, cut-off, shadows, samples, bounces,
+//! traversal, MSAA), each in its range.
 
 use super::checks::{spanned_map, Ctx};
 use super::schema::{v3, ImageRaw, MsaaRaw, RenderRaw};
@@ -40,6 +40,9 @@ pub(super) fn render(cx: &Ctx, raw: Option<&RenderRaw>) -> Result<RenderSettings
         }
         if let Some(s) = &r.samples {
             render.samples = cx.int_in(s, "render.samples", 1, 1024, "")?;
+        }
+        if let Some(b) = &r.bounces {
+            render.bounces = cx.int_in(b, "render.bounces", 0, i64::from(MAX_DEPTH), "")?;
         }
         if let Some(t) = r.traversal {
             render.traversal = t;

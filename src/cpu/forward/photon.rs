@@ -1,0 +1,296 @@
+//! One photon's path from a light: where it goes, what it carries, and
+//! its splat toward the eye at every surface that is not a mirror or
+//! glass (docs/lighting-model.md, "Forward: photons from the lights").
+
+use glam::DVec3;
+
+use super::film::Film;
+use crate::cpu::intersect::{Accel, Hit, Ray};
+use crate::cpu::raytrace::{
+    children, cosine_direction, facing_normal, offset_epsilon, offset_origin, photon_numbers,
+};
+use crate::cpu::surface::hit_tint;
+use crate::rt_scene::RtScene;
+use crate::scene::Material;
+
+/// What the photons of a render did.
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
+pub struct PhotonStats {
+    /// Photons that left a light.
+    pub emitted: u64,
+    /// Splats that reached the eye (shadow ray clear, on the image).
+    pub splats: u64,
+    /// Photons with at least one splat: light that reached the eye.
+    pub seen: u64,
+    /// Surfaces hit.
+    pub hits: u64,
+}
+
+impl PhotonStats {
+    pub fn add(&mut self, other: &PhotonStats) {
+        self.emitted += other.emitted;
+        self.splats += other.splats;
+        self.seen += other.seen;
+        self.hits += other.hits;
+    }
+}
+
+/// The scene's lights, picked in proportion to their power (the mean of
+/// their intensity's channels).
+pub struct LightChoice<'a> {
+    scene: &'a RtScene,
+    /// Running sums of the powers over their total, by light.
+    cumulative: Vec<f64>,
+}
+
+impl<'a> LightChoice<'a> {
+    /// `None` for a scene with no light that has power.
+    pub fn new(scene: &'a RtScene) -> Option<Self> {
+        let power = |i: DVec3| (i.x + i.y + i.z).max(0.0) / 3.0;
+        let total: f64 = scene.lights.iter().map(|l| power(l.intensity)).sum();
+        if total <= 0.0 || !total.is_finite() {
+            return None;
+        }
+        let mut sum = 0.0;
+        let cumulative = scene
+            .lights
+            .iter()
+            .map(|l| {
+                sum += power(l.intensity) / total;
+                sum
+            })
+            .collect();
+        Some(LightChoice { scene, cumulative })
+    }
+
+    /// The light `u` picks, and the chance it had.
+    fn pick(&self, u: f64) -> (usize, f64) {
+        let j = self
+            .cumulative
+            .iter()
+            .position(|&c| u < c)
+            .unwrap_or(self.cumulative.len() - 1);
+        let below = if j == 0 { 0.0 } else { self.cumulative[j - 1] };
+        (j, self.cumulative[j] - below)
+    }
+}
+
+/// A photon on its way: its ray, the flux it carries, and what the path
+/// has met so far.
+struct Flight {
+    ray: Ray,
+    /// Without the falloff until the path's first surface that is not a
+    /// mirror or glass has been left by a diffuse bounce; with it after.
+    flux: DVec3,
+    /// The path's length from the light so far, while the falloff waits.
+    travelled: f64,
+    falloff_applied: bool,
+    /// Diffuse surfaces met so far.
+    diffuse_vertices: u32,
+}
+
+/// Traces photon `i` of `total`: emitted from a light chosen by power in
+/// a uniform direction with flux `4 pi Il / (total p)`, splatted at every
+/// surface it meets that is not a mirror or glass, and sent on by one
+/// event chosen at random in proportion to the surface's `mean(kd C)`,
+/// `kr` and `kt` (or absorbed).
+pub fn trace_photon(
+    accel: &Accel,
+    lights: &LightChoice,
+    i: u32,
+    total: u32,
+    film: &mut Film,
+    stats: &mut PhotonStats,
+) {
+    let scene = lights.scene;
+    let [u0, u1, u2, _] = photon_numbers(i, 0);
+    let (j, chance) = lights.pick(u0);
+    let light = &scene.lights[j];
+    let z = 1.0 - 2.0 * u1;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * std::f64::consts::PI * u2;
+    let mut flight = Flight {
+        ray: Ray {
+            origin: light.position,
+            dir: DVec3::new(r * phi.cos(), r * phi.sin(), z),
+        },
+        flux: 4.0 * std::f64::consts::PI * light.intensity / (f64::from(total) * chance),
+        travelled: 0.0,
+        falloff_applied: false,
+        diffuse_vertices: 0,
+    };
+    stats.emitted += 1;
+    let mut seen = false;
+    for level in 0..=scene.render.depth {
+        let Some(hit) = accel.nearest(&flight.ray) else {
+            break;
+        };
+        stats.hits += 1;
+        let p = flight.ray.origin + hit.t * flight.ray.dir;
+        let material = &scene.materials[hit.material as usize];
+        let (tint, _) = hit_tint(scene, &hit, p, flight.ray.dir, 0.0);
+        let albedo = material.kd * material.color * tint;
+        let d = flight.travelled + hit.t;
+        let arriving = if flight.falloff_applied {
+            flight.flux
+        } else {
+            let lighting = &scene.lighting;
+            flight.flux * d * d * lighting.falloff.attenuate(DVec3::ONE, d, lighting.k)
+        };
+        let first_surface = flight.diffuse_vertices == 0;
+        let shows = albedo != DVec3::ZERO || (first_surface && material.ks > 0.0);
+        if shows && hit.normal != DVec3::ZERO {
+            let vertex = Vertex {
+                hit: &hit,
+                p,
+                material,
+                albedo,
+                first_surface,
+            };
+            seen |= splat(accel, film, &flight.ray, &vertex, arriving, stats);
+        }
+        if albedo != DVec3::ZERO {
+            flight.diffuse_vertices += 1;
+        }
+        if level == scene.render.depth || hit.normal == DVec3::ZERO {
+            break;
+        }
+        let numbers = photon_numbers(i, level + 1);
+        let surface = (&hit, p, material, albedo);
+        if !go_on(
+            &mut flight,
+            surface,
+            arriving,
+            numbers,
+            scene.render.bounces,
+        ) {
+            break;
+        }
+    }
+    stats.seen += u64::from(seen);
+}
+
+/// Where a photon met a surface that shows it to the eye.
+struct Vertex<'a> {
+    hit: &'a Hit,
+    p: DVec3,
+    material: &'a Material,
+    albedo: DVec3,
+    /// No diffuse surface before this one on the path: the Phong lobe
+    /// counts here.
+    first_surface: bool,
+}
+
+/// Splats what the eye sees of a photon of flux `arriving` along `ray` at
+/// `vertex`: `flux f cos_x / (r^2 cos_c^3 A)` in `pi`-times-radiance units,
+/// `f = kd C (N.L / Ng.L) (+ ks S / Ng.L on the first surface)`, where the
+/// shadow ray to the eye is clear and the eye sees the side the photon
+/// lit. Whether it landed.
+fn splat(
+    accel: &Accel,
+    film: &mut Film,
+    ray: &Ray,
+    vertex: &Vertex,
+    arriving: DVec3,
+    stats: &mut PhotonStats,
+) -> bool {
+    let (hit, p) = (vertex.hit, vertex.p);
+    let ng = hit.geometric_normal;
+    let distance = p.length();
+    let v = -p / distance;
+    let l = -ray.dir;
+    if ng.dot(v) * ng.dot(l) <= 0.0 {
+        return false;
+    }
+    let n = facing_normal(hit.normal, ng, ray.dir);
+    let n_dot_l = n.dot(l);
+    if n_dot_l <= 0.0 {
+        return false;
+    }
+    let Some((pixel, cos_c)) = film.pixel_of(p) else {
+        return false;
+    };
+    let o = offset_origin(p, ray.origin, ng, v);
+    let to_eye = -o;
+    let reach = to_eye.length() - offset_epsilon(DVec3::ZERO, o);
+    let shadow = Ray {
+        origin: o,
+        dir: to_eye / to_eye.length(),
+    };
+    if accel.any(&shadow, reach) {
+        return false;
+    }
+    let ng_dot_l = ng.dot(l).abs();
+    let mut f = vertex.albedo * (n_dot_l / ng_dot_l);
+    let m = vertex.material;
+    if vertex.first_surface && m.ks > 0.0 {
+        let reflected = 2.0 * n_dot_l * n - l;
+        let s = if m.p == 0.0 {
+            1.0
+        } else {
+            reflected.dot(v).max(0.0).powf(m.p)
+        };
+        f += DVec3::splat(m.ks * s / ng_dot_l);
+    }
+    let cos_x = ng.dot(v).abs();
+    let value = arriving * f * cos_x / (distance * distance * cos_c.powi(3) * film.pixel_area());
+    film.add_to(pixel, value);
+    stats.splats += 1;
+    true
+}
+
+/// Sends the photon on from its hit by one event picked with `u0` in
+/// proportion to `mean(kd C)` (while diffuse bounces are left), `kr` and
+/// `kt` (total internal reflection giving `kt` to the reflection), scaled
+/// down together where they add to more than 1; whether it goes on (not
+/// absorbed, nor sent below the surface).
+fn go_on(
+    flight: &mut Flight,
+    (hit, p, material, albedo): (&Hit, DVec3, &Material, DVec3),
+    arriving: DVec3,
+    [u0, u1, u2, _]: [f64; 4],
+    bounces: u32,
+) -> bool {
+    let d = flight.ray.dir;
+    let [reflected, refracted] = children(d, hit.normal, material, DVec3::ONE);
+    let p_diffuse = if flight.diffuse_vertices <= bounces && albedo != DVec3::ZERO {
+        (albedo.x + albedo.y + albedo.z) / 3.0
+    } else {
+        0.0
+    };
+    let p_reflect = reflected.map_or(0.0, |(_, w, _)| w.x);
+    let p_refract = refracted.map_or(0.0, |(_, w, _)| w.x);
+    let scale = (p_diffuse + p_reflect + p_refract).max(1.0);
+    let pick = u0 * scale;
+    let ng = hit.geometric_normal;
+    let (dir, weight, diffuse) = if pick < p_diffuse {
+        let dir = cosine_direction(facing_normal(hit.normal, ng, d), u1, u2);
+        (dir, albedo * scale / p_diffuse, true)
+    } else if pick < p_diffuse + p_reflect {
+        let (dir, _, _) = reflected.expect("a reflection was picked");
+        (dir, DVec3::splat(scale), false)
+    } else if pick < p_diffuse + p_reflect + p_refract {
+        let (dir, _, _) = refracted.expect("a refraction was picked");
+        (dir, DVec3::splat(scale), false)
+    } else {
+        return false;
+    };
+    if diffuse {
+        // Back out on the side the photon came from, or nothing.
+        if ng.dot(dir) * ng.dot(d) >= 0.0 {
+            return false;
+        }
+        flight.flux = arriving * weight;
+        flight.falloff_applied = true;
+    } else {
+        flight.flux *= weight;
+        if !flight.falloff_applied {
+            flight.travelled += (p - flight.ray.origin).length();
+        }
+    }
+    flight.ray = Ray {
+        origin: offset_origin(p, flight.ray.origin, ng, dir),
+        dir,
+    };
+    true
+}
