@@ -793,18 +793,7 @@ fn every_command_checks_size_depth_and_runs_alike() {
     ];
     for (args, expect) in cases {
         let run = shadelab(dir.path(), args);
-        assert_eq!(run.code, 2, "{args:?}: {}", run.stderr);
-        let lines: Vec<&str> = run
-            .stderr
-            .lines()
-            .filter(|l| !l.trim().is_empty())
-            .collect();
-        assert_eq!(lines.len(), 1, "{args:?}: {}", run.stderr);
-        assert!(
-            lines[0].starts_with("shadelab: error: ") && lines[0].contains(expect),
-            "{args:?}: {}",
-            lines[0]
-        );
+        common::cli::assert_one_line_refusal(&run, args, expect);
     }
     assert!(!dir.path().join("x.png").exists());
 }

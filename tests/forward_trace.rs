@@ -3,48 +3,13 @@
 //! bounces, which solves the same transport (docs/lighting-model.md,
 //! "Secondary illumination").
 
+use common::closed_sphere::{closed_sphere, expected};
 use glam::DVec3;
 use shadelab::cpu::forward;
-use shadelab::scene::{Falloff, Object, Scene, Shape};
 use shadelab::shading::Shading;
 use shadelab::LinearImage;
 
 mod common;
-
-const RADIUS: f64 = 2.0;
-const INTENSITY: f64 = 3.0;
-const ALBEDO: f64 = 0.6;
-const KS: f64 = 0.25;
-
-/// tests/path_trace.rs's oracle: a light at the centre of a closed
-/// diffuse sphere, the eye beside it. With `n` bounces every pixel's
-/// expectation is `a E (1 + a + ... + a^n) + ks E`, `E = Il / R^2`.
-fn closed_sphere(bounces: u32) -> Scene {
-    let mut s = common::scene(32, 24, 60.0);
-    s.camera.position = DVec3::ZERO;
-    s.camera.look_at = DVec3::new(0.3, 0.1, -1.0);
-    s.lights[0].position = DVec3::ZERO;
-    s.lights[0].intensity = DVec3::splat(INTENSITY);
-    s.lighting.falloff = Falloff::InverseSquare;
-    s.materials[0] = common::material(DVec3::ONE, 0.5, ALBEDO, KS, 20.0);
-    s.objects.push(Object {
-        shape: Shape::Sphere {
-            center: DVec3::ZERO,
-            radius: RADIUS,
-            segments: 32,
-        },
-        material: 0,
-    });
-    s.render.bounces = bounces;
-    s.render.depth = 8;
-    s
-}
-
-fn expected(bounces: u32) -> f64 {
-    let e = INTENSITY / (RADIUS * RADIUS);
-    let series: f64 = (0..=bounces).map(|k| ALBEDO.powi(k as i32)).sum();
-    ALBEDO * e * series + KS * e
-}
 
 fn channel_values(image: &LinearImage) -> Vec<f64> {
     image.pixels.iter().map(|p| f64::from(p[0])).collect()
@@ -62,7 +27,8 @@ fn rmse(values: &[f64], want: f64) -> f64 {
     (values.iter().map(|v| (v - want).powi(2)).sum::<f64>() / values.len() as f64).sqrt()
 }
 
-/// Each pixel's expectation is the series, so the image's mean lies
+/// In the closed sphere of `common::closed_sphere` each pixel's
+/// expectation is the series, so the image's mean lies
 /// within 5 standard errors of it (the error measured from the pixels),
 /// for direct light alone and with bounces; and 16 times the photons give
 /// a quarter of the error, within 20%, as an unbiased estimator must.

@@ -1,58 +1,15 @@
 //! Secondary illumination (`render.bounces`, docs/lighting-model.md,
 //! "Secondary illumination") held to an answer worked out by hand, on the
-//! GPU and on the CPU twin, and the twins to each other.
-//!
-//! The oracle: a point light at the centre of a closed sphere of radius
-//! `R` whose inside is diffuse of albedo `a` (falloff 1/d^2). Every point of
-//! the inside gets the same direct light, `E = Il / R^2` at normal
-//! incidence, so it shows `a E`; each bounce sees another inside point,
-//! showing the same, so one more bounce adds `a` times the last term: with
-//! `n` bounces a pixel is `a E (1 + a + ... + a^n)` exactly, whatever
-//! directions the random numbers pick. The eye sits at the light, where the
-//! Phong lobe of every direct hit is at its peak (R·V = 1): `ks` more,
-//! once, and never again after a bounce.
+//! GPU and on the CPU twin, and the twins to each other: the closed
+//! sphere of `common::closed_sphere`, whose every pixel is a series in
+//! the albedo.
 
 mod common;
 
-use glam::DVec3;
-use shadelab::scene::{Falloff, Object, Scene, Shape};
+use common::closed_sphere::{closed_sphere, expected, AMBIENT, KA};
+use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 use shadelab::LinearImage;
-
-const RADIUS: f64 = 2.0;
-const INTENSITY: f64 = 3.0;
-const ALBEDO: f64 = 0.6;
-const KS: f64 = 0.25;
-
-fn closed_sphere(bounces: u32) -> Scene {
-    let mut s = common::scene(32, 24, 60.0);
-    s.camera.position = DVec3::new(0.0, 0.0, 0.0);
-    s.camera.look_at = DVec3::new(0.3, 0.1, -1.0);
-    s.lights[0].position = DVec3::ZERO;
-    s.lights[0].intensity = DVec3::splat(INTENSITY);
-    s.lighting.falloff = Falloff::InverseSquare;
-    // An ambient term the path tracer must drop: it would add 0.2 ka C.
-    s.lighting.ambient = DVec3::splat(0.2);
-    s.materials[0] = common::material(DVec3::ONE, 0.5, ALBEDO, KS, 20.0);
-    s.objects.push(Object {
-        shape: Shape::Sphere {
-            center: DVec3::ZERO,
-            radius: RADIUS,
-            segments: 32,
-        },
-        material: 0,
-    });
-    s.render.bounces = bounces;
-    s.render.depth = 8;
-    s
-}
-
-/// `a E (1 + a + ... + a^n) + ks E`.
-fn expected(bounces: u32) -> f64 {
-    let e = INTENSITY / (RADIUS * RADIUS);
-    let series: f64 = (0..=bounces).map(|k| ALBEDO.powi(k as i32)).sum();
-    ALBEDO * e * series + KS * e
-}
 
 fn worst_relative_error(image: &LinearImage, want: f64) -> f64 {
     image
@@ -127,7 +84,7 @@ fn russian_roulette_keeps_the_expectation() {
 #[test]
 fn without_bounces_the_ambient_term_stays() {
     let scene = closed_sphere(0);
-    let want = expected(0) + 0.5 * 0.2;
+    let want = expected(0) + KA * AMBIENT;
     assert!(worst_relative_error(&cpu(&scene), want) < 1e-6);
     let gpu = common::render(&common::gpu(), &scene, Shading::Raytrace);
     assert!(worst_relative_error(&gpu, want) < 1e-5);
@@ -173,14 +130,7 @@ fn the_command_line_takes_bounces_and_refuses_what_it_cannot_trace() {
     ];
     for (args, expect) in refusals {
         let run = common::cli::shadelab(dir.path(), args);
-        assert_eq!(run.code, 2, "{args:?}: {}", run.stderr);
-        let lines: Vec<&str> = run
-            .stderr
-            .lines()
-            .filter(|l| !l.trim().is_empty())
-            .collect();
-        assert_eq!(lines.len(), 1, "{args:?}: {}", run.stderr);
-        assert!(lines[0].contains(expect), "{args:?}: {}", run.stderr);
+        common::cli::assert_one_line_refusal(&run, args, expect);
         assert!(!dir.path().join("a.png").exists() && !dir.path().join("b.png").exists());
     }
     let run = common::cli::shadelab(

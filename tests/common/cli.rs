@@ -41,3 +41,20 @@ pub fn shadelab_with(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Run {
         stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
     }
 }
+
+/// Asserts that `run` (of `args`) was refused with exit status 2 and one
+/// line on stderr, `shadelab: error: ...` holding `expect`.
+pub fn assert_one_line_refusal(run: &Run, args: &[&str], expect: &str) {
+    assert_eq!(run.code, 2, "{args:?}: {}", run.stderr);
+    let lines: Vec<&str> = run
+        .stderr
+        .lines()
+        .filter(|l| !l.trim().is_empty())
+        .collect();
+    assert_eq!(lines.len(), 1, "{args:?}: {}", run.stderr);
+    assert!(
+        lines[0].starts_with("shadelab: error: ") && lines[0].contains(expect),
+        "{args:?}: {}",
+        run.stderr
+    );
+}

@@ -4,6 +4,7 @@
 #![allow(dead_code)]
 
 pub mod cli;
+pub mod closed_sphere;
 pub mod doc_commands;
 
 use std::sync::Arc;
