@@ -136,6 +136,10 @@ fn variants() -> Vec<Variant> {
         "RAYTRACE_WIDE_PATHS_COMP",
         &[("WIDE_BVH", None), ("PATHS", None)],
     ));
+    out.push(compute(
+        "RAYTRACE_QUERY_PATHS_COMP",
+        &[("RAY_QUERY", None), ("PATHS", None)],
+    ));
     out
 }
 
@@ -164,10 +168,12 @@ fn main() {
             // the same source's without RAY_QUERY plus what its own
             // decorations add (the acceleration structure).
             spirv_val(variant, &spv_path);
+            // RAYTRACE_QUERY_PATHS_COMP's is RAYTRACE_PATHS_COMP's.
+            let base_name = variant.name.replace("_QUERY", "");
             let (_, base) = reflections
                 .iter()
-                .find(|(name, _)| name == "RAYTRACE_COMP")
-                .expect("RAYTRACE_COMP is compiled before its ray-query variant");
+                .find(|(name, _)| *name == base_name)
+                .expect("the base is compiled before its ray-query variant");
             shader_compile::extend_by_decorations(base, &spirv)
                 .unwrap_or_else(|e| fail(variant, "its interface does not extend the base's", &e))
         } else {

@@ -58,11 +58,6 @@ fn the_query_engine_holds_checks_limits_on_every_asset() {
     assert!(scenes.len() >= 6, "assets/ lost scenes: {}", scenes.len());
     let limits = CheckThresholds::for_shading(Shading::Raytrace);
     for (name, scene) in scenes {
-        // Diffuse bounces are the compute BVH engine's alone (refused
-        // here, tests/path_trace.rs).
-        if scene.render.bounces > 0 {
-            continue;
-        }
         let s = with_engine(&scene, Traversal::Query);
         let o = check(&context, &s, &s, Shading::Raytrace, &limits).unwrap();
         assert_eq!(o.traversal, Some(Traversal::Query));

@@ -261,9 +261,9 @@ fn every_stage_is_present() {
         // Phong's with all three; and the two smooth fragment stages'
         // pattern variants again with image textures (2 and 4 of them).
         // (Per-sample MSAA is a pass per sample: no variant of its own.)
-        // The ray tracer: the binary and the 4-wide BVH walk, ray queries,
-        // and the two walks again with diffuse bounces (PATHS).
-        (2 + 8 + 8, 1 + (4 + 2) + (8 + 4), 3 + 2)
+        // The ray tracer: the binary and the 4-wide BVH walk and ray
+        // queries, and the three again with diffuse bounces (PATHS).
+        (2 + 8 + 8, 1 + (4 + 2) + (8 + 4), 3 + 3)
     );
     // The second ray tracer is the ray-query engine, and it has its set.
     assert!(ALL_SHADERS.iter().any(|s| {

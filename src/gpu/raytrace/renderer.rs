@@ -24,8 +24,8 @@ use crate::gpu::shared::hook;
 use crate::gpu::shared::image_size::check_image_size;
 use crate::gpu::shared::lights::SceneLighting;
 use crate::gpu::shared::shader_catalog::{
-    RAYTRACE_COMP, RAYTRACE_PATHS_COMP, RAYTRACE_QUERY_COMP, RAYTRACE_WIDE_COMP,
-    RAYTRACE_WIDE_PATHS_COMP,
+    RAYTRACE_COMP, RAYTRACE_PATHS_COMP, RAYTRACE_QUERY_COMP, RAYTRACE_QUERY_PATHS_COMP,
+    RAYTRACE_WIDE_COMP, RAYTRACE_WIDE_PATHS_COMP,
 };
 use crate::gpu::vk::commands::OneShot;
 use crate::gpu::vk::context::DeviceInfo;
@@ -94,7 +94,11 @@ fn create_pipeline(
         p.extra_set_layout =
             create_set_layout(context, QUERY_BINDINGS, vk::ShaderStageFlags::COMPUTE)?;
         set_layouts.push(p.extra_set_layout);
-        &RAYTRACE_QUERY_COMP
+        if paths {
+            &RAYTRACE_QUERY_PATHS_COMP
+        } else {
+            &RAYTRACE_QUERY_COMP
+        }
     } else {
         match (wide_bvh, paths) {
             (true, true) => &RAYTRACE_WIDE_PATHS_COMP,
@@ -311,11 +315,8 @@ fn check_and_choose_engine(
     check_image_size(context, scene.image.width, scene.image.height)?;
     // `auto` with a hook takes the BVH engine, which is the one a hook can
     // run on (below), where a GPU's `auto` would take ray queries.
-    let bounces = scene.render.bounces > 0;
     let traversal = match (scene.render.traversal, &scene.lighting_hook) {
         (Traversal::Auto, Some(_)) => Traversal::Bvh,
-        (Traversal::Auto, None) if bounces => Traversal::Bvh,
-        (Traversal::Query, _) if bounces => return Err(GpuError::BouncesNeedBvh),
         (asked, _) => engine_for(asked, &context.info)?,
     };
     if let (Traversal::Query, Some(hook)) = (traversal, &scene.lighting_hook) {

@@ -37,8 +37,6 @@ pub enum GpuError {
     NoRayTracer { device: String, why: String },
     #[error("--traversal query needs ray queries, and the device `{device}` {why}; use --traversal bvh (or auto)")]
     NoRayQuery { device: String, why: String },
-    #[error("diffuse bounces (--bounces, render.bounces) are traced by the compute BVH engine alone; use --traversal bvh (or auto)")]
-    BouncesNeedBvh,
     #[error("the scene holds {0}; render it with --backend cpu")]
     SceneTooLarge(String),
     /// A lighting hook that does not compile or oversteps its interface:
@@ -73,7 +71,6 @@ impl GpuError {
                 | GpuError::BvhTooDeep { .. }
                 | GpuError::SceneTooLarge(_)
                 | GpuError::NoRayQuery { .. }
-                | GpuError::BouncesNeedBvh
         )
     }
 }
