@@ -137,11 +137,18 @@ bool bounce_of(Ray ray, Surfel s, float t, vec2 cone, uvec2 key, out Ray bounced
         // As a refracted ray's: as wide as this one at the hit.
         bounce_cone = vec2(cone.x + cone.y * t, cone.y);
     }
+    bounced = ray;
     bool kept = ray.depth < int(frame.image.w) && s.normal != vec3(0.0) && ray.bounces < int(frame.leaf_bases.w) &&
                 hit_albedo != vec3(0.0);
+    // No hash, no direction for a hit that takes no bounce: every hit of a
+    // path's last bounce, and every black surface (the CPU twin tests first
+    // too). Nothing here shuffles, so a lane may leave early.
+    if (!kept) {
+        return false;
+    }
     vec3 u = bounce_numbers(key, ray.depth);
     vec3 weight = ray.weight * hit_albedo;
-    if (kept && ray.bounces >= ROULETTE_AFTER) {
+    if (ray.bounces >= ROULETTE_AFTER) {
         float q = min(LARGEST(weight), 1.0);
         kept = u.z < q;
         if (kept) {
