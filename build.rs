@@ -140,6 +140,19 @@ fn variants() -> Vec<Variant> {
         "RAYTRACE_QUERY_PATHS_COMP",
         &[("RAY_QUERY", None), ("PATHS", None)],
     ));
+    // Forward ray tracing (photons from the lights): its own shader over
+    // the ray tracer's parts, on the compute BVH, binary or 4-wide.
+    let forward = |name: &str, defines| Variant {
+        name: name.to_string(),
+        source: "forward.comp.glsl",
+        stage: shader_compile::Stage::Compute,
+        defines,
+    };
+    out.push(forward("FORWARD_COMP", &[("FORWARD", None)]));
+    out.push(forward(
+        "FORWARD_WIDE_COMP",
+        &[("FORWARD", None), ("WIDE_BVH", None)],
+    ));
     out
 }
 

@@ -73,7 +73,7 @@ fn main() {
     scene.render.cutoff = 0.0;
     let reference_photons: u32 = 1 << 25;
     let (reference, _) = photons(&scene, reference_photons);
-    let reference = reference.image;
+    let reference = reference.image();
     let m = f64::from(reference_photons);
     let mut forward_points = Vec::new();
     // The photons' variance s^2, from each nested render.
@@ -81,7 +81,7 @@ fn main() {
     for shift in [16, 18, 20, 22] {
         let (out, seconds) = photons(&scene, 1 << shift);
         let n = f64::from(1u32 << shift);
-        let apart = rmse(&out.image, &reference);
+        let apart = rmse(&out.image(), &reference);
         let error = apart / (1.0 - n / m).sqrt();
         variances.push(apart * apart / (1.0 / n - 1.0 / m));
         let s = out.stats;

@@ -73,6 +73,7 @@ const int UNROLLED_MATERIALS = 8;
 #ifdef PATHS
 #include "rt_bounce.glsl"      // diffuse bounces: random numbers, directions
 #endif
+#include "rt_children.glsl"    // a hit's reflected and refracted rays
 #include "rt_ray_tree.glsl"    // one sample's reflection and refraction tree
 
 void main() {

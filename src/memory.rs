@@ -74,6 +74,12 @@ fn cost(shading: Shading, backend: Backend) -> Cost {
         // vertices matter only as the scene holds them. Per triangle the
         // corners' colours and coordinates in f64 (120 bytes) and as f32
         // records on the host and the device (80 each).
+        // Forward adds its fixed-point film: 24 bytes a pixel on the
+        // device and as many read back.
+        (Backend::Gpu, Shading::Forward) => Cost {
+            pixel: 40 + 48,
+            ..cost(Shading::Raytrace, backend)
+        },
         (Backend::Gpu, Shading::Raytrace) => Cost {
             base: 164 * MIB,
             object: 280,
@@ -82,6 +88,11 @@ fn cost(shading: Shading, backend: Backend) -> Cost {
             pixel: 40,
             attributed_vertex: 40,
             attributed_triangle: 280,
+        },
+        // A fixed-point film (24 bytes a pixel) per thread, up to 16.
+        (Backend::Cpu, Shading::Forward) => Cost {
+            pixel: 80 + 16 * 24,
+            ..cost(Shading::Raytrace, backend)
         },
         (Backend::Cpu, Shading::Raytrace) => Cost {
             base: 16 * MIB,

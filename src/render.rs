@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use crate::cpu;
 use crate::error::Error;
+use crate::film_sums::{FilmSums, PhotonJob, PhotonStats};
 use crate::gpu::raster::ColorTarget;
 use crate::gpu::shared::image_size::MAX_PIXELS;
 use crate::gpu::{raster, raytrace, GpuContext};
@@ -62,6 +63,15 @@ pub struct Rendered {
     pub ray_stats: Option<RayStats>,
     /// The engine that found the hits: GPU ray tracing only.
     pub traversal: Option<Traversal>,
+    /// Forward ray tracing only: the film's fixed-point sums (which
+    /// shards add up: `film_sums`) and what the photons did.
+    pub forward: Option<ForwardFilm>,
+}
+
+/// A forward render's film and counts, beside its image.
+pub struct ForwardFilm {
+    pub film: FilmSums,
+    pub stats: PhotonStats,
 }
 
 /// Renders on the GPU: the raster pipelines, or the ray-tracing compute
@@ -85,13 +95,38 @@ pub fn render_gpu_to(
     count_rays: bool,
     target: ColorTarget,
 ) -> Result<Rendered, Error> {
+    let counter = WorkCounter::default();
+    render_gpu_counted(context, scene, shading, (count_rays, target), &counter)
+}
+
+/// [`render_gpu_to`], counting forward tracing's photons into `counter`
+/// as its batches finish (for a caller to show progress).
+pub fn render_gpu_counted(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    shading: Shading,
+    (count_rays, target): (bool, ColorTarget),
+    counter: &WorkCounter,
+) -> Result<Rendered, Error> {
     refuse_beyond_f32(scene)?;
-    let (image, timings, ray_stats, traversal) = match shading.raster_mode() {
-        Some(mode) => {
+    refuse_forward_without_light(scene, shading)?;
+    let mut forward = None;
+    let (image, timings, ray_stats, traversal) = match (shading, shading.raster_mode()) {
+        (_, Some(mode)) => {
             let out = raster::render_to(context, scene, mode, target)?;
             (out.image, out.timings, None, None)
         }
-        None => {
+        (Shading::Forward, None) => {
+            let job = PhotonJob::all(scene.render.photons);
+            let out = raytrace::forward::render(context, scene, &job, counter)?;
+            let image = out.film.image();
+            forward = Some(ForwardFilm {
+                film: out.film,
+                stats: out.stats,
+            });
+            (image, out.timings, None, Some(Traversal::Bvh))
+        }
+        (_, None) => {
             let out = raytrace::render(context, scene, count_rays)?;
             (out.image, out.timings, out.stats, Some(out.traversal))
         }
@@ -110,7 +145,65 @@ pub fn render_gpu_to(
         },
         ray_stats,
         traversal,
+        forward,
     })
+}
+
+/// Forward tracing starts from the lights: a scene with none that emits
+/// has nothing to trace; and it splats the contract's formula, not a
+/// hook's (usage, exit 2). (It walks the compute BVH whatever the
+/// traversal asked for: the CLI says it ignores `--traversal`.)
+fn refuse_forward_without_light(scene: &Scene, shading: Shading) -> Result<(), Error> {
+    let emits = |l: &crate::scene::PointLight| {
+        let i = l.intensity;
+        (i.x + i.y + i.z) > 0.0
+    };
+    if shading != Shading::Forward {
+        return Ok(());
+    }
+    if let Some(hook) = &scene.lighting_hook {
+        return Err(Error::Usage(format!(
+            "--lighting {}: a lighting hook replaces the local model's light at a surface, which forward tracing does not use (its splats follow docs/lighting-model.md); leave --lighting out",
+            hook.path
+        )));
+    }
+    if !scene.lights.iter().any(emits) {
+        let what = if scene.lights.is_empty() {
+            "no light"
+        } else {
+            "only lights of zero intensity"
+        };
+        return Err(Error::Usage(format!(
+            "--shading forward traces light from the lights, and the scene has {what}; add a [[lights]] entry with an intensity above 0"
+        )));
+    }
+    Ok(())
+}
+
+/// What forward tracing leaves black in `scene`, said as a warning: a
+/// pinhole eye cannot be reached through a mirror or glass, so what those
+/// surfaces reflect or transmit is missing from the image (their own
+/// diffuse light still shows). `None` where no object has `kr` or `kt`.
+pub fn forward_blind_spots(scene: &Scene) -> Option<String> {
+    let blind: Vec<String> = scene
+        .objects
+        .iter()
+        .enumerate()
+        .filter_map(|(i, o)| {
+            let m = &scene.materials[o.material];
+            (m.kr > 0.0 || m.kt > 0.0).then(|| format!("{} ({})", i + 1, m.name))
+        })
+        .collect();
+    if blind.is_empty() {
+        return None;
+    }
+    Some(format!(
+        "forward ray tracing cannot see through mirrors or glass with a pinhole eye: what object{} {} reflect{} or transmit{} is black (their light on other surfaces, caustics included, shows); render with --shading raytrace to see it",
+        if blind.len() == 1 { "" } else { "s" },
+        blind.join(", "),
+        if blind.len() == 1 { "s" } else { "" },
+        if blind.len() == 1 { "s" } else { "" },
+    ))
 }
 
 /// What the loader refuses (`narrow_view::refusal`,
@@ -171,6 +264,10 @@ pub fn render_cpu_counted(
         )));
     }
     refuse_beyond_f32(scene)?;
+    refuse_forward_without_light(scene, shading)?;
+    if shading == Shading::Forward {
+        return Ok(forward_cpu(scene, counter));
+    }
     let Some(mode) = shading.raster_mode() else {
         return Ok(raytrace_cpu(scene, counter));
     };
@@ -188,6 +285,7 @@ pub fn render_cpu_counted(
         timings: Timings::cpu(started),
         ray_stats: None,
         traversal: None,
+        forward: None,
     };
     let surface_ids = if mode == RasterMode::Flat {
         out.triangle_ids
@@ -214,6 +312,7 @@ fn raytrace_cpu(scene: &Scene, counter: &WorkCounter) -> (Rendered, Coverage) {
         timings: Timings::cpu(started),
         ray_stats: Some(out.stats),
         traversal: None,
+        forward: None,
     };
     let near_edge = signature_edges(
         scene.image.width as usize,
@@ -224,6 +323,34 @@ fn raytrace_cpu(scene: &Scene, counter: &WorkCounter) -> (Rendered, Coverage) {
         object_ids: out.primary_object_ids.clone(),
         surface_ids: out.primary_object_ids,
         near_edge,
+    };
+    (rendered, coverage)
+}
+
+/// The CPU forward tracer. The GPU traces its photons one by one, but a
+/// photon that f32 rounding sends another way moves a splat to any pixel
+/// at all: every pixel is marked as an edge one, and `check` bounds the
+/// share that differ and the images' means (`check::FORWARD_*`).
+fn forward_cpu(scene: &Scene, counter: &WorkCounter) -> (Rendered, Coverage) {
+    let started = Instant::now();
+    let job = PhotonJob::all(scene.render.photons);
+    let out = cpu::forward::render_job(scene, &job, counter)
+        .expect("refuse_forward_without_light let only scenes with light through");
+    let pixels = out.film.width as usize * out.film.height as usize;
+    let rendered = Rendered {
+        image: out.image(),
+        timings: Timings::cpu(started),
+        ray_stats: None,
+        traversal: None,
+        forward: Some(ForwardFilm {
+            film: out.film,
+            stats: out.stats,
+        }),
+    };
+    let coverage = Coverage {
+        object_ids: vec![None; pixels],
+        surface_ids: vec![None; pixels],
+        near_edge: vec![true; pixels],
     };
     (rendered, coverage)
 }

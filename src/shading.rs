@@ -10,6 +10,10 @@ pub enum Shading {
     Gouraud,
     Phong,
     Raytrace,
+    /// Forward ray tracing: photons from the lights (`render.photons`).
+    /// Not in `ALL`, the modes every command runs by default: its image
+    /// is an estimate with noise, and only of diffuse light.
+    Forward,
 }
 
 impl Shading {
@@ -26,6 +30,7 @@ impl Shading {
             Shading::Gouraud => "gouraud",
             Shading::Phong => "phong",
             Shading::Raytrace => "raytrace",
+            Shading::Forward => "forward",
         }
     }
 }
@@ -42,9 +47,12 @@ impl FromStr for Shading {
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         Shading::ALL
             .into_iter()
+            .chain([Shading::Forward])
             .find(|m| m.name() == s)
             .ok_or_else(|| {
-                format!("unknown shading mode `{s}`; expected flat, gouraud, phong or raytrace")
+                format!(
+                    "unknown shading mode `{s}`; expected flat, gouraud, phong, raytrace or forward"
+                )
             })
     }
 }
@@ -58,13 +66,14 @@ pub enum RasterMode {
 }
 
 impl Shading {
-    /// The raster mode for this shading, or `None` for ray tracing.
+    /// The raster mode for this shading, or `None` for ray tracing (either
+    /// way).
     pub fn raster_mode(self) -> Option<RasterMode> {
         match self {
             Shading::Flat => Some(RasterMode::Flat),
             Shading::Gouraud => Some(RasterMode::Gouraud),
             Shading::Phong => Some(RasterMode::Phong),
-            Shading::Raytrace => None,
+            Shading::Raytrace | Shading::Forward => None,
         }
     }
 }

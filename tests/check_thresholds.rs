@@ -212,6 +212,7 @@ fn a_non_finite_pixel_always_fails() {
         edge_fraction: 1.0,
         edge_pixel_error: f64::INFINITY,
         flip_mean: f64::INFINITY,
+        mean_relative: None,
     };
     let (mut actual, _) = grey();
     actual.pixels[edge_pixel(3)][0] = f32::NAN;

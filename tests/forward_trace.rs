@@ -39,7 +39,7 @@ fn photons_in_a_closed_sphere_converge_to_the_series() {
         let mut errors = Vec::new();
         for photons in [1 << 16, 1 << 20] {
             let out = forward::render(&closed_sphere(bounces), photons).expect("a light");
-            let values = channel_values(&out.image);
+            let values = channel_values(&out.image());
             let (mean, error) = mean_and_error(&values);
             assert!(
                 (mean - want).abs() < 5.0 * error,
@@ -80,7 +80,7 @@ fn forward_and_backward_agree_on_the_diffuse_box() {
         .unwrap()
         .0
         .image;
-    let forward = forward::render(&scene, 1 << 22).unwrap().image;
+    let forward = forward::render(&scene, 1 << 22).unwrap().image();
     let quarter = |image: &LinearImage, qx: u32, qy: u32| {
         let mut sum = DVec3::ZERO;
         let (w, h) = (image.width / 2, image.height / 2);

@@ -160,6 +160,7 @@ fn expected_lambda(shading: Shading, px: u32, py: u32) -> Option<f64> {
             };
             cone(centroid)
         }
+        Shading::Forward => unreachable!("the raster modes and the ray tracer only"),
     })
 }
 

@@ -8,6 +8,7 @@
 use ash::vk;
 use rt_layout::TraceSpecialization;
 use shadelab::gpu::raster::layout as raster_layout;
+use shadelab::gpu::raytrace::forward::{PhotonBatch, PHOTONS_PER_LANE};
 use shadelab::gpu::raytrace::layout as rt_layout;
 use shadelab::gpu::shared::shader_catalog::{BindingKind, ShaderBlob, ShaderStage, ALL_SHADERS};
 use std::mem::offset_of;
@@ -38,7 +39,14 @@ fn host_for(shader: &ShaderBlob) -> HostInterface {
         spec_constants: raster_layout::SPEC_CONSTANTS,
         push_constant_size,
     };
+    let forward = shader.defines.iter().any(|(d, _)| *d == "FORWARD");
     match shader.stage {
+        ShaderStage::Compute if forward => HostInterface {
+            bindings: rt_layout::BINDINGS,
+            record_size: rt_layout::forward_record_size,
+            spec_constants: rt_layout::SPEC_CONSTANTS,
+            push_constant_size: std::mem::size_of::<PhotonBatch>() as u32,
+        },
         ShaderStage::Compute => HostInterface {
             bindings: rt_layout::BINDINGS,
             record_size: rt_layout::record_size,
@@ -262,8 +270,9 @@ fn every_stage_is_present() {
         // pattern variants again with image textures (2 and 4 of them).
         // (Per-sample MSAA is a pass per sample: no variant of its own.)
         // The ray tracer: the binary and the 4-wide BVH walk and ray
-        // queries, and the three again with diffuse bounces (PATHS).
-        (2 + 8 + 8, 1 + (4 + 2) + (8 + 4), 3 + 3)
+        // queries, and the three again with diffuse bounces (PATHS); the
+        // forward tracer on the binary and the 4-wide walk.
+        (2 + 8 + 8, 1 + (4 + 2) + (8 + 4), 3 + 3 + 2)
     );
     // The second ray tracer is the ray-query engine, and it has its set.
     assert!(ALL_SHADERS.iter().any(|s| {
@@ -287,7 +296,13 @@ fn every_stage_is_present() {
 /// plain `const`s and a layout qualifier, not reflected).
 #[test]
 fn the_bvh_stack_size_listed_objects_and_work_item_are_the_shaders() {
-    let source = include_str!("../shaders/raytrace.comp.glsl");
+    let raytrace = include_str!("../shaders/raytrace.comp.glsl");
+    let forward = include_str!("../shaders/forward.comp.glsl");
+    let photons = format!("const uint PHOTONS_PER_LANE = {PHOTONS_PER_LANE}u;");
+    assert!(
+        forward.contains(&photons),
+        "forward.comp.glsl lacks `{photons}`"
+    );
     for declared in [
         format!("const int BVH_STACK_SIZE = {};", rt_layout::BVH_STACK_SIZE),
         format!("const uint ITEM_PACKETS = {}u;", rt_layout::ITEM_PACKETS),
@@ -307,9 +322,15 @@ fn the_bvh_stack_size_listed_objects_and_work_item_are_the_shaders() {
         ),
     ] {
         assert!(
-            source.contains(&declared),
+            raytrace.contains(&declared),
             "raytrace.comp.glsl lacks `{declared}`"
         );
+        if !declared.starts_with("const uint ITEM_PACKETS") {
+            assert!(
+                forward.contains(&declared),
+                "forward.comp.glsl lacks `{declared}`"
+            );
+        }
     }
 }
 

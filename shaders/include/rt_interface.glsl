@@ -159,10 +159,20 @@ layout(std430, set = 0, binding = 5) readonly buffer TriangleGeometryBuffer { uv
 layout(std430, set = 0, binding = 6) readonly buffer BvhBuffer { uvec4 node_quads[]; };
 layout(std430, set = 0, binding = 7) readonly buffer TriangleShadingBuffer { TriangleShading triangle_shading[]; };
 layout(std430, set = 0, binding = 8) readonly buffer MaterialBuffer { RtMaterial materials[]; };
+#ifdef FORWARD
+// The forward tracer's film (forward.comp.glsl): each pixel's red, green
+// and blue sums of splats in fixed point, FILM_ONE to 1.0, added with
+// 64-bit atomics, so that the sums do not depend on the order the photons
+// land in (gpu::raytrace::forward::film).
+layout(std430, set = 0, binding = 9) buffer FilmBuffer { uint64_t film[]; };
+// Photons emitted, splats that landed, photons seen, surfaces hit.
+layout(std430, set = 0, binding = 10) buffer PhotonCountBuffer { uint64_t photon_counts[4]; };
+#else
 // Not `writeonly`: naga does not accept write-only storage buffers.
 layout(std430, set = 0, binding = 9) buffer OutputBuffer { vec4 pixels[]; };
 // primary, shadow, reflected, refracted, pruned, deepest level, 2 unused.
 layout(std430, set = 0, binding = 10) buffer StatsBuffer { uint counters[8]; };
+#endif
 // Each triangle's vertex colours, in the order of `triangle_shading`
 // (rt_layout::GpuTriangleColors), read only with VERTEX_COLORS.
 struct TriangleColors {

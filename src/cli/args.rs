@@ -174,7 +174,7 @@ impl MsaaArg {
     }
 }
 
-/// `--depth` and `--bounces`: how far the ray tracer's trees go,
+/// `--depth`, `--bounces` and `--photons`: how far the ray tracers go,
 /// overriding the scene's.
 #[derive(Args, Clone, Default)]
 pub struct DepthArg {
@@ -186,6 +186,11 @@ pub struct DepthArg {
     /// scene's render.bounces; 0, the default, is the Whitted tracer).
     #[arg(long)]
     pub bounces: Option<u32>,
+    /// Forward ray tracing (--shading forward): photons traced from the
+    /// lights, 1 to 4294967295 (overrides the scene's render.photons;
+    /// default 4194304). The noise falls as one over their square root.
+    #[arg(long, allow_negative_numbers = true)]
+    pub photons: Option<i64>,
 }
 
 impl DepthArg {
@@ -203,8 +208,24 @@ impl DepthArg {
             }
             scene.render.bounces = b;
         }
+        if let Some(p) = self.photons {
+            scene.render.photons = check_photons(p)?;
+        }
         Ok(())
     }
+}
+
+/// `--photons`: 1 to 2^32 - 1 (a photon's number is 32 bits).
+pub fn check_photons(photons: i64) -> Result<u32, Failure> {
+    u32::try_from(photons)
+        .ok()
+        .filter(|&p| p > 0)
+        .ok_or_else(|| {
+            Failure::usage(format!(
+                "--photons {photons} is out of range; expected 1 to {} (photons are numbered in 32 bits; for more, add up shards)",
+                u32::MAX
+            ))
+        })
 }
 
 /// `--depth`: the ray tracer's maximum depth, 0 to `MAX_DEPTH`.

@@ -81,6 +81,10 @@ impl BenchArgs {
             "--bounces",
             self.settings.depth.bounces.map(|v| v.to_string()),
         );
+        flag(
+            "--photons",
+            self.settings.depth.photons.map(|v| v.to_string()),
+        );
         flag("--traversal", self.settings.traversal.traversal.clone());
         let gpu = match &self.settings.lighting.lighting {
             Some(hook) => vec!["--lighting".into(), hook.into()],
@@ -156,7 +160,8 @@ fn load(
     args.settings.apply(&mut scene)?;
     // Said once the flags are known to be valid: a bad one is the answer.
     ignored::warn(&given, modes, ignored::Backends::Gpu);
-    let cpu_modes: &[Shading] = if args.cpu { &[Shading::Raytrace] } else { &[] };
+    let twins = [Shading::Raytrace, Shading::Forward];
+    let cpu_modes: &[Shading] = if args.cpu { &twins } else { &[] };
     let mut gpu_modes = modes.to_vec();
     gpu_modes.push(Shading::Flat);
     memory.check(&name, &scene, &gpu_modes, cpu_modes)?;

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use shadelab::compare::run::median_and_spread;
+use shadelab::film_sums::PhotonJob;
 use shadelab::gpu::raster::ColorTarget;
 use shadelab::gpu::raytrace::TraceOptions;
 use shadelab::gpu::{raster, raytrace, GpuContext, GpuTimings};
@@ -88,8 +89,11 @@ fn row(
     baseline: f64,
 ) -> Result<Row, Failure> {
     let traced = shading.raster_mode().is_none();
-    // Rays are counted in a separate run: counting costs atomics.
-    let (rays, traversal) = if traced {
+    // Rays are counted in a separate run: counting costs atomics. Forward
+    // tracing counts photons, not rays, and walks the compute BVH.
+    let (rays, traversal) = if shading == Shading::Forward {
+        (None, Some("bvh"))
+    } else if traced {
         let counted = raytrace::render(t.context, t.scene, true)?;
         (
             counted.stats.map(|s| s.total()),
@@ -106,7 +110,7 @@ fn row(
     } else {
         None
     };
-    let every_feature_gpu_ms = if t.every_feature && traced {
+    let every_feature_gpu_ms = if t.every_feature && shading == Shading::Raytrace {
         Some(t.time(shading, true)?.1)
     } else {
         None
@@ -147,6 +151,10 @@ fn once(
 ) -> Result<GpuTimings, Failure> {
     Ok(match shading.raster_mode() {
         Some(mode) => raster::render_to(context, scene, mode, target)?.timings,
+        None if shading == Shading::Forward => {
+            let job = PhotonJob::all(scene.render.photons);
+            raytrace::forward::render(context, scene, &job, &Default::default())?.timings
+        }
         None => {
             let options = TraceOptions {
                 every_feature,
@@ -161,6 +169,11 @@ fn once(
 /// tracer's tracing (its BVH built beforehand, as the GPU's is before its
 /// dispatch), or a raster mode's whole render.
 fn cpu_once(scene: &Scene, shading: Shading) -> Result<f64, Failure> {
+    if shading == Shading::Forward {
+        let started = Instant::now();
+        shadelab::render::render_cpu(scene, shading)?;
+        return Ok(started.elapsed().as_secs_f64() * 1e3);
+    }
     if shading.raster_mode().is_none() {
         return Ok(shadelab::cpu::raytrace::render(scene).trace_ms);
     }

@@ -25,6 +25,11 @@ fn used_by(flag: &str, shading: Shading, cpu: bool) -> bool {
         "--msaa" => shading.raster_mode().is_some(),
         // The CPU reference has one way of finding hits.
         "--traversal" => shading == Shading::Raytrace && !cpu,
+        "--photons" => shading == Shading::Forward,
+        // `bench --cpu`: the CPU twin of either tracer.
+        "--cpu" => matches!(shading, Shading::Raytrace | Shading::Forward),
+        // Forward tracing's paths are bounded by both as the eye's are.
+        "--depth" | "--bounces" => matches!(shading, Shading::Raytrace | Shading::Forward),
         _ => shading == Shading::Raytrace,
     }
 }
@@ -44,6 +49,14 @@ fn why(flag: &str, cpu_alone: bool) -> (&'static str, &'static str) {
         "--traversal" => (
             "it chooses the GPU ray tracer's engine",
             "they choose the GPU ray tracer's engine",
+        ),
+        "--photons" => (
+            "only forward ray tracing uses it",
+            "only forward ray tracing uses them",
+        ),
+        "--cpu" => (
+            "it times the ray tracers' CPU twins",
+            "they time the ray tracers' CPU twins",
         ),
         _ => (
             "only the ray tracer uses it",
@@ -119,6 +132,7 @@ pub fn scene_flags_given(
     [
         ("--depth", depth.depth.is_some()),
         ("--bounces", depth.bounces.is_some()),
+        ("--photons", depth.photons.is_some()),
         ("--traversal", traversal.traversal.is_some()),
         ("--msaa", msaa.msaa.is_some()),
     ]

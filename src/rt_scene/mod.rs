@@ -12,14 +12,17 @@
 //! them a hit is on), `scene.rs` builds `RtScene` from a `Scene`, `bvh.rs`
 //! the tree over its triangles and the widening both tracers give its
 //! boxes, `rays.rs` what both tracers agree on per pixel (sample grid, ray
-//! counts).
+//! counts), `light_shares.rs` how forward tracing splits its photons
+//! over the lights.
 
 mod bvh;
+mod light_shares;
 mod primitives;
 mod rays;
 mod scene;
 
 pub use bvh::{widened_box, BOX_WIDENING};
+pub use light_shares::{LightShares, SHARE_UNITS};
 pub use primitives::{Primitive, RtBox, RtHugeSphere, RtPlane, RtSphere, RtTriangle};
 pub use rays::{sample_grid, RayStats};
 pub use scene::RtScene;

@@ -69,11 +69,17 @@ impl Default for RenderSettings {
             shadows: true,
             samples: 1,
             bounces: 0,
+            photons: DEFAULT_PHOTONS,
             traversal: Traversal::Auto,
             msaa: crate::msaa::Msaa::default(),
         }
     }
 }
+
+/// Forward ray tracing's photons when a scene or `--photons` does not
+/// say: 2^22, about 14 splats a pixel of a 640 x 480 image of a closed
+/// scene.
+pub const DEFAULT_PHOTONS: u32 = 1 << 22;
 
 /// A checker pattern's cells per unit of `u` and `v` when its `scale` is
 /// not given.

@@ -394,6 +394,9 @@ pub struct RenderSettings {
     /// Ray tracing: diffuse bounces a path may take (secondary
     /// illumination, docs/lighting-model.md); 0 is the Whitted tracer.
     pub bounces: u32,
+    /// Forward ray tracing: photons traced from the lights, split over
+    /// them by power.
+    pub photons: u32,
     /// Ray tracing on the GPU: the engine that finds hits.
     pub traversal: Traversal,
     /// The raster modes: samples per pixel and where they are shaded.

@@ -22,6 +22,7 @@ pub(super) fn effective_settings(
     driver: Option<&str>,
 ) -> serde_json::Value {
     let ray_traced = shading == Shading::Raytrace;
+    let forward = shading == Shading::Forward;
     let r = &scene.render;
     serde_json::json!({
         "scene": scene_path.map_or_else(
@@ -32,13 +33,14 @@ pub(super) fn effective_settings(
         "backend": backend.name(),
         "width": rendered.image.width,
         "height": rendered.image.height,
-        "depth": ray_traced.then_some(r.depth),
+        "depth": (ray_traced || forward).then_some(r.depth),
         "samples": ray_traced.then_some(r.samples),
-        "bounces": ray_traced.then_some(r.bounces),
+        "bounces": (ray_traced || forward).then_some(r.bounces),
+        "photons": forward.then_some(r.photons),
         "shadows": ray_traced.then_some(r.shadows),
         "cutoff": ray_traced.then_some(r.cutoff),
         "traversal": rendered.traversal.map(|t| t.name()),
-        "msaa": (!ray_traced).then(|| r.msaa.to_string()),
+        "msaa": shading.raster_mode().is_some().then(|| r.msaa.to_string()),
         "lighting": scene.lighting_hook.as_ref().map(|h| h.path.clone()),
         "device": device,
         "driver": driver,

@@ -18,7 +18,7 @@ use shadelab::shading::Shading;
 use super::args::RenderArgs;
 use super::image::{color_target, effective_settings, image_metadata};
 use super::scene::{apply_overrides, load_scene};
-use super::stats::print_stats;
+use super::stats::{print_photons, print_stats};
 use crate::cli::failure::Failure;
 
 /// The GPU opened on a thread of its own while the scene loads (on a
@@ -127,6 +127,7 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
     for warning in &loaded.scene.warnings {
         eprintln!("shadelab: warning: {warning}");
     }
+
     let out = output_path(&args, &loaded.stem, shading);
     let format = ImageFormat::from_path(&out)?;
     let target = color_target(&loaded.scene, format);
@@ -137,6 +138,11 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
         }
     }
     let (rendered, device, driver) = render(&args, &loaded, shading, context, target)?;
+    if shading == Shading::Forward {
+        if let Some(warning) = shadelab::render::forward_blind_spots(&loaded.scene) {
+            eprintln!("shadelab: warning: {warning}");
+        }
+    }
     let settings = effective_settings(
         path,
         shading,
@@ -221,8 +227,20 @@ fn render(
 ) -> Result<(Rendered, String, Option<String>), Failure> {
     let scene = &loaded.scene;
     Ok(if let Some(context) = context {
-        let rendered =
-            shadelab::render::render_gpu_to(&context, scene, shading, args.stats, target)?;
+        let rendered = if shading == Shading::Forward {
+            // Photons go in batches: their count is the progress.
+            crate::cli::progress::counted("forward on the GPU", |counter| {
+                shadelab::render::render_gpu_counted(
+                    &context,
+                    scene,
+                    shading,
+                    (args.stats, target),
+                    counter,
+                )
+            })?
+        } else {
+            shadelab::render::render_gpu_to(&context, scene, shading, args.stats, target)?
+        };
         let info = &context.info;
         (rendered, info.name.clone(), Some(info.driver.clone()))
     } else {
@@ -308,6 +326,10 @@ fn print_json(
         value["stats"] =
             serde_json::to_value(rendered.ray_stats).expect("ray statistics serialise to JSON");
     }
+    if let Some(forward) = &rendered.forward {
+        value["photons"] =
+            serde_json::to_value(forward.stats).expect("photon counts serialise to JSON");
+    }
     println!("{value}");
 }
 
@@ -327,6 +349,9 @@ fn print_line(args: &RenderArgs, shading: Shading, image: &Written) {
         rendered.timings.total_ms,
         image.device
     );
+    if let Some(forward) = &rendered.forward {
+        print_photons(&forward.stats);
+    }
     if args.stats {
         print_stats(rendered.ray_stats.as_ref(), &rendered.timings, shading);
     }

@@ -1,5 +1,7 @@
-//! The ray statistics of a render, for people (`--stats`).
+//! The ray statistics of a render, for people (`--stats`), and what a
+//! forward render's photons did.
 
+use shadelab::film_sums::PhotonStats;
 use shadelab::render::Timings;
 use shadelab::rt_scene::RayStats;
 use shadelab::shading::Shading;
@@ -33,4 +35,18 @@ pub(super) fn print_stats(stats: Option<&RayStats>, timings: &Timings, shading: 
     for (name, value) in rows {
         println!("{name:<18} {value:>12}");
     }
+}
+
+/// One line: photons emitted, how many reached the eye (the lecture's
+/// measure of forward tracing's waste), and their splats.
+pub(super) fn print_photons(s: &PhotonStats) {
+    let one_in = if s.seen > 0 {
+        format!(" (1 in {:.2})", s.emitted as f64 / s.seen as f64)
+    } else {
+        String::new()
+    };
+    println!(
+        "photons: {} emitted, {} reached the eye{one_in}, {} splats",
+        s.emitted, s.seen, s.splats
+    );
 }

@@ -10,6 +10,7 @@ pub(crate) fn mode_colour(mode: Shading) -> (u8, u8, u8) {
         Shading::Gouraud => (44, 160, 44),
         Shading::Phong => (214, 39, 40),
         Shading::Raytrace => (148, 103, 189),
+        Shading::Forward => (140, 86, 75),
     }
 }
 

@@ -1,10 +1,11 @@
 //! The film photons splat into: which pixel the eye sees a point in, and
-//! the sums of what lands there.
+//! the sums of what lands there, in the GPU's fixed point
+//! (`film_sums`), so that films add up in any order to the same bits.
 
 use glam::DVec3;
 
 use crate::camera::View;
-use crate::linear_image::LinearImage;
+use crate::film_sums::{FilmSums, FILM_MAX, FILM_ONE};
 
 /// A pinhole eye at the origin of camera-relative coordinates and its
 /// image's pixel sums.
@@ -17,7 +18,7 @@ pub struct Film {
     aspect: f64,
     width: u32,
     height: u32,
-    pixels: Vec<DVec3>,
+    sums: FilmSums,
 }
 
 impl Film {
@@ -30,7 +31,7 @@ impl Film {
             aspect: view.aspect,
             width: view.width,
             height: view.height,
-            pixels: vec![DVec3::ZERO; view.width as usize * view.height as usize],
+            sums: FilmSums::zero(view.width, view.height),
         }
     }
 
@@ -61,22 +62,28 @@ impl Film {
         side * side
     }
 
+    /// Adds a splat to its pixel's sums, rounded to nearest as the GPU
+    /// rounds (`add_to_film` in shaders/include/rt_photon.glsl); one that
+    /// is not finite adds nothing.
     pub fn add_to(&mut self, pixel: usize, value: DVec3) {
-        self.pixels[pixel] += value;
+        for (c, v) in value.to_array().into_iter().enumerate() {
+            let scaled = v * FILM_ONE;
+            if (0.5..=FILM_MAX).contains(&scaled) {
+                let sum = &mut self.sums.sums[3 * pixel + c];
+                *sum = sum.wrapping_add((scaled + 0.5) as u64);
+            }
+        }
     }
 
-    /// Adds another film of the same image, pixel by pixel.
+    /// Adds another film of the same image, sum by sum.
     pub fn add(&mut self, other: &Film) {
-        for (a, b) in self.pixels.iter_mut().zip(&other.pixels) {
-            *a += *b;
-        }
+        self.sums
+            .add(&other.sums)
+            .expect("films of one view are the same size");
     }
 
-    pub fn image(&self) -> LinearImage {
-        LinearImage {
-            width: self.width,
-            height: self.height,
-            pixels: self.pixels.iter().map(|p| p.as_vec3().to_array()).collect(),
-        }
+    /// The sums.
+    pub fn into_sums(self) -> FilmSums {
+        self.sums
     }
 }

@@ -8,60 +8,78 @@
 //!
 //! `photon.rs` follows one photon; `film.rs` is where its splats land.
 //! The random numbers are the backward tracer's counter-based hash, keyed
-//! by photon, so a render is the same at any thread count.
+//! by photon, and the film sums in fixed point as the GPU's does, so a
+//! render is the same bits at any thread count.
 
 mod film;
 mod photon;
 
+pub use crate::film_sums::PhotonStats;
 pub use film::Film;
-pub use photon::{trace_photon, PhotonStats};
+pub use photon::trace_photon;
 
 use rayon::prelude::*;
 
 use crate::camera::View;
 use crate::cpu::intersect::Accel;
+use crate::film_sums::{FilmSums, PhotonJob};
 use crate::linear_image::LinearImage;
 use crate::rt_scene::RtScene;
 use crate::scene::Scene;
+use crate::work_counter::WorkCounter;
 
-/// Photons traced by one task into a film of its own. Fixed, so that the
-/// films are summed in the same order whatever the thread count.
+/// Photons traced by one task: progress is counted a task at a time.
 const PHOTONS_PER_TASK: u32 = 1 << 14;
 
-/// A forward render: the image and what its photons did.
+/// A forward render: its film and what its photons did.
 pub struct ForwardImage {
-    pub image: LinearImage,
+    pub film: FilmSums,
     pub stats: PhotonStats,
 }
 
-/// Traces `photons` photons through `scene` at its image size, split over
-/// its lights by power. `None` where the scene has no light with power.
+impl ForwardImage {
+    pub fn image(&self) -> LinearImage {
+        self.film.image()
+    }
+}
+
+/// Traces all `photons` photons through `scene` at its image size, split
+/// over its lights by power. `None` where the scene has no light with
+/// power.
 pub fn render(scene: &Scene, photons: u32) -> Option<ForwardImage> {
+    render_job(scene, &PhotonJob::all(photons), &WorkCounter::default())
+}
+
+/// Traces `job`'s photons, counting them into `counter` as tasks finish.
+/// Each thread splats into a film of its own; the films' integer sums add
+/// up to the same bits in any order.
+pub fn render_job(scene: &Scene, job: &PhotonJob, counter: &WorkCounter) -> Option<ForwardImage> {
     let rt = RtScene::new(scene);
     let view = View::new(scene, scene.image.width, scene.image.height);
     let accel = Accel::new(&rt);
     let lights = photon::LightChoice::new(&rt)?;
-    let tasks = photons.div_ceil(PHOTONS_PER_TASK);
-    let films: Vec<(Film, PhotonStats)> = (0..tasks)
+    let range = job.range.clone();
+    let tasks = (range.end.saturating_sub(range.start)).div_ceil(PHOTONS_PER_TASK);
+    counter.begin("photons", u64::from(range.end.saturating_sub(range.start)));
+    let fresh = || (Film::new(&view), PhotonStats::default());
+    let (film, stats) = (0..tasks)
         .into_par_iter()
-        .map(|task| {
-            let mut film = Film::new(&view);
-            let mut stats = PhotonStats::default();
-            let first = task * PHOTONS_PER_TASK;
-            for i in first..(first + PHOTONS_PER_TASK).min(photons) {
-                trace_photon(&accel, &lights, i, photons, &mut film, &mut stats);
+        .fold(fresh, |(mut film, mut stats), task| {
+            let first = range.start + task * PHOTONS_PER_TASK;
+            let end = first.saturating_add(PHOTONS_PER_TASK).min(range.end);
+            for i in first..end {
+                trace_photon(&accel, &lights, i, job.total, &mut film, &mut stats);
             }
+            counter.add(u64::from(end - first));
             (film, stats)
         })
-        .collect();
-    let mut total = Film::new(&view);
-    let mut stats = PhotonStats::default();
-    for (film, s) in films {
-        total.add(&film);
-        stats.add(&s);
-    }
+        .reduce(fresh, |(mut a, mut sa), (b, sb)| {
+            a.add(&b);
+            sa.add(&sb);
+            (a, sa)
+        });
     Some(ForwardImage {
-        image: total.image(),
+        film: film.into_sums(),
         stats,
     })
 }

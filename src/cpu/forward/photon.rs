@@ -10,68 +10,24 @@ use crate::cpu::raytrace::{
     children, cosine_direction, facing_normal, offset_epsilon, offset_origin, photon_numbers,
 };
 use crate::cpu::surface::hit_tint;
-use crate::rt_scene::RtScene;
+use crate::film_sums::PhotonStats;
+use crate::rt_scene::{LightShares, RtScene};
 use crate::scene::Material;
 
-/// What the photons of a render did.
-#[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
-pub struct PhotonStats {
-    /// Photons that left a light.
-    pub emitted: u64,
-    /// Splats that reached the eye (shadow ray clear, on the image).
-    pub splats: u64,
-    /// Photons with at least one splat: light that reached the eye.
-    pub seen: u64,
-    /// Surfaces hit.
-    pub hits: u64,
-}
-
-impl PhotonStats {
-    pub fn add(&mut self, other: &PhotonStats) {
-        self.emitted += other.emitted;
-        self.splats += other.splats;
-        self.seen += other.seen;
-        self.hits += other.hits;
-    }
-}
-
-/// The scene's lights, picked in proportion to their power (the mean of
-/// their intensity's channels).
+/// The scene's lights, picked in proportion to their power
+/// (`LightShares`, the GPU's split too).
 pub struct LightChoice<'a> {
     scene: &'a RtScene,
-    /// Running sums of the powers over their total, by light.
-    cumulative: Vec<f64>,
+    shares: LightShares,
 }
 
 impl<'a> LightChoice<'a> {
     /// `None` for a scene with no light that has power.
     pub fn new(scene: &'a RtScene) -> Option<Self> {
-        let power = |i: DVec3| (i.x + i.y + i.z).max(0.0) / 3.0;
-        let total: f64 = scene.lights.iter().map(|l| power(l.intensity)).sum();
-        if total <= 0.0 || !total.is_finite() {
-            return None;
-        }
-        let mut sum = 0.0;
-        let cumulative = scene
-            .lights
-            .iter()
-            .map(|l| {
-                sum += power(l.intensity) / total;
-                sum
-            })
-            .collect();
-        Some(LightChoice { scene, cumulative })
-    }
-
-    /// The light `u` picks, and the chance it had.
-    fn pick(&self, u: f64) -> (usize, f64) {
-        let j = self
-            .cumulative
-            .iter()
-            .position(|&c| u < c)
-            .unwrap_or(self.cumulative.len() - 1);
-        let below = if j == 0 { 0.0 } else { self.cumulative[j - 1] };
-        (j, self.cumulative[j] - below)
+        Some(LightChoice {
+            scene,
+            shares: LightShares::of(scene)?,
+        })
     }
 }
 
@@ -104,7 +60,7 @@ pub fn trace_photon(
 ) {
     let scene = lights.scene;
     let [u0, u1, u2, _] = photon_numbers(i, 0);
-    let (j, chance) = lights.pick(u0);
+    let (j, chance) = lights.shares.pick(u0);
     let light = &scene.lights[j];
     let z = 1.0 - 2.0 * u1;
     let r = (1.0 - z * z).max(0.0).sqrt();

@@ -227,6 +227,7 @@ mod tests {
             unusable_because: None,
             no_ray_tracer_because: None,
             no_ray_query_because: None,
+            no_forward_because: None,
         };
         let check = |text: &str| check_samples(&device, text.parse().unwrap());
         for fine in ["1", "4", "2,per-sample"] {

@@ -10,14 +10,13 @@ use gpu_allocator::MemoryLocation;
 use crate::camera::View;
 use crate::gpu::raytrace::layout::{TraceUniforms, BINDINGS};
 use crate::gpu::raytrace::records::{v4, SceneRecords};
-use crate::gpu::shared::lights::lights;
+use crate::gpu::shared::lights::GpuLight;
 use crate::gpu::vk::buffer::Buffer;
 use crate::gpu::vk::context::GpuContext;
 use crate::gpu::vk::descriptors::Descriptors;
 use crate::gpu::vk::error::GpuError;
 use crate::linear_image::LinearImage;
 use crate::rt_scene::{sample_grid, RayStats, RtScene};
-use crate::scene::Scene;
 
 /// Every buffer of a trace. Fields drop in the order they are declared,
 /// so they are listed newest first: the buffers are freed in the reverse
@@ -43,20 +42,21 @@ pub(super) struct TraceBuffers {
 }
 
 impl TraceBuffers {
-    /// Uploads the records `r` of `rt`, the scene's lights and the
-    /// uniforms as seen through `view`, and makes the buffers the shader
-    /// writes, sized for `view`'s image.
+    /// Uploads the records `r` of `rt`, the `lights` and the uniforms as
+    /// seen through `view`, and makes the buffers the shader writes: its
+    /// output `output_bytes` long, its counters (zeroed).
     pub fn upload(
         context: &Arc<GpuContext>,
-        scene: &Scene,
+        lights: &[GpuLight],
         view: &View,
         rt: &RtScene,
         r: &SceneRecords,
+        output_bytes: u64,
     ) -> Result<Self, GpuError> {
         let uniforms = uniforms(view, rt, r);
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let upload = |name: &str, bytes: &[u8]| Buffer::with_data(context, name, bytes, storage);
-        let lights = upload("lights", bytemuck::cast_slice(&lights(scene, view.eye)))?;
+        let lights = upload("lights", bytemuck::cast_slice(lights))?;
         let spheres = upload("spheres", bytemuck::cast_slice(&r.spheres))?;
         let planes = upload("planes", bytemuck::cast_slice(&r.planes))?;
         let boxes = upload("boxes", bytemuck::cast_slice(&r.boxes))?;
@@ -93,14 +93,14 @@ impl TraceBuffers {
             bytemuck::bytes_of(&uniforms),
             vk::BufferUsageFlags::UNIFORM_BUFFER,
         )?;
-        let pixel_bytes = u64::from(view.width) * u64::from(view.height) * 16;
         let output = Buffer::new(
             context,
-            "pixels",
-            pixel_bytes,
+            "output",
+            output_bytes,
             storage,
             MemoryLocation::GpuToCpu,
         )?;
+
         let mut stats = Buffer::new(context, "ray stats", 32, storage, MemoryLocation::GpuToCpu)?;
         stats.mapped_mut()[..32].fill(0);
         Ok(Self {
@@ -160,6 +160,22 @@ impl TraceBuffers {
     /// The traced pixels, after the submission has completed.
     pub fn image(&self, width: u32, height: u32) -> LinearImage {
         LinearImage::from_rgba32f_bytes(width, height, self.output.mapped())
+    }
+
+    /// Zeroes the output, before a shader that adds to it (the forward
+    /// tracer's film; the ray tracer writes every pixel).
+    pub fn zero_output(&mut self) {
+        self.output.mapped_mut().fill(0);
+    }
+
+    /// The output's bytes, after the submission has completed.
+    pub fn output(&self) -> &[u8] {
+        self.output.mapped()
+    }
+
+    /// The counters' bytes, after the submission has completed.
+    pub fn counters(&self) -> &[u8] {
+        &self.stats.mapped()[..32]
     }
 
     /// The shader's ray counters, after the submission has completed.

@@ -18,7 +18,7 @@ use crate::gpu::vk::timestamps::{ms_since, Timestamps};
 
 /// A work-queue head past any image's last item: a dispatch that starts
 /// from it takes no item, so every subgroup ends at once.
-const QUEUE_EXHAUSTED: u32 = 0x8000_0000;
+pub(super) const QUEUE_EXHAUSTED: u32 = 0x8000_0000;
 
 /// The ray tracer's pipeline and what it reads, bound for a dispatch.
 pub(super) struct BoundTrace<'a> {
@@ -36,7 +36,7 @@ impl BoundTrace<'_> {
     /// # Safety
     /// `cmd` is recording, and every handle in `self` lives until the
     /// submission that runs it has completed.
-    unsafe fn record(
+    pub(super) unsafe fn record(
         &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,

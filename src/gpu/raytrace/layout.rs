@@ -409,6 +409,17 @@ pub fn record_size(binding: u32) -> usize {
     }
 }
 
+/// The record size at `binding` in the forward tracer's module
+/// (`shaders/forward.comp.glsl`): the ray tracer's, but for its output, a
+/// film of 64-bit sums (`film_sums`), and its four 64-bit photon counts.
+pub fn forward_record_size(binding: u32) -> usize {
+    match binding {
+        OUTPUT => 8,
+        STATS => 32,
+        _ => record_size(binding),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -5,11 +5,14 @@
 //! `--traversal query`, hands the same records to the driver to build
 //! acceleration structures (`accel`) that ray queries walk. The records
 //! travel in the trace's `buffers`, which `dispatch` binds and runs.
+//! `forward` traces the other way, photons from the lights, over the same
+//! records and buffers.
 
 mod accel;
 mod buffers;
 pub mod bvh;
 mod dispatch;
+pub mod forward;
 pub mod layout;
 mod records;
 mod renderer;

@@ -175,7 +175,11 @@ pub struct TraceOptions {
 /// refraction if some material has them, the objects tested one by one and
 /// the kinds the BVH holds (`BvhKinds`), the materials held in registers
 /// if few; or every feature on (`TraceOptions::every_feature`).
-fn specialization(scene: &Scene, rt: &RtScene, options: TraceOptions) -> TraceSpecialization {
+pub(super) fn specialization(
+    scene: &Scene,
+    rt: &RtScene,
+    options: TraceOptions,
+) -> TraceSpecialization {
     let lighting = SceneLighting::of(scene);
     let on = |used: bool| u32::from(used || options.every_feature);
     let in_bvh = BvhKinds::of(rt);
@@ -259,7 +263,16 @@ pub fn render_with(
         // leaf of one degenerate triangle, which no ray hits.
         plan.records.add_unhittable_triangle();
     }
-    let buffers = TraceBuffers::upload(context, scene, &view, &plan.rt, &plan.records)?;
+    let lights = crate::gpu::shared::lights::lights(scene, view.eye);
+    let pixel_bytes = u64::from(width) * u64::from(height) * 16;
+    let buffers = TraceBuffers::upload(
+        context,
+        &lights,
+        &view,
+        &plan.rt,
+        &plan.records,
+        pixel_bytes,
+    )?;
     let descriptors = buffers.bind(context, pipeline.set_layout)?;
     let structure = build_structure(context, &plan, &pipeline)?;
     let groups = workgroups(width, height, context.info.is_cpu(), cpu_threads());
@@ -432,6 +445,7 @@ mod tests {
             unusable_because: None,
             no_ray_tracer_because: None,
             no_ray_query_because: (!ray_query).then(|| "lacks VK_KHR_ray_query".into()),
+            no_forward_because: None,
         }
     }
 

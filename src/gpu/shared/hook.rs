@@ -228,6 +228,7 @@ mod tests {
             unusable_because: None,
             no_ray_tracer_because: None,
             no_ray_query_because: None,
+            no_forward_because: None,
         };
         let words = module_words(&PHONG_FRAG, Some(&hook), &device).unwrap();
         assert!(declares_capability(&words, FLOAT16_CAPABILITY));

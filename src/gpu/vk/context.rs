@@ -67,6 +67,10 @@ pub struct DeviceInfo {
     /// `None` when the ray-query engine (`--traversal query`) runs on the
     /// device, else why not (`ray_query::missing`).
     pub no_ray_query_because: Option<String>,
+    /// `None` when forward ray tracing (`--shading forward`) runs on the
+    /// device: it needs the ray tracer and 64-bit integer atomics on
+    /// storage buffers, for its film's fixed-point sums. Else why not.
+    pub no_forward_because: Option<String>,
 }
 
 impl DeviceInfo {
@@ -187,6 +191,7 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
             instance.get_physical_device_queue_family_properties(physical)
         };
         let props = props2.properties;
+        let core_features = f2.features;
         let name = props
             .device_name_as_c_str()
             .map(|s| s.to_string_lossy().into_owned())
@@ -244,6 +249,7 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
                         .to_string()
                 }),
                 no_ray_query_because: ray_query::missing(instance, physical),
+                no_forward_because: forward_missing(&core_features, &f12),
             },
             physical,
             queue_family,
@@ -251,6 +257,21 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
         });
     }
     Ok(out)
+}
+
+/// What forward tracing needs that the device lacks (beyond the ray
+/// tracer's own needs), or `None`.
+fn forward_missing(
+    features: &vk::PhysicalDeviceFeatures,
+    f12: &vk::PhysicalDeviceVulkan12Features,
+) -> Option<String> {
+    if features.shader_int64 == vk::FALSE {
+        Some("lacks 64-bit integers in shaders (shaderInt64)".into())
+    } else if f12.shader_buffer_int64_atomics == vk::FALSE {
+        Some("lacks 64-bit integer atomics on storage buffers (shaderBufferInt64Atomics)".into())
+    } else {
+        None
+    }
 }
 
 /// The sample counts both the colour and the depth target take, where the
@@ -469,9 +490,13 @@ impl GpuContext {
         // Optional: what a lighting hook in half precision needs, and what
         // the ray-query engine needs, wherever the device offers it.
         let ray_query = chosen.info.no_ray_query_because.is_none();
+        // And forward tracing's 64-bit atomics.
+        let forward = chosen.info.no_forward_because.is_none();
         let mut f12 = vk::PhysicalDeviceVulkan12Features::default()
             .shader_float16(chosen.info.shader_float16)
-            .buffer_device_address(ray_query);
+            .buffer_device_address(ray_query)
+            .shader_buffer_int64_atomics(forward);
+        let core = vk::PhysicalDeviceFeatures::default().shader_int64(forward);
         let mut structures = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default()
             .acceleration_structure(true);
         let mut query = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
@@ -483,6 +508,7 @@ impl GpuContext {
         let mut create = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
             .enabled_extension_names(&extensions)
+            .enabled_features(&core)
             .push_next(&mut f13)
             .push_next(&mut f12);
         if ray_query {

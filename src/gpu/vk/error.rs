@@ -39,6 +39,9 @@ pub enum GpuError {
     NoRayQuery { device: String, why: String },
     #[error("the scene holds {0}; render it with --backend cpu")]
     SceneTooLarge(String),
+    /// Forward ray tracing of a scene whose lights emit nothing.
+    #[error("forward ray tracing needs a light that emits: the scene has {0}")]
+    NoLightToTraceFrom(String),
     /// A lighting hook that does not compile or oversteps its interface:
     /// the message names the file (and glslang's line).
     #[error("lighting hook {0}")]
@@ -71,6 +74,7 @@ impl GpuError {
                 | GpuError::BvhTooDeep { .. }
                 | GpuError::SceneTooLarge(_)
                 | GpuError::NoRayQuery { .. }
+                | GpuError::NoLightToTraceFrom(_)
         )
     }
 }

@@ -230,6 +230,7 @@ msaa    = 1                       # raster modes: samples per pixel ("4,per-samp
                 shadows: true,
                 samples: 1,
                 bounces: 0,
+                photons: 1 << 22,
                 traversal: Traversal::Auto,
                 msaa: crate::msaa::Msaa::default(),
             }
@@ -341,7 +342,7 @@ msaa    = 1                       # raster modes: samples per pixel ("4,per-samp
             "[lighting]\nambient = [0.1, 0.2, 0.3]\nk = 0\ninterpolation = \"screen\"\nattenuation = false\n\
              [[lights]]\nposition = [1, 2, 3]\nintensity = [1, 0.5, 0]\n\
              [materials.m]\n[[objects]]\nshape = \"box\"\ncenter = [0, 0, 0]\nsize = [2, 4, 6]\nrotate_deg = [0, 90, 0]\nmaterial = \"m\"\n\
-             [render]\ndepth = 0\ncutoff = 0\nshadows = false\nsamples = 16\nbounces = 3\ntraversal = \"query\"\nmsaa = \"4,per-sample\"\n",
+             [render]\ndepth = 0\ncutoff = 0\nshadows = false\nsamples = 16\nbounces = 3\nphotons = 1000\ntraversal = \"query\"\nmsaa = \"4,per-sample\"\n",
         ));
         assert_eq!(s.lighting.ambient, DVec3::new(0.1, 0.2, 0.3));
         assert_eq!(s.lighting.k, 0.0);
@@ -367,6 +368,7 @@ msaa    = 1                       # raster modes: samples per pixel ("4,per-samp
                 shadows: false,
                 samples: 16,
                 bounces: 3,
+                photons: 1000,
                 traversal: Traversal::Query,
                 msaa: crate::msaa::Msaa {
                     samples: 4,

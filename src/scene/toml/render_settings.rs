@@ -1,6 +1,6 @@
 //! `[image]` and `[render]`: the picture's size and background, and how
 //! the renderers take it (depth, cut-off, shadows, samples, bounces,
-//! traversal, MSAA), each in its range.
+//! photons, traversal, MSAA), each in its range.
 
 use super::checks::{spanned_map, Ctx};
 use super::schema::{v3, ImageRaw, MsaaRaw, RenderRaw};
@@ -43,6 +43,10 @@ pub(super) fn render(cx: &Ctx, raw: Option<&RenderRaw>) -> Result<RenderSettings
         }
         if let Some(b) = &r.bounces {
             render.bounces = cx.int_in(b, "render.bounces", 0, i64::from(MAX_DEPTH), "")?;
+        }
+        if let Some(p) = &r.photons {
+            let why = " (photons are numbered in 32 bits)";
+            render.photons = cx.int_in(p, "render.photons", 1, i64::from(u32::MAX), why)?;
         }
         if let Some(t) = r.traversal {
             render.traversal = t;
@@ -90,6 +94,14 @@ mod tests {
                 &["line 5", "render.msaa", "per-sample"],
             ),
             ("[render]\ncutoff = -0.1\n", &["line 5", "render.cutoff"]),
+            (
+                "[render]\nphotons = 0\n",
+                &["line 5", "render.photons", "4294967295"],
+            ),
+            (
+                "[render]\nphotons = 4294967296\n",
+                &["line 5", "render.photons", "32 bits"],
+            ),
         ] {
             let e = parse_err(&with_camera(rest));
             assert_has(&e, parts);

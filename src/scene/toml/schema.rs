@@ -223,6 +223,7 @@ pub(super) struct RenderRaw {
     pub(super) shadows: Option<bool>,
     pub(super) samples: Option<Spanned<i64>>,
     pub(super) bounces: Option<Spanned<i64>>,
+    pub(super) photons: Option<Spanned<i64>>,
     pub(super) traversal: Option<Traversal>,
     pub(super) msaa: Option<Spanned<MsaaRaw>>,
 }

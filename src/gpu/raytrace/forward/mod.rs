@@ -1,0 +1,11 @@
+//! Forward ray tracing on the GPU (`shaders/forward.comp.glsl`): photons
+//! from the lights through the ray tracer's own records, BVH and buffers,
+//! splatted into a fixed-point film (`film_sums`), the twin of
+//! `cpu::forward`. The `pipeline` is the ray tracer's specialisation with
+//! the photon batch pushed; the `renderer` runs the batches.
+
+mod pipeline;
+mod renderer;
+
+pub use pipeline::PhotonBatch;
+pub use renderer::{render, ForwardOutput, PHOTONS_PER_LANE};

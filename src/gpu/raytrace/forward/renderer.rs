@@ -1,0 +1,251 @@
+//! A forward render on the GPU: the scene laid out as the ray tracer lays
+//! it out (the same records, BVH and buffers, the lights' shares of the
+//! photons in their records' w), then the photons traced in batches, each
+//! one submission, into one fixed-point film read back at the end.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use ash::vk;
+
+use super::pipeline::{self, PhotonBatch};
+use crate::camera::View;
+use crate::film_sums::{FilmSums, PhotonJob, PhotonStats};
+use crate::gpu::raytrace::buffers::TraceBuffers;
+use crate::gpu::raytrace::dispatch::{cpu_threads, BoundTrace, QUEUE_EXHAUSTED};
+use crate::gpu::raytrace::layout::WORKGROUP_SIZE;
+use crate::gpu::raytrace::records::records;
+use crate::gpu::raytrace::renderer::{specialization, TraceOptions};
+use crate::gpu::shared::image_size::check_image_size;
+use crate::gpu::shared::lights::lights;
+use crate::gpu::vk::commands::OneShot;
+use crate::gpu::vk::context::GpuContext;
+use crate::gpu::vk::error::GpuError;
+use crate::gpu::vk::timestamps::{ms_since, GpuTimings, Timestamps};
+use crate::rt_scene::{LightShares, RtScene};
+use crate::scene::Scene;
+use crate::work_counter::WorkCounter;
+
+/// Photons each lane traces per work item (the shader's
+/// `PHOTONS_PER_LANE`).
+pub const PHOTONS_PER_LANE: u32 = 16;
+
+/// Photons per submission: about a second of lavapipe's time on the
+/// diffuse box, so that progress moves and a render can be stopped
+/// between batches. The film does not depend on it.
+const BATCH: u32 = 1 << 20;
+
+/// A forward render: its film, what its photons did, where the time went.
+pub struct ForwardOutput {
+    pub film: FilmSums,
+    pub stats: PhotonStats,
+    pub timings: GpuTimings,
+}
+
+/// Traces `job`'s photons through `scene` at its image size, counting
+/// them into `counter` as batches finish.
+pub fn render(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    job: &PhotonJob,
+    counter: &WorkCounter,
+) -> Result<ForwardOutput, GpuError> {
+    let started = Instant::now();
+    refuse_what_cannot_run(context, scene)?;
+    let (width, height) = (scene.image.width, scene.image.height);
+    let view = View::new(scene, width, height);
+
+    let prepare_started = Instant::now();
+    let rt = RtScene::new(scene);
+    let shares = LightShares::of(&rt).ok_or_else(|| {
+        GpuError::NoLightToTraceFrom(if rt.lights.is_empty() {
+            "no light".into()
+        } else {
+            "only lights of zero intensity".into()
+        })
+    })?;
+    let mut records = records(&rt)?;
+    let spec = specialization(scene, &rt, TraceOptions::default());
+    let prepare_ms = ms_since(prepare_started);
+
+    let pipeline_started = Instant::now();
+    let wide = records.bvh.wide.is_some();
+    let pipeline = pipeline::get_or_build(context, &spec, wide)?;
+    let pipeline_ms = ms_since(pipeline_started);
+
+    let upload_started = Instant::now();
+    if spec.has_bvh != 0 && records.bvh.root.is_none() {
+        records.add_unhittable_triangle();
+    }
+    let mut light_records = lights(scene, view.eye);
+    for (j, light) in light_records.iter_mut().enumerate() {
+        light.position[3] = shares.end(j);
+    }
+    let film_bytes = 3 * 8 * u64::from(width) * u64::from(height);
+    let mut buffers =
+        TraceBuffers::upload(context, &light_records, &view, &rt, &records, film_bytes)?;
+    buffers.zero_output();
+    let descriptors = buffers.bind(context, pipeline.set_layout)?;
+    let bound = BoundTrace {
+        pipeline: &pipeline,
+        set: descriptors.set,
+        structure_set: None,
+        work_queue: buffers.work_queue.raw,
+    };
+    let upload_ms = ms_since(upload_started);
+
+    let codegen_started = Instant::now();
+    run_batch(context, &bound, None, PhotonBatch::zeroed_for(job.total))?;
+    let codegen_ms = ms_since(codegen_started);
+
+    let (submit_ms, gpu_ms) = run_batches(context, &bound, job, counter)?;
+
+    let readback_started = Instant::now();
+    let film = FilmSums::from_ne_bytes(width, height, buffers.output());
+    let stats = photon_stats(buffers.counters());
+    Ok(ForwardOutput {
+        film,
+        stats,
+        timings: GpuTimings {
+            prepare_ms,
+            pipeline_ms,
+            upload_ms,
+            codegen_ms: Some(codegen_ms),
+            gpu_ms,
+            submit_ms,
+            readback_ms: ms_since(readback_started),
+            total_ms: ms_since(started),
+        },
+    })
+}
+
+/// Refuses a device without the forward tracer's needs, and an image over
+/// its limits.
+fn refuse_what_cannot_run(context: &Arc<GpuContext>, scene: &Scene) -> Result<(), GpuError> {
+    let info = &context.info;
+    let why_not = info.no_ray_tracer_because.as_ref();
+    if let Some(why) = why_not.or(info.no_forward_because.as_ref()) {
+        return Err(GpuError::NoRayTracer {
+            device: info.name.clone(),
+            why: why.clone(),
+        });
+    }
+    check_image_size(context, scene.image.width, scene.image.height)
+}
+
+impl PhotonBatch {
+    /// A batch of no photons: the pipeline's first use, which the driver's
+    /// code generation is timed by.
+    fn zeroed_for(total: u32) -> Self {
+        PhotonBatch {
+            first: 0,
+            count: 0,
+            total,
+            unused: 0,
+        }
+    }
+}
+
+/// Traces the job's photons a batch per submission; the summed submit and
+/// GPU milliseconds.
+fn run_batches(
+    context: &Arc<GpuContext>,
+    bound: &BoundTrace,
+    job: &PhotonJob,
+    counter: &WorkCounter,
+) -> Result<(f64, f64), GpuError> {
+    let photons = job.range.end.saturating_sub(job.range.start);
+    counter.begin("photons", u64::from(photons));
+    let timestamps = Timestamps::new(context)?;
+    let (mut submit_ms, mut gpu_ms) = (0.0, 0.0);
+    let mut first = job.range.start;
+    while first < job.range.end {
+        let count = (job.range.end - first).min(BATCH);
+        let batch = PhotonBatch {
+            first,
+            count,
+            total: job.total,
+            unused: 0,
+        };
+        let (submit, gpu) = run_batch(context, bound, Some(&timestamps), batch)?;
+        submit_ms += submit;
+        gpu_ms += gpu;
+        counter.add(u64::from(count));
+        first += count;
+    }
+    Ok((submit_ms, gpu_ms))
+}
+
+/// One submission: the work queue reset, the batch pushed, the workgroups
+/// dispatched (between `timestamps`' stamps where given); its submit and
+/// GPU milliseconds.
+fn run_batch(
+    context: &Arc<GpuContext>,
+    bound: &BoundTrace,
+    timestamps: Option<&Timestamps>,
+    batch: PhotonBatch,
+) -> Result<(f64, f64), GpuError> {
+    let device = &context.device;
+    let commands = OneShot::begin(context)?;
+    let groups = workgroups(batch.count, context.info.is_cpu(), cpu_threads());
+    let queue_head = if batch.count == 0 { QUEUE_EXHAUSTED } else { 0 };
+    let layout = bound.pipeline.layout;
+    // SAFETY: every handle recorded here lives until the submission has
+    // completed (this function waits for it).
+    unsafe {
+        bound.record(device, commands.cmd, queue_head, |cmd| {
+            let stage = vk::ShaderStageFlags::COMPUTE;
+            device.cmd_push_constants(cmd, layout, stage, 0, bytemuck::bytes_of(&batch));
+            if let Some(t) = timestamps {
+                t.start(cmd);
+            }
+            device.cmd_dispatch(cmd, groups, 1, 1);
+        });
+        // Orders the shader's writes before the host reads, and before the
+        // next batch's atomics.
+        let to_host = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST | vk::PipelineStageFlags2::ALL_COMMANDS)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+        device.cmd_pipeline_barrier2(
+            commands.cmd,
+            &vk::DependencyInfo::default().memory_barriers(&to_host),
+        );
+        if let Some(t) = timestamps {
+            t.stop(commands.cmd);
+        }
+    }
+    match timestamps {
+        Some(t) => t.submit_and_measure(&commands),
+        None => {
+            let started = Instant::now();
+            commands.submit_and_wait()?;
+            context.check_validation()?;
+            Ok((ms_since(started), 0.0))
+        }
+    }
+}
+
+/// Workgroups for a batch of `photons`. The subgroups take photons from a
+/// queue until it is empty, so any count covers them: on a GPU one item
+/// per subgroup; on a CPU device a few per thread (as the ray tracer's
+/// `workgroups` says why).
+fn workgroups(photons: u32, on_cpu: bool, cpus: usize) -> u32 {
+    let needed = photons.div_ceil(WORKGROUP_SIZE * PHOTONS_PER_LANE).max(1);
+    if !on_cpu {
+        return needed;
+    }
+    needed.min(u32::try_from(cpus.max(1) * 8).unwrap_or(u32::MAX))
+}
+
+/// The shader's counters: emitted, splats, seen, hits.
+fn photon_stats(bytes: &[u8]) -> PhotonStats {
+    let word = |i: usize| u64::from_ne_bytes(bytes[i * 8..i * 8 + 8].try_into().expect("8 bytes"));
+    PhotonStats {
+        emitted: word(0),
+        splats: word(1),
+        seen: word(2),
+        hits: word(3),
+    }
+}

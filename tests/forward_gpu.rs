@@ -1,0 +1,229 @@
+//! Forward ray tracing on the GPU (`shaders/forward.comp.glsl`) held to
+//! its f64 twin photon by photon, to the closed sphere's exact answer, and
+//! to its promise of the same bits on every run, thread count and split of
+//! the photons; and the command line's refusals.
+
+use common::cli::{assert_one_line_refusal, shadelab, shadelab_with};
+use common::closed_sphere::{closed_sphere, expected};
+use shadelab::film_sums::PhotonJob;
+use shadelab::gpu::raytrace::forward;
+use shadelab::scene::Scene;
+use shadelab::work_counter::WorkCounter;
+
+mod common;
+
+fn diffuse_box(width: u32, height: u32) -> Scene {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/diffuse-box.toml");
+    let mut scene = shadelab::scene::load(std::path::Path::new(path)).unwrap();
+    scene.image.width = width;
+    scene.image.height = height;
+    scene
+}
+
+/// The GPU and the twin trace the same photons (the same hash, the same
+/// light shares, the same events), so their images differ only where f32
+/// rounding sends a photon another way: a splat in the neighbouring pixel,
+/// a bounce in another direction. On the diffuse box (2 bounces, 2^20
+/// photons, 80 x 60) the counts are equal, the images' means agree to
+/// 1e-6 (measured 4e-9, f32 splats against f64), and 99% of the pixels to
+/// 1e-3 relative (measured: 6 of 4800 apart). A wrong splat factor, a
+/// light picked differently or an event chosen by another number moves
+/// the mean by far more than 1e-6.
+#[test]
+fn the_gpu_traces_the_twins_photons() {
+    let context = common::gpu();
+    let mut scene = diffuse_box(80, 60);
+    scene.render.photons = 1 << 20;
+    let job = PhotonJob::all(scene.render.photons);
+    let gpu = forward::render(&context, &scene, &job, &WorkCounter::default()).unwrap();
+    let cpu = shadelab::cpu::forward::render(&scene, scene.render.photons).unwrap();
+    assert_eq!(gpu.stats.emitted, cpu.stats.emitted);
+    let (g, c) = (gpu.film.image(), cpu.image());
+    let mean = |i: &shadelab::LinearImage| {
+        i.pixels
+            .iter()
+            .map(|p| f64::from(p[0] + p[1] + p[2]))
+            .sum::<f64>()
+            / i.pixels.len() as f64
+    };
+    let (mg, mc) = (mean(&g), mean(&c));
+    eprintln!(
+        "means: gpu {mg}, twin {mc}; stats gpu {:?} twin {:?}",
+        gpu.stats, cpu.stats
+    );
+    assert!(((mg - mc) / mc).abs() < 1e-6, "means {mg} and {mc}");
+    let apart = g
+        .pixels
+        .iter()
+        .zip(&c.pixels)
+        .filter(|(a, b)| (0..3).any(|k| (a[k] - b[k]).abs() > 1e-3 * b[k].abs().max(1e-3)))
+        .count();
+    eprintln!("{apart} of {} pixels apart", g.pixels.len());
+    assert!(apart * 100 <= g.pixels.len(), "{apart} pixels apart");
+    // The counts differ only by the photons rounding sent elsewhere.
+    let close = |a: u64, b: u64| a.abs_diff(b) * 1000 <= b;
+    assert!(
+        close(gpu.stats.seen, cpu.stats.seen),
+        "{:?} {:?}",
+        gpu.stats,
+        cpu.stats
+    );
+    assert!(close(gpu.stats.splats, cpu.stats.splats));
+}
+
+/// In the closed sphere every pixel's expectation is the series (see
+/// `common::closed_sphere`): the GPU's image mean lies within 5 standard
+/// errors of it, with and without bounces.
+#[test]
+fn gpu_photons_in_a_closed_sphere_converge_to_the_series() {
+    let context = common::gpu();
+    for bounces in [0, 2] {
+        let want = expected(bounces);
+        let scene = closed_sphere(bounces);
+        let job = PhotonJob::all(1 << 20);
+        let out = forward::render(&context, &scene, &job, &WorkCounter::default()).unwrap();
+        let values: Vec<f64> = out
+            .film
+            .image()
+            .pixels
+            .iter()
+            .map(|p| f64::from(p[0]))
+            .collect();
+        let n = values.len() as f64;
+        let mean = values.iter().sum::<f64>() / n;
+        let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+        let error = (var / n).sqrt();
+        eprintln!("{bounces} bounces: mean {mean}, want {want}, error {error}");
+        assert!(
+            (mean - want).abs() < 5.0 * error,
+            "{bounces} bounces: {mean} against {want}"
+        );
+    }
+}
+
+/// The film's sums are integers: the same bits on a repeat, and a render
+/// split into four parts of its photons (as shards are) adds up to the
+/// whole one, bit for bit; the twin's too, at 1 thread and at 2.
+#[test]
+fn films_are_the_same_bits_however_the_photons_are_split() {
+    let context = common::gpu();
+    let mut scene = diffuse_box(40, 30);
+    scene.render.photons = 300_001;
+    let total = scene.render.photons;
+    let counter = WorkCounter::default();
+    let whole = forward::render(&context, &scene, &PhotonJob::all(total), &counter).unwrap();
+    let again = forward::render(&context, &scene, &PhotonJob::all(total), &counter).unwrap();
+    assert_eq!(whole.film, again.film, "a repeat");
+    let cuts = [0, 1, 77_777, 200_000, total];
+    let mut sum = shadelab::film_sums::FilmSums::zero(40, 30);
+    for part in cuts.windows(2) {
+        let job = PhotonJob {
+            total,
+            range: part[0]..part[1],
+        };
+        let out = forward::render(&context, &scene, &job, &counter).unwrap();
+        sum.add(&out.film).unwrap();
+    }
+    assert_eq!(sum, whole.film, "four parts added");
+    let twin_at = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| shadelab::cpu::forward::render(&scene, total).unwrap().film)
+    };
+    assert_eq!(twin_at(1), twin_at(2), "the twin at 1 and 2 threads");
+}
+
+/// lavapipe at 1 thread and at 2 writes the same image, bit for bit.
+#[test]
+fn the_image_is_the_same_at_any_lavapipe_thread_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut images = Vec::new();
+    for threads in ["1", "2"] {
+        let out = format!("box-{threads}.exr");
+        let args = [
+            "render",
+            concat!(env!("CARGO_MANIFEST_DIR"), "/assets/diffuse-box.toml"),
+            "--shading",
+            "forward",
+            "--photons",
+            "200000",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--out",
+            &out,
+        ];
+        let run = shadelab_with(dir.path(), &args, &[("LP_NUM_THREADS", threads)]);
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        assert!(
+            run.stdout.contains("photons: 200000 emitted"),
+            "{}",
+            run.stdout
+        );
+        images.push(std::fs::read(dir.path().join(&out)).unwrap());
+    }
+    assert_eq!(images[0], images[1]);
+}
+
+/// What forward tracing cannot do is said in one line, exit 2; what it
+/// cannot see (a mirror and glass, in the default scene) is a warning.
+#[test]
+fn bad_forward_input_is_refused_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let dark = dir.path().join("dark.toml");
+    std::fs::write(
+        &dark,
+        "[camera]\nposition = [0, 0, 0]\nlook_at = [0, 0, -1]\n\n[materials.m]\ncolor = [1, 1, 1]\n\n[[objects]]\nshape = \"sphere\"\ncenter = [0, 0, -3]\nradius = 1\nmaterial = \"m\"\n",
+    )
+    .unwrap();
+    let dark = dark.display().to_string();
+    let hook = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/lighting/phong.glsl").to_string();
+    let cases: [(&[&str], &str); 5] = [
+        (
+            &["render", "--shading", "forward", "--photons", "0"],
+            "--photons 0 is out of range",
+        ),
+        (
+            &["render", "--shading", "forward", "--photons", "5000000000"],
+            "numbered in 32 bits",
+        ),
+        (
+            &["render", &dark, "--shading", "forward"],
+            "the scene has no light",
+        ),
+        (
+            &["render", &dark, "--shading", "forward", "--backend", "cpu"],
+            "the scene has no light",
+        ),
+        (
+            &["render", "--shading", "forward", "--lighting", &hook],
+            "a lighting hook replaces",
+        ),
+    ];
+    for (args, expect) in cases {
+        let run = shadelab(dir.path(), args);
+        assert_one_line_refusal(&run, args, expect);
+    }
+    let args = [
+        "render",
+        "--shading",
+        "forward",
+        "--photons",
+        "20000",
+        "--width",
+        "64",
+        "--height",
+        "48",
+    ];
+    let run = shadelab(dir.path(), &args);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(
+        run.stderr.contains("cannot see through mirrors or glass")
+            && run.stderr.contains("4 (mirror), 5 (glass)"),
+        "{}",
+        run.stderr
+    );
+}
