@@ -85,6 +85,70 @@ impl FilmSums {
     }
 }
 
+/// The first line of a film file: what it is, and its format's version.
+pub const FILM_FILE_MAGIC: &[u8] = b"shadelab film 1\n";
+
+impl FilmSums {
+    /// A film file: the magic line, `header` (what made the film: a JSON
+    /// object, to which the film's size is added) on one line, then the
+    /// sums as little-endian 64-bit words.
+    pub fn to_file_bytes(&self, header: &serde_json::Value) -> Vec<u8> {
+        let mut header = header.clone();
+        header["width"] = self.width.into();
+        header["height"] = self.height.into();
+        let mut bytes = FILM_FILE_MAGIC.to_vec();
+        bytes.extend_from_slice(header.to_string().as_bytes());
+        bytes.push(b'\n');
+        for s in &self.sums {
+            bytes.extend_from_slice(&s.to_le_bytes());
+        }
+        bytes
+    }
+
+    /// The header and the film of a film file's bytes; `Err` says what is
+    /// wrong with them.
+    pub fn from_file_bytes(bytes: &[u8]) -> Result<(serde_json::Value, FilmSums), String> {
+        let rest = bytes
+            .strip_prefix(FILM_FILE_MAGIC)
+            .ok_or("it is not a shadelab film (render --shard writes them)")?;
+        let end = rest
+            .iter()
+            .position(|&b| b == b'\n')
+            .ok_or("its header line is cut short")?;
+        let header: serde_json::Value = serde_json::from_slice(&rest[..end])
+            .map_err(|e| format!("its header is not JSON: {e}"))?;
+        let size = |key: &str| {
+            header[key]
+                .as_u64()
+                .and_then(|v| u32::try_from(v).ok())
+                .filter(|&v| v > 0)
+                .ok_or(format!("its header has no {key}"))
+        };
+        let (width, height) = (size("width")?, size("height")?);
+        let words = &rest[end + 1..];
+        let count = 3 * width as usize * height as usize;
+        if words.len() != count * 8 {
+            return Err(format!(
+                "it holds {} bytes of sums where a {width}x{height} film has {}",
+                words.len(),
+                count * 8
+            ));
+        }
+        let sums = words
+            .chunks_exact(8)
+            .map(|w| u64::from_le_bytes(w.try_into().expect("8 bytes")))
+            .collect();
+        Ok((
+            header,
+            FilmSums {
+                width,
+                height,
+                sums,
+            },
+        ))
+    }
+}
+
 /// Which photons a render traces.
 #[derive(Debug, Clone)]
 pub struct PhotonJob {
@@ -96,6 +160,17 @@ pub struct PhotonJob {
 }
 
 impl PhotonJob {
+    /// Shard `i` of `n` (1-based) of `total` photons: the `i`-th of `n`
+    /// runs of consecutive photons, as even as they go. The shards of one
+    /// `total` cover `0..total` once.
+    pub fn shard(total: u32, (i, n): (u32, u32)) -> Self {
+        let at = |k: u32| (u64::from(total) * u64::from(k) / u64::from(n)) as u32;
+        PhotonJob {
+            total,
+            range: at(i - 1)..at(i),
+        }
+    }
+
     /// All `total` photons.
     pub fn all(total: u32) -> Self {
         PhotonJob {
@@ -106,7 +181,7 @@ impl PhotonJob {
 }
 
 /// What the photons of a render did.
-#[derive(Debug, Default, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct PhotonStats {
     /// Photons that left a light.
     pub emitted: u64,
@@ -158,5 +233,39 @@ mod tests {
         assert!(ab.add(&other).is_err());
         let bytes: Vec<u8> = a.sums.iter().flat_map(|s| s.to_ne_bytes()).collect();
         assert_eq!(FilmSums::from_ne_bytes(2, 1, &bytes), a);
+    }
+
+    /// A film file reads back as written; a cut or foreign one is refused
+    /// with the reason.
+    #[test]
+    fn film_files_round_trip_and_refuse_what_is_not_one() {
+        let film = FilmSums {
+            width: 2,
+            height: 1,
+            sums: vec![1, 2, 3, u64::MAX, 5, 6],
+        };
+        let bytes = film.to_file_bytes(&serde_json::json!({"photons": 7}));
+        let (header, back) = FilmSums::from_file_bytes(&bytes).unwrap();
+        assert_eq!(back, film);
+        assert_eq!(header["photons"], 7);
+        let cut = FilmSums::from_file_bytes(&bytes[..bytes.len() - 1]).unwrap_err();
+        assert!(cut.contains("bytes of sums"), "{cut}");
+        let png = FilmSums::from_file_bytes(b"\x89PNG").unwrap_err();
+        assert!(png.contains("not a shadelab film"), "{png}");
+    }
+
+    /// Shards cover the photons once, in runs as even as they go.
+    #[test]
+    fn shards_cover_every_photon_once() {
+        for (total, n) in [(10, 3), (7, 7), (1, 4), (u32::MAX, 5)] {
+            let mut next = 0;
+            for i in 1..=n {
+                let job = PhotonJob::shard(total, (i, n));
+                assert_eq!(job.range.start, next, "{total} in {n}");
+                assert!(job.range.end - job.range.start <= total / n + 1);
+                next = job.range.end;
+            }
+            assert_eq!(next, total);
+        }
     }
 }

@@ -48,6 +48,20 @@ impl Timings {
         }
     }
 
+    /// A GPU render's timings.
+    fn gpu(t: &crate::gpu::GpuTimings) -> Self {
+        Self {
+            total_ms: t.total_ms,
+            gpu_ms: Some(t.gpu_ms),
+            submit_ms: Some(t.submit_ms),
+            pipeline_ms: Some(t.pipeline_ms),
+            prepare_ms: Some(t.prepare_ms),
+            upload_ms: Some(t.upload_ms),
+            codegen_ms: t.codegen_ms,
+            readback_ms: Some(t.readback_ms),
+        }
+    }
+
     /// The time the rendering work itself took: submission to completion
     /// on the GPU, the whole render on the CPU.
     pub fn work_ms(&self) -> f64 {
@@ -108,44 +122,54 @@ pub fn render_gpu_counted(
     (count_rays, target): (bool, ColorTarget),
     counter: &WorkCounter,
 ) -> Result<Rendered, Error> {
+    if shading == Shading::Forward {
+        let job = PhotonJob::all(scene.render.photons);
+        return render_forward(Some(context), scene, &job, counter);
+    }
     refuse_beyond_f32(scene)?;
-    refuse_forward_without_light(scene, shading)?;
-    let mut forward = None;
-    let (image, timings, ray_stats, traversal) = match (shading, shading.raster_mode()) {
-        (_, Some(mode)) => {
+    let (image, timings, ray_stats, traversal) = match shading.raster_mode() {
+        Some(mode) => {
             let out = raster::render_to(context, scene, mode, target)?;
             (out.image, out.timings, None, None)
         }
-        (Shading::Forward, None) => {
-            let job = PhotonJob::all(scene.render.photons);
-            let out = raytrace::forward::render(context, scene, &job, counter)?;
-            let image = out.film.image();
-            forward = Some(ForwardFilm {
-                film: out.film,
-                stats: out.stats,
-            });
-            (image, out.timings, None, Some(Traversal::Bvh))
-        }
-        (_, None) => {
+        None => {
             let out = raytrace::render(context, scene, count_rays)?;
             (out.image, out.timings, out.stats, Some(out.traversal))
         }
     };
     Ok(Rendered {
         image,
-        timings: Timings {
-            total_ms: timings.total_ms,
-            gpu_ms: Some(timings.gpu_ms),
-            submit_ms: Some(timings.submit_ms),
-            pipeline_ms: Some(timings.pipeline_ms),
-            prepare_ms: Some(timings.prepare_ms),
-            upload_ms: Some(timings.upload_ms),
-            codegen_ms: timings.codegen_ms,
-            readback_ms: Some(timings.readback_ms),
-        },
+        timings: Timings::gpu(&timings),
         ray_stats,
         traversal,
-        forward,
+        forward: None,
+    })
+}
+
+/// Forward ray tracing of `job`'s photons (all of them, or a shard's) on
+/// the GPU where `context` is given, else with the CPU twin; the image is
+/// the film's (a shard's share of the whole).
+pub fn render_forward(
+    context: Option<&Arc<GpuContext>>,
+    scene: &Scene,
+    job: &PhotonJob,
+    counter: &WorkCounter,
+) -> Result<Rendered, Error> {
+    refuse_beyond_f32(scene)?;
+    refuse_forward_without_light(scene)?;
+    let Some(context) = context else {
+        return Ok(forward_cpu(scene, job, counter).0);
+    };
+    let out = raytrace::forward::render(context, scene, job, counter)?;
+    Ok(Rendered {
+        image: out.film.image(),
+        timings: Timings::gpu(&out.timings),
+        ray_stats: None,
+        traversal: Some(Traversal::Bvh),
+        forward: Some(ForwardFilm {
+            film: out.film,
+            stats: out.stats,
+        }),
     })
 }
 
@@ -153,14 +177,11 @@ pub fn render_gpu_counted(
 /// has nothing to trace; and it splats the contract's formula, not a
 /// hook's (usage, exit 2). (It walks the compute BVH whatever the
 /// traversal asked for: the CLI says it ignores `--traversal`.)
-fn refuse_forward_without_light(scene: &Scene, shading: Shading) -> Result<(), Error> {
+fn refuse_forward_without_light(scene: &Scene) -> Result<(), Error> {
     let emits = |l: &crate::scene::PointLight| {
         let i = l.intensity;
         (i.x + i.y + i.z) > 0.0
     };
-    if shading != Shading::Forward {
-        return Ok(());
-    }
     if let Some(hook) = &scene.lighting_hook {
         return Err(Error::Usage(format!(
             "--lighting {}: a lighting hook replaces the local model's light at a surface, which forward tracing does not use (its splats follow docs/lighting-model.md); leave --lighting out",
@@ -264,9 +285,10 @@ pub fn render_cpu_counted(
         )));
     }
     refuse_beyond_f32(scene)?;
-    refuse_forward_without_light(scene, shading)?;
     if shading == Shading::Forward {
-        return Ok(forward_cpu(scene, counter));
+        refuse_forward_without_light(scene)?;
+        let job = PhotonJob::all(scene.render.photons);
+        return Ok(forward_cpu(scene, &job, counter));
     }
     let Some(mode) = shading.raster_mode() else {
         return Ok(raytrace_cpu(scene, counter));
@@ -331,10 +353,9 @@ fn raytrace_cpu(scene: &Scene, counter: &WorkCounter) -> (Rendered, Coverage) {
 /// photon that f32 rounding sends another way moves a splat to any pixel
 /// at all: every pixel is marked as an edge one, and `check` bounds the
 /// share that differ and the images' means (`check::FORWARD_*`).
-fn forward_cpu(scene: &Scene, counter: &WorkCounter) -> (Rendered, Coverage) {
+fn forward_cpu(scene: &Scene, job: &PhotonJob, counter: &WorkCounter) -> (Rendered, Coverage) {
     let started = Instant::now();
-    let job = PhotonJob::all(scene.render.photons);
-    let out = cpu::forward::render_job(scene, &job, counter)
+    let out = cpu::forward::render_job(scene, job, counter)
         .expect("refuse_forward_without_light let only scenes with light through");
     let pixels = out.film.width as usize * out.film.height as usize;
     let rendered = Rendered {

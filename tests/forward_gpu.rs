@@ -227,3 +227,88 @@ fn bad_forward_input_is_refused_in_one_line() {
         run.stderr
     );
 }
+
+/// `render --shard I/N` four times and `--merge` make the image one render
+/// makes, byte for byte, whatever order the films come in; an incomplete
+/// set or films of another render are refused in one line.
+#[test]
+fn four_shards_merge_into_the_unsharded_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/diffuse-box.toml");
+    let common = [
+        "--shading",
+        "forward",
+        "--photons",
+        "100003",
+        "--width",
+        "48",
+        "--height",
+        "36",
+    ];
+    let render = |extra: &[&str]| {
+        let mut args = vec!["render", scene];
+        args.extend_from_slice(&common);
+        args.extend_from_slice(extra);
+        let run = shadelab(dir.path(), &args);
+        assert_eq!(run.code, 0, "{args:?}: {}", run.stderr);
+    };
+    for i in 1..=4 {
+        render(&["--shard", &format!("{i}/4"), "--out", &format!("p{i}.film")]);
+    }
+    render(&["--out", "whole.exr"]);
+    let merge = [
+        "render",
+        "--merge",
+        "p3.film",
+        "p1.film",
+        "p4.film",
+        "p2.film",
+        "--out",
+        "merged.exr",
+    ];
+    let run = shadelab(dir.path(), &merge);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(
+        run.stdout.contains("photons: 100003 emitted"),
+        "{}",
+        run.stdout
+    );
+    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    assert!(
+        read("merged.exr") == read("whole.exr"),
+        "merged and whole images differ"
+    );
+
+    let incomplete = ["render", "--merge", "p1.film", "p2.film", "--out", "x.exr"];
+    assert_one_line_refusal(
+        &shadelab(dir.path(), &incomplete),
+        &incomplete,
+        "shards 1/4 to 4/4",
+    );
+    let twice = [
+        "render", "--merge", "p1.film", "p1.film", "p3.film", "p4.film", "--out", "x.exr",
+    ];
+    assert_one_line_refusal(&shadelab(dir.path(), &twice), &twice, "each once");
+    render(&["--bounces", "1", "--shard", "2/4", "--out", "other.film"]);
+    let mixed = [
+        "render",
+        "--merge",
+        "p1.film",
+        "other.film",
+        "p3.film",
+        "p4.film",
+        "--out",
+        "x.exr",
+    ];
+    assert_one_line_refusal(&shadelab(dir.path(), &mixed), &mixed, "different renders");
+    let not_film = ["render", "--merge", "whole.exr", "--out", "x.exr"];
+    assert_one_line_refusal(
+        &shadelab(dir.path(), &not_film),
+        &not_film,
+        "not a shadelab film",
+    );
+    assert!(
+        !dir.path().join("x.exr").exists(),
+        "no image from a refused merge"
+    );
+}

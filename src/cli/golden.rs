@@ -136,6 +136,8 @@ fn render_args(args: &GoldenArgs) -> Result<RenderArgs, Failure> {
         name: Some(args.name.clone()),
         json: args.json,
         stats: false,
+        photon_shard: None,
+        merge: Vec::new(),
         machine: args.machine.clone(),
         scene_names: Some(golden_keys::scene_keys(&args.scenes, args.root.as_deref())?),
         shard: args.shard,

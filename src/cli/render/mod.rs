@@ -1,7 +1,8 @@
 //! `shadelab render`: one scene in one mode into one image file
 //! (`single.rs`), or a batch of scenes and modes into a folder
 //! (`out_dir.rs`) on the batch machinery that `golden` renders with too
-//! (`plan.rs`, `batch.rs`).
+//! (`plan.rs`, `batch.rs`); or a forward render split into shards and
+//! merged (`shard.rs`).
 
 mod args;
 mod batch;
@@ -9,6 +10,7 @@ mod image;
 mod out_dir;
 mod plan;
 mod scene;
+mod shard;
 mod single;
 mod stats;
 

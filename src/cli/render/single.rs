@@ -103,6 +103,12 @@ fn load_and_check(
 /// One image: the scene loaded while the device opens, then render, write
 /// and report; a batch handed to `out_dir.rs`.
 pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
+    if !args.merge.is_empty() {
+        return super::shard::run_merge(&args);
+    }
+    if let Some(shard) = args.photon_shard {
+        return super::shard::run_shard(&args, shard, options, memory);
+    }
     if args.is_batch() {
         return super::out_dir::run(&args, options, memory);
     }
