@@ -24,6 +24,15 @@ impl Shading {
         Shading::Raytrace,
     ];
 
+    /// Every mode there is, forward tracing included.
+    pub const EVERY: [Shading; 5] = [
+        Shading::Flat,
+        Shading::Gouraud,
+        Shading::Phong,
+        Shading::Raytrace,
+        Shading::Forward,
+    ];
+
     pub fn name(self) -> &'static str {
         match self {
             Shading::Flat => "flat",
@@ -45,9 +54,8 @@ impl FromStr for Shading {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Shading::ALL
+        Shading::EVERY
             .into_iter()
-            .chain([Shading::Forward])
             .find(|m| m.name() == s)
             .ok_or_else(|| {
                 format!(

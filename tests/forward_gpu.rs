@@ -312,3 +312,77 @@ fn four_shards_merge_into_the_unsharded_image() {
         "no image from a refused merge"
     );
 }
+
+/// `compare` puts samples and photons on one front against a reference
+/// of 1024 samples a pixel, made once and kept in the cache folder: each
+/// 4x the samples or photons roughly halves the error against it (0.5
+/// promised; 0.3 to 0.7 allows a 40 x 30 image's noise), Whitted misses
+/// the secondary light, and a second run reads the kept reference (shown
+/// by blackening the kept file: the second report's reference is black).
+#[test]
+fn compare_measures_samples_and_photons_against_a_kept_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/diffuse-box.toml");
+    let variants = "raytrace:bounces=2,samples=4;raytrace:bounces=2,samples=16;forward:bounces=2,photons=16384;forward:bounces=2,photons=65536;raytrace:bounces=0";
+    let run_compare = |out: &str| {
+        let args = [
+            "compare",
+            scene,
+            "--width",
+            "40",
+            "--height",
+            "30",
+            "--runs",
+            "1",
+            "--variants",
+            variants,
+            "--out",
+            out,
+            "-q",
+        ];
+        let run = shadelab(dir.path(), &args);
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        let text = std::fs::read_to_string(dir.path().join(out).join("report.json")).unwrap();
+        serde_json::from_str::<serde_json::Value>(&text).unwrap()
+    };
+    let report = run_compare("first");
+    assert!(
+        report["reference"]
+            .as_str()
+            .unwrap()
+            .contains("1024 samples"),
+        "{}",
+        report["reference"]
+    );
+    let rmse = |name: &str| {
+        report["variants"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|v| v["name"] == name)
+            .unwrap_or_else(|| panic!("{name}"))["model_error"]["rmse"]
+            .as_f64()
+            .unwrap()
+    };
+    let samples = rmse("raytrace:samples=16,bounces=2") / rmse("raytrace:samples=4,bounces=2");
+    let photons = rmse("forward:bounces=2,photons=65536") / rmse("forward:bounces=2,photons=16384");
+    eprintln!("4x samples: {samples:.3} of the error; 4x photons: {photons:.3}");
+    for ratio in [samples, photons] {
+        assert!((0.3..0.7).contains(&ratio), "{ratio}");
+    }
+    assert!(rmse("raytrace:bounces=0") > 2.0 * rmse("forward:bounces=2,photons=65536"));
+
+    let kept: Vec<_> = std::fs::read_dir(dir.path().join("cache/references"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert_eq!(kept.len(), 1, "{kept:?}");
+    let black = shadelab::LinearImage::new(40, 30, [0.0; 3]);
+    shadelab::output::write_image(&black, &kept[0]).unwrap();
+    run_compare("second");
+    let second = shadelab::output::read_image(&dir.path().join("second/reference.png")).unwrap();
+    assert!(
+        second.pixels.iter().flatten().all(|&v| v == 0.0),
+        "the kept reference was read"
+    );
+}

@@ -66,6 +66,69 @@ pub fn reference_scene(scene: &Scene) -> Scene {
 pub const REFERENCE_DESCRIPTION: &str =
     "CPU ray tracer (f64), exact geometry, depth max(scene, 8), 16 samples per pixel, no cut-off";
 
+/// Samples per pixel of the reference of a comparison with secondary
+/// illumination: there the reference is itself an estimate, and its noise
+/// (1/32 of one sample's at 1024) is what every variant's error is
+/// measured through, so it is made once and kept (`cached_reference`).
+pub const CONVERGED_SAMPLES: u32 = 1024;
+
+/// The global reference of `scene` for `variants`: `reference_scene`, and
+/// where the scene or a variant asks for diffuse bounces (backward or
+/// forward), the transport they estimate: as many bounces as the most any
+/// asks for, `CONVERGED_SAMPLES` samples a pixel. Its description.
+pub fn reference_for(scene: &Scene, variants: &[Variant]) -> (Scene, String) {
+    let mut s = reference_scene(scene);
+    let bounces = variants
+        .iter()
+        .filter_map(|v| v.bounces)
+        .chain([scene.render.bounces])
+        .max()
+        .unwrap_or(0);
+    if bounces == 0 {
+        return (s, REFERENCE_DESCRIPTION.to_string());
+    }
+    s.render.bounces = bounces;
+    s.render.depth = (s.render.depth.max(bounces + 8)).min(crate::scene::MAX_DEPTH);
+    s.render.samples = CONVERGED_SAMPLES;
+    let description = format!(
+        "CPU ray tracer (f64) with {bounces} diffuse bounces, exact geometry, depth {}, {CONVERGED_SAMPLES} samples per pixel, no cut-off (made once, kept in the cache folder)",
+        s.render.depth
+    );
+    (s, description)
+}
+
+/// `reference`'s CPU render, from the cache folder (`references/`, keyed
+/// by everything in the scene) when it was made before, else rendered and
+/// kept there. A cache that cannot be read or written only costs time.
+fn cached_reference(reference: &Scene) -> Result<LinearImage, Error> {
+    let key = format!(
+        "shadelab {} reference {:?}",
+        env!("CARGO_PKG_VERSION"),
+        reference
+    );
+    let path = crate::cache::folder().map(|f| {
+        f.join("references")
+            .join(format!("{:016x}.exr", crate::cache::digest(&key)))
+    });
+    if let Some(image) = path
+        .as_ref()
+        .and_then(|p| crate::output::read_image(p).ok())
+    {
+        if (image.width, image.height) == (reference.image.width, reference.image.height) {
+            return Ok(image);
+        }
+    }
+    let (rendered, _) = render_cpu(reference, Shading::Raytrace)?;
+    if let Some(p) = &path {
+        let written = p.parent().map(std::fs::create_dir_all);
+        if written.is_some_and(|w| w.is_ok()) {
+            // Only a saving: a failed write leaves the next run to render.
+            let _ = crate::output::write_image(&rendered.image, p);
+        }
+    }
+    Ok(rendered.image)
+}
+
 /// The local reference: the lecture's formula per pixel on exact geometry
 /// with no shadows, reflection or refraction, what Phong shading converges
 /// to as the tessellation refines. The CPU ray tracer at depth 0 with
@@ -171,7 +234,8 @@ pub fn run(
         .collect::<Result<Vec<_>, _>>()?;
     let mut not_run = Vec::new();
     let total = chosen.len() + 2;
-    let references = render_references(scene, dir, total, &mut progress)?;
+    let (reference, reference_description) = reference_for(scene, variants);
+    let references = render_references(scene, &reference, dir, total, &mut progress)?;
     let mut results = Vec::with_capacity(chosen.len());
     for (k, (variant, scene_v)) in chosen.iter().zip(&scenes).enumerate() {
         let name = variant.to_string();
@@ -188,7 +252,7 @@ pub fn run(
         device: context.info.name.clone(),
         driver: context.info.driver.clone(),
         runs: options.runs.max(1),
-        reference: REFERENCE_DESCRIPTION.to_string(),
+        reference: reference_description,
         reference_image: "reference.png".to_string(),
         local_reference: LOCAL_REFERENCE_DESCRIPTION.to_string(),
         local_reference_image: "reference-local.png".to_string(),
@@ -213,18 +277,23 @@ struct References {
 
 fn render_references(
     scene: &Scene,
+    reference_scene: &Scene,
     dir: &Path,
     total: usize,
     progress: &mut impl FnMut(usize, usize, &str),
 ) -> Result<References, Error> {
     progress(0, total, "reference");
-    let (reference, _) = render_cpu(&reference_scene(scene), Shading::Raytrace)?;
-    write_image(&reference.image, &dir.join("reference.png"))?;
+    let reference = if reference_scene.render.bounces > 0 {
+        cached_reference(reference_scene)?
+    } else {
+        render_cpu(reference_scene, Shading::Raytrace)?.0.image
+    };
+    write_image(&reference, &dir.join("reference.png"))?;
     progress(1, total, "local reference");
     let (local_reference, _) = render_cpu(&local_reference_scene(scene), Shading::Raytrace)?;
     write_image(&local_reference.image, &dir.join("reference-local.png"))?;
     Ok(References {
-        global: reference.image,
+        global: reference,
         local: local_reference.image,
     })
 }

@@ -26,9 +26,13 @@ pub struct Variant {
     pub depth: Option<u32>,
     pub cutoff: Option<f64>,
     pub samples: Option<u32>,
-    /// The ray tracer's diffuse bounces (`--bounces`).
+    /// The ray tracer's diffuse bounces (`--bounces`), backward or
+    /// forward.
     #[serde(default)]
     pub bounces: Option<u32>,
+    /// Forward ray tracing's photons (`--photons`).
+    #[serde(default)]
+    pub photons: Option<u32>,
     pub shadows: Option<bool>,
     /// A lighting hook's file (`--lighting`), for every mode.
     #[serde(default)]
@@ -55,6 +59,7 @@ impl Variant {
             cutoff: None,
             samples: None,
             bounces: None,
+            photons: None,
             shadows: None,
             lighting: None,
             traversal: None,
@@ -91,6 +96,9 @@ impl Variant {
         }
         if let Some(n) = self.bounces {
             s.render.bounces = n;
+        }
+        if let Some(n) = self.photons {
+            s.render.photons = n;
         }
         if let Some(on) = self.shadows {
             s.render.shadows = on;
@@ -135,6 +143,9 @@ impl fmt::Display for Variant {
         }
         if let Some(n) = self.bounces {
             keys.push(format!("bounces={n}"));
+        }
+        if let Some(n) = self.photons {
+            keys.push(format!("photons={n}"));
         }
         if let Some(on) = self.shadows {
             keys.push(format!("shadows={on}"));
@@ -227,6 +238,8 @@ impl Variant {
     /// Sets one setting, checked against the mode and its range.
     fn set(&mut self, setting: &Setting) -> Result<(), String> {
         let raster = self.shading.raster_mode().is_some();
+        let backward = self.shading == Shading::Raytrace;
+        let forward = self.shading == Shading::Forward;
         let (value, bad) = (setting.value, |expected: &str| setting.bad(expected));
         match setting.key {
             "segments" => {
@@ -244,7 +257,7 @@ impl Variant {
                 );
             }
             "depth" => {
-                setting.only(!raster, "raytrace")?;
+                setting.only(!raster, "raytrace and forward")?;
                 let range = format!("an integer from 0 to {MAX_DEPTH}");
                 let d: u32 = value.parse().map_err(|_| bad(&range))?;
                 if d > MAX_DEPTH {
@@ -253,7 +266,7 @@ impl Variant {
                 self.depth = Some(d);
             }
             "cutoff" => {
-                setting.only(!raster, "raytrace")?;
+                setting.only(backward, "raytrace")?;
                 let c: f64 = value.parse().map_err(|_| bad("a number >= 0"))?;
                 if !c.is_finite() || c < 0.0 {
                     return Err(bad("a number >= 0"));
@@ -261,7 +274,7 @@ impl Variant {
                 self.cutoff = Some(c);
             }
             "samples" => {
-                setting.only(!raster, "raytrace")?;
+                setting.only(backward, "raytrace")?;
                 let n: u32 = value.parse().map_err(|_| bad("an integer from 1 to 1024"))?;
                 if !(1..=1024).contains(&n) {
                     return Err(bad("an integer from 1 to 1024"));
@@ -269,15 +282,24 @@ impl Variant {
                 self.samples = Some(n);
             }
             "bounces" => {
-                setting.only(!raster, "raytrace")?;
+                setting.only(!raster, "raytrace and forward")?;
                 let n: u32 = value.parse().map_err(|_| bad("an integer from 0 to 64"))?;
                 if n > MAX_DEPTH {
                     return Err(bad("an integer from 0 to 64"));
                 }
                 self.bounces = Some(n);
             }
+            "photons" => {
+                setting.only(forward, "forward")?;
+                let range = "an integer from 1 to 4294967295";
+                let n: u32 = value.parse().map_err(|_| bad(range))?;
+                if n == 0 {
+                    return Err(bad(range));
+                }
+                self.photons = Some(n);
+            }
             "shadows" => {
-                setting.only(!raster, "raytrace")?;
+                setting.only(backward, "raytrace")?;
                 self.shadows = Some(value.parse().map_err(|_| bad("true or false"))?);
             }
             "lighting" => {
@@ -287,7 +309,7 @@ impl Variant {
                 self.lighting = Some(value.to_string());
             }
             "traversal" => {
-                setting.only(!raster, "raytrace")?;
+                setting.only(backward, "raytrace")?;
                 self.traversal = Some(value.parse().map_err(|_| bad("auto, bvh or query"))?);
             }
             "msaa" => {
@@ -302,7 +324,7 @@ impl Variant {
             }
             key => {
                 return Err(format!(
-                    "variant `{}`: unknown setting `{key}`; expected segments, interpolation, depth, cutoff, samples, bounces, shadows, lighting, traversal, filter or msaa",
+                    "variant `{}`: unknown setting `{key}`; expected segments, interpolation, depth, cutoff, samples, bounces, photons, shadows, lighting, traversal, filter or msaa",
                     setting.text
                 ))
             }
@@ -387,6 +409,8 @@ mod tests {
             "flat:filter=bilinear",
             "phong:msaa=4",
             "gouraud:segments=16,msaa=4,per-sample",
+            "raytrace:samples=16,bounces=2",
+            "forward:bounces=2,photons=1048576",
         ] {
             let v: Variant = text.parse().unwrap();
             assert_eq!(v.to_string(), text);
@@ -453,7 +477,10 @@ mod tests {
     fn bad_variants_say_what_is_wrong() {
         for (text, word) in [
             ("toon", "variant `toon`: unknown shading mode `toon`"),
-            ("flat:depth=3", "raytrace only"),
+            ("flat:depth=3", "raytrace and forward only"),
+            ("forward:samples=4", "raytrace only"),
+            ("raytrace:photons=1000", "forward only"),
+            ("forward:photons=0", "1 to 4294967295"),
             ("raytrace:segments=8", "flat, gouraud and phong only"),
             ("gouraud:segments=2", "3 to 4096"),
             ("raytrace:cutoff=-1", ">= 0"),

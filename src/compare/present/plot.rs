@@ -268,7 +268,7 @@ where
             PathElement::new([(lx, ly), (lx + 18, ly)], pareto.stroke_width(2))
         });
 
-    for mode in Shading::ALL {
+    for mode in Shading::EVERY {
         let points: Vec<_> = report
             .variants
             .iter()
