@@ -157,9 +157,23 @@ pub struct PhotonJob {
     pub total: u32,
     /// The photons this render traces: `0..total`, or a shard's part.
     pub range: Range<u32>,
+    /// A time budget: no batch (or task) of photons starts after it, and
+    /// the image is scaled to the photons traced (`--time`).
+    pub deadline: Option<std::time::Instant>,
 }
 
 impl PhotonJob {
+    /// The photons the job asks for.
+    pub fn photons(&self) -> u32 {
+        self.range.end.saturating_sub(self.range.start)
+    }
+
+    /// Whether the time budget is spent.
+    pub fn past_deadline(&self) -> bool {
+        self.deadline
+            .is_some_and(|d| std::time::Instant::now() >= d)
+    }
+
     /// Shard `i` of `n` (1-based) of `total` photons: the `i`-th of `n`
     /// runs of consecutive photons, as even as they go. The shards of one
     /// `total` cover `0..total` once.
@@ -168,6 +182,7 @@ impl PhotonJob {
         PhotonJob {
             total,
             range: at(i - 1)..at(i),
+            deadline: None,
         }
     }
 
@@ -176,6 +191,7 @@ impl PhotonJob {
         PhotonJob {
             total,
             range: 0..total,
+            deadline: None,
         }
     }
 }

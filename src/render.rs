@@ -162,7 +162,7 @@ pub fn render_forward(
     };
     let out = raytrace::forward::render(context, scene, job, counter)?;
     Ok(Rendered {
-        image: out.film.image(),
+        image: forward_image(&out.film, &out.stats, job),
         timings: Timings::gpu(&out.timings),
         ray_stats: None,
         traversal: Some(Traversal::Bvh),
@@ -171,6 +171,26 @@ pub fn render_forward(
             stats: out.stats,
         }),
     })
+}
+
+/// A forward film's image. Each photon's flux divides by the job's total,
+/// so a render that a time budget stopped short is scaled up by the
+/// photons asked for over those traced: the estimate of those photons.
+fn forward_image(film: &FilmSums, stats: &PhotonStats, job: &PhotonJob) -> LinearImage {
+    let image = film.image();
+    let asked = u64::from(job.photons());
+    if stats.emitted == 0 || stats.emitted >= asked {
+        return image;
+    }
+    let scale = asked as f64 / stats.emitted as f64;
+    LinearImage {
+        pixels: image
+            .pixels
+            .iter()
+            .map(|p| p.map(|v| (f64::from(v) * scale) as f32))
+            .collect(),
+        ..image
+    }
 }
 
 /// Forward tracing starts from the lights: a scene with none that emits
@@ -359,7 +379,7 @@ fn forward_cpu(scene: &Scene, job: &PhotonJob, counter: &WorkCounter) -> (Render
         .expect("refuse_forward_without_light let only scenes with light through");
     let pixels = out.film.width as usize * out.film.height as usize;
     let rendered = Rendered {
-        image: out.image(),
+        image: forward_image(&out.film, &out.stats, job),
         timings: Timings::cpu(started),
         ray_stats: None,
         traversal: None,

@@ -137,6 +137,7 @@ fn render_args(args: &GoldenArgs) -> Result<RenderArgs, Failure> {
         json: args.json,
         stats: false,
         photon_shard: None,
+        time: None,
         merge: Vec::new(),
         machine: args.machine.clone(),
         scene_names: Some(golden_keys::scene_keys(&args.scenes, args.root.as_deref())?),

@@ -56,6 +56,10 @@ pub struct RenderArgs {
     /// the --json object).
     #[arg(long)]
     pub(in crate::cli) stats: bool,
+    /// Forward ray tracing: stop tracing photons after SECONDS (from the
+    /// start of the render) and write the estimate of those traced.
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub(in crate::cli) time: Option<f64>,
     /// Forward ray tracing split over machines: trace only the I-th of N
     /// runs of the photons, and write its film to --out FILE.film for
     /// --merge.

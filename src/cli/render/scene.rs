@@ -63,6 +63,7 @@ pub(super) fn apply_overrides(
     if args.no_shadows {
         scene.render.shadows = false;
     }
+    check_time(args)?;
     // Said once the flags are known to be valid: a bad one is the answer.
     if warn {
         let backends = match args.backend.as_str() {
@@ -71,6 +72,25 @@ pub(super) fn apply_overrides(
             _ => Backends::Gpu,
         };
         ignored::warn(&options_given(args), modes, backends);
+    }
+    Ok(())
+}
+
+/// `--time SECONDS`: a number above 0, for one forward render (a batch, a
+/// shard or another mode has no use for it).
+fn check_time(args: &RenderArgs) -> Result<(), Failure> {
+    let Some(t) = args.time else {
+        return Ok(());
+    };
+    if !(t.is_finite() && t > 0.0) {
+        return Err(Failure::usage(format!(
+            "--time {t} is invalid; expected a number of seconds above 0"
+        )));
+    }
+    if args.modes() != [Shading::Forward] || args.is_batch() || args.photon_shard.is_some() {
+        return Err(Failure::usage(
+            "--time stops one forward render (--shading forward, one scene, no --shard) at a time budget".into(),
+        ));
     }
     Ok(())
 }

@@ -232,21 +232,12 @@ fn render(
     target: ColorTarget,
 ) -> Result<(Rendered, String, Option<String>), Failure> {
     let scene = &loaded.scene;
+    if shading == Shading::Forward {
+        return render_forward(args, scene, context);
+    }
     Ok(if let Some(context) = context {
-        let rendered = if shading == Shading::Forward {
-            // Photons go in batches: their count is the progress.
-            crate::cli::progress::counted("forward on the GPU", |counter| {
-                shadelab::render::render_gpu_counted(
-                    &context,
-                    scene,
-                    shading,
-                    (args.stats, target),
-                    counter,
-                )
-            })?
-        } else {
-            shadelab::render::render_gpu_to(&context, scene, shading, args.stats, target)?
-        };
+        let rendered =
+            shadelab::render::render_gpu_to(&context, scene, shading, args.stats, target)?;
         let info = &context.info;
         (rendered, info.name.clone(), Some(info.driver.clone()))
     } else {
@@ -255,6 +246,39 @@ fn render(
             shadelab::render::render_cpu_counted(scene, shading, counter)
         })?;
         (rendered, "CPU reference (f64)".to_string(), None)
+    })
+}
+
+/// A forward render, its photons counted as the progress, stopped at
+/// `--time` if given (said, with the photons it traced).
+fn render_forward(
+    args: &RenderArgs,
+    scene: &shadelab::scene::Scene,
+    context: Option<Arc<GpuContext>>,
+) -> Result<(Rendered, String, Option<String>), Failure> {
+    let mut job = shadelab::film_sums::PhotonJob::all(scene.render.photons);
+    job.deadline = args
+        .time
+        .map(|s| Instant::now() + std::time::Duration::from_secs_f64(s));
+    let on = if context.is_some() {
+        "GPU"
+    } else {
+        "CPU reference"
+    };
+    let rendered = crate::cli::progress::counted(&format!("forward on the {on}"), |counter| {
+        shadelab::render::render_forward(context.as_ref(), scene, &job, counter)
+    })?;
+    let emitted = rendered.forward.as_ref().map_or(0, |f| f.stats.emitted);
+    if emitted < u64::from(job.photons()) {
+        eprintln!(
+            "shadelab: --time {}: stopped after {emitted} of {} photons; the image is their estimate",
+            args.time.unwrap_or_default(),
+            job.photons()
+        );
+    }
+    Ok(match &context {
+        Some(c) => (rendered, c.info.name.clone(), Some(c.info.driver.clone())),
+        None => (rendered, "CPU reference (f64)".to_string(), None),
     })
 }
 

@@ -50,7 +50,8 @@ pub fn render(scene: &Scene, photons: u32) -> Option<ForwardImage> {
     render_job(scene, &PhotonJob::all(photons), &WorkCounter::default())
 }
 
-/// Traces `job`'s photons, counting them into `counter` as tasks finish.
+/// Traces `job`'s photons, counting them into `counter` as tasks finish
+/// (under a time budget, the tasks that start before it).
 /// Each thread splats into a film of its own; the films' integer sums add
 /// up to the same bits in any order.
 pub fn render_job(scene: &Scene, job: &PhotonJob, counter: &WorkCounter) -> Option<ForwardImage> {
@@ -65,6 +66,9 @@ pub fn render_job(scene: &Scene, job: &PhotonJob, counter: &WorkCounter) -> Opti
     let (film, stats) = (0..tasks)
         .into_par_iter()
         .fold(fresh, |(mut film, mut stats), task| {
+            if job.past_deadline() {
+                return (film, stats);
+            }
             let first = range.start + task * PHOTONS_PER_TASK;
             let end = first.saturating_add(PHOTONS_PER_TASK).min(range.end);
             for i in first..end {

@@ -43,7 +43,9 @@ pub struct ForwardOutput {
 }
 
 /// Traces `job`'s photons through `scene` at its image size, counting
-/// them into `counter` as batches finish.
+/// them into `counter` as batches finish; under a time budget, the batches
+/// that start before it (the film holds their sums: `stats.emitted` says
+/// how many photons that is).
 pub fn render(
     context: &Arc<GpuContext>,
     scene: &Scene,
@@ -154,13 +156,18 @@ fn run_batches(
     job: &PhotonJob,
     counter: &WorkCounter,
 ) -> Result<(f64, f64), GpuError> {
-    let photons = job.range.end.saturating_sub(job.range.start);
-    counter.begin("photons", u64::from(photons));
+    counter.begin("photons", u64::from(job.photons()));
     let timestamps = Timestamps::new(context)?;
     let (mut submit_ms, mut gpu_ms) = (0.0, 0.0);
+    // Under a time budget, smaller batches overshoot it less.
+    let batch_size = if job.deadline.is_some() {
+        BATCH / 4
+    } else {
+        BATCH
+    };
     let mut first = job.range.start;
-    while first < job.range.end {
-        let count = (job.range.end - first).min(BATCH);
+    while first < job.range.end && !job.past_deadline() {
+        let count = (job.range.end - first).min(batch_size);
         let batch = PhotonBatch {
             first,
             count,
