@@ -26,6 +26,10 @@ cargo test --release
 # time into every mode, holds check's thresholds as the built-in one does.
 ./target/release/shadelab check assets/*.toml --lighting examples/lighting/phong.glsl \
     --out target/check-hook --junit target/check-hook/assets.xml
+# Forward ray tracing (photons from the lights) against its f64 twin, which
+# traces the same photons: limits from the noise (docs/check.md).
+./target/release/shadelab check assets/*.toml assets/hard/*.toml --shading forward \
+    --out target/check-forward --images failures --junit target/check-forward/assets.xml
 # Four samples per pixel in the raster modes: the GPU and the reference
 # sample, depth-test and average the same points (docs/check.md).
 ./target/release/shadelab check assets/*.toml assets/hard/*.toml --shading flat,gouraud,phong \
@@ -36,7 +40,7 @@ cargo test --release
     --junit target/check-msaa-per-sample/assets.xml
 # The ray tracer's packets at another subgroup size: lavapipe on 128-bit
 # vectors (as on a CPU without AVX) runs subgroups of 4 lanes, not 8.
-LP_NATIVE_VECTOR_WIDTH=128 ./target/release/shadelab check assets/*.toml --shading raytrace \
+LP_NATIVE_VECTOR_WIDTH=128 ./target/release/shadelab check assets/*.toml --shading raytrace,forward \
     --out target/check-4-lanes --junit target/check-4-lanes/assets.xml
 # The peer benchmark's shadelab side at 64x64 with no peers, so that the
 # script and its report cannot rot (the full run is ci/bench-peers.sh), in
