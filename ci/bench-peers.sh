@@ -22,6 +22,9 @@ Measures shadelab (target/release/shadelab) against its peers on the same work, 
                      own size, Phong and ray traced; the first sphere at --size, depth 0; the
                      four spheres), and vs the peers' first image in a fresh process, cold and
                      warm: Mitsuba llvm_ad_rgb on the sphere, the wgpu tracer on four spheres
+  estimators-box     secondary illumination on assets/diffuse-box.toml: shadelab's backward
+                     and forward tracers against Mitsuba 3's path and ptracer (agreement, and
+                     time to the same RMSE; Mitsuba's LLVM variant on Debian's libllvm19)
 and prints a Markdown table (also written as JSON). Peers are installed on first use under
 ${SHADELAB_PEERS_DIR:-$HOME/.cache/shadelab-peers} (a Python venv with pinned numpy, wgpu,
 mitsuba; Debian's libembree-dev and g++ through apt-get when missing; the Embree caster).
@@ -264,6 +267,11 @@ apt_install() {
 
 install_python() {
     local venv=$peers_dir/venv stamp=$peers_dir/venv/shadelab-requirements.txt
+    # Mitsuba's LLVM variant dies on point lights with LLVM 15 ("Cannot select: fminimum");
+    # Debian 12 has libllvm19, which mitsuba_box.py finds (the newest libLLVM).
+    if ! ls /usr/lib/*/libLLVM.so.19* /usr/lib/*/libLLVM-19.so* >/dev/null 2>&1 && command -v apt-get >/dev/null; then
+        apt_install libllvm19 || warn "apt-get install libllvm19 failed: Mitsuba's path and ptracer may not run"
+    fi
     if [ -x "$venv_py" ] && cmp -s "$src/requirements.txt" "$stamp"; then return 0; fi
     note "installing the Python peers into $venv (numpy, wgpu, mitsuba; pinned in ci/peers/requirements.txt)"
     [ -x "$venv_py" ] || python3 -m venv "$venv" ||
@@ -292,7 +300,12 @@ install_embree() {
 
 mode=plan
 define_jobs
-[ "$njobs" -gt 0 ] || die "--only '$only' selects no job (see --list)"
+estimators_only=0
+if [ "$smoke" = 0 ] && [ -n "$only" ] && [[ estimators-box =~ $only ]]; then
+    need_python=1
+    [ "$njobs" -gt 0 ] || estimators_only=1
+fi
+[ "$njobs" -gt 0 ] || [ "$estimators_only" = 1 ] || die "--only '$only' selects no job (see --list)"
 if [ "$setup_only" = 1 ]; then need_python=1 need_embree=1; fi
 if [ "$smoke" = 0 ]; then
     mkdir -p "$peers_dir"
@@ -325,35 +338,50 @@ bin_built=$(date -r "$bin" '+%Y-%m-%d %H:%M:%S %z')
 bin_path=$bin
 cp "$bin" "$tmp/shadelab"
 bin=$tmp/shadelab
-rm -rf "$res"
-mkdir -p "$res"
-note "$njobs jobs at ${size}x$size, $runs timed runs each, $rounds round(s); results in $res"
-mode=queue
-define_jobs
-# One round: every job once, into results/ (or results/round-R with --rounds). Each row's two
-# sides are next to each other in the order; even rounds run it backwards, so that neither
-# side of a row always runs first.
-round_dirs=()
-for ((round = 1; round <= rounds; round++)); do
-    round_res=$res round_note=''
-    if [ "$rounds" -gt 1 ]; then round_res=$res/round-$round round_note=" (round $round of $rounds)"; fi
-    mkdir -p "$round_res"
-    round_dirs+=("$round_res")
-    printf 'name\tkind\tstatus\trc\tseconds\n' >"$round_res/jobs.tsv"
-    for ((k = 0; k < ${#queue[@]}; k++)); do
-        entry=${queue[k]}
-        if ((round % 2 == 0)); then entry=${queue[${#queue[@]} - 1 - k]}; fi
-        eval "run_job $entry"
+if [ "$estimators_only" = 0 ]; then
+    rm -rf "$res"
+    mkdir -p "$res"
+    note "$njobs jobs at ${size}x$size, $runs timed runs each, $rounds round(s); results in $res"
+    mode=queue
+    define_jobs
+    # One round: every job once, into results/ (or results/round-R with --rounds). Each row's two
+    # sides are next to each other in the order; even rounds run it backwards, so that neither
+    # side of a row always runs first.
+    round_dirs=()
+    for ((round = 1; round <= rounds; round++)); do
+        round_res=$res round_note=''
+        if [ "$rounds" -gt 1 ]; then round_res=$res/round-$round round_note=" (round $round of $rounds)"; fi
+        mkdir -p "$round_res"
+        round_dirs+=("$round_res")
+        printf 'name\tkind\tstatus\trc\tseconds\n' >"$round_res/jobs.tsv"
+        for ((k = 0; k < ${#queue[@]}; k++)); do
+            entry=${queue[k]}
+            if ((round % 2 == 0)); then entry=${queue[${#queue[@]} - 1 - k]}; fi
+            eval "run_job $entry"
+        done
     done
-done
 
-# --- report ---------------------------------------------------------------------------------
-report_args=(--size "$size" --runs "$runs" --segs "$(IFS=,; echo "${segs[*]}")" --shadelab "$bin_path ($bin_built)"
-    --json-out "$json_out" --md-out "$work/report.md")
-[ "$smoke" = 1 ] && report_args+=(--smoke)
-[ "$bench_cpu" = 1 ] && report_args+=(--bench-cpu)
-python3 "$src/report.py" "${round_dirs[@]}" "${report_args[@]}" || die "the report could not be built from $res"
-note "report: $work/report.md, $json_out"
+    # --- report ---------------------------------------------------------------------------------
+    report_args=(--size "$size" --runs "$runs" --segs "$(IFS=,; echo "${segs[*]}")" --shadelab "$bin_path ($bin_built)"
+        --json-out "$json_out" --md-out "$work/report.md")
+    [ "$smoke" = 1 ] && report_args+=(--smoke)
+    [ "$bench_cpu" = 1 ] && report_args+=(--bench-cpu)
+    python3 "$src/report.py" "${round_dirs[@]}" "${report_args[@]}" || die "the report could not be built from $res"
+    note "report: $work/report.md, $json_out"
+fi
+# The two estimators of secondary illumination against Mitsuba 3's (issue 45): the diffuse
+# box with `path` and `ptracer`, agreement and time to the same RMSE, a table of its own
+# (ci/peers/estimators_vs_mitsuba.py); selected as the job `estimators-box`.
+if [ "$smoke" = 0 ] && [ "$have_python" = 1 ] && { [ -z "$only" ] || [[ estimators-box =~ $only ]]; }; then
+    note "running estimators-box (shadelab's backward and forward against Mitsuba's path and ptracer)"
+    if "$venv_py" "$src/estimators_vs_mitsuba.py" "$bin" "$work/estimators" >"$work/estimators.md" 2>"$work/estimators.log"; then
+        cat "$work/estimators.md"
+        note "estimators: $work/estimators.md, $work/estimators/estimators.json"
+    else
+        failed+=(estimators-box)
+        warn "estimators-box failed: $(tail -n 1 "$work/estimators.log")"
+    fi
+fi
 if [ ${#failed[@]} -gt 0 ]; then
     die "${#failed[@]} job run(s) failed or unavailable: ${failed[*]} (logs in $res)"
 fi
