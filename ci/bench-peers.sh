@@ -251,6 +251,7 @@ elif [ "$setup_only" = 0 ] && [ "$list" = 0 ]; then
 fi
 if [ "$list" = 1 ]; then
     define_jobs
+    if [ "$smoke" = 0 ] && { [ -z "$only" ] || [[ estimators-box =~ $only ]]; }; then echo estimators-box; fi
     exit 0
 fi
 

@@ -17,15 +17,13 @@ one JSON line with its time. VARIANT: llvm_ad_rgb or scalar_rgb; llvm_ad_rgb nee
 that lowers Dr.Jit's intrinsics (LLVM 15 cannot: "Cannot select: fminimum"): the newest
 libLLVM found is used, unless DRJIT_LIBLLVM_PATH names one.
 """
-import glob
 import math
 import os
-import re
 import sys
 import time
 import tomllib
 
-from peer_common import emit
+from peer_common import emit, use_newest_libllvm
 
 
 def usage():
@@ -38,13 +36,8 @@ VARIANT, INTEGRATOR, SCENE, BOUNCES, SPP, OUT = (
     sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4]), int(sys.argv[5]), sys.argv[6])
 if VARIANT not in ("llvm_ad_rgb", "scalar_rgb") or INTEGRATOR not in ("path", "ptracer") or SPP < 1:
     usage()
-if VARIANT.startswith("llvm") and "DRJIT_LIBLLVM_PATH" not in os.environ:
-    def version(path):
-        m = re.search(r"libLLVM[-.]?(?:so\.)?(\d+)", os.path.basename(path))
-        return int(m.group(1)) if m else 0
-    found = sorted(glob.glob("/usr/lib/*/libLLVM*.so*") + glob.glob("/usr/lib/llvm-*/lib/libLLVM*.so*"), key=version)
-    if found:
-        os.environ["DRJIT_LIBLLVM_PATH"] = found[-1]
+if VARIANT.startswith("llvm"):
+    use_newest_libllvm()
 
 import numpy as np  # noqa: E402
 import mitsuba as mi  # noqa: E402

@@ -13,13 +13,11 @@ timed ones: mi.render() and the conversion of the image to an array (which force
 Rays: SIZE^2 primary plus one shadow ray per pixel whose alpha says it hit, so Mrays/s is an
 approximation. Prints one JSON line.
 """
-import glob
 import os
-import re
 import sys
 import time
 
-from peer_common import emit, summary
+from peer_common import emit, summary, use_newest_libllvm
 
 
 def usage():
@@ -33,13 +31,8 @@ if VARIANT not in ("llvm_ad_rgb", "scalar_rgb") or SIZE < 1 or RUNS < 1:
     usage()
 if not os.path.isfile(PLY):
     sys.exit(f"mitsuba_peer.py: no such mesh: {PLY}")
-if VARIANT.startswith("llvm") and "DRJIT_LIBLLVM_PATH" not in os.environ:
-    def version(path):
-        m = re.search(r"libLLVM[-.]?(\d+)", os.path.basename(path))
-        return int(m.group(1)) if m else 0
-    found = sorted(glob.glob("/usr/lib/*/libLLVM*.so*") + glob.glob("/usr/lib/llvm-*/lib/libLLVM*.so*"), key=version)
-    if found:
-        os.environ["DRJIT_LIBLLVM_PATH"] = found[-1]
+if VARIANT.startswith("llvm"):
+    use_newest_libllvm()
 
 import numpy as np  # noqa: E402
 import mitsuba as mi  # noqa: E402

@@ -1,7 +1,25 @@
 """Shared by the Python peers: timing summaries and the one JSON line each prints."""
+import glob
 import json
+import os
+import re
 import statistics
 import sys
+
+
+def use_newest_libllvm():
+    """Points Dr.Jit's LLVM backend (DRJIT_LIBLLVM_PATH) at the newest libLLVM installed,
+    unless the variable names one already: Mitsuba's llvm variants need one, and LLVM 15
+    cannot lower what Dr.Jit emits for point lights (LLVM 19 can)."""
+    if "DRJIT_LIBLLVM_PATH" in os.environ:
+        return
+
+    def version(path):
+        m = re.search(r"libLLVM[-.]?(?:so\.)?(\d+)", os.path.basename(path))
+        return int(m.group(1)) if m else 0
+    found = sorted(glob.glob("/usr/lib/*/libLLVM*.so*") + glob.glob("/usr/lib/llvm-*/lib/libLLVM*.so*"), key=version)
+    if found:
+        os.environ["DRJIT_LIBLLVM_PATH"] = found[-1]
 
 
 def summary(times_s):

@@ -102,18 +102,26 @@ impl BoundTrace<'_> {
             timestamps.start(cmd);
             device.cmd_dispatch(cmd, groups_x, groups_y, 1);
         });
-        // Orders the shader's writes before the host reads.
-        let to_host = [vk::MemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::HOST | vk::PipelineStageFlags2::ALL_COMMANDS)
-            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-        device.cmd_pipeline_barrier2(
-            cmd,
-            &vk::DependencyInfo::default().memory_barriers(&to_host),
-        );
+        record_writes_to_host(device, cmd);
         timestamps.stop(cmd);
     }
+}
+
+/// Records a barrier that orders the shader's writes before the host's
+/// reads (and before later work on the queue).
+///
+/// # Safety
+/// `cmd` is recording.
+pub(super) unsafe fn record_writes_to_host(device: &ash::Device, cmd: vk::CommandBuffer) {
+    let to_host = [vk::MemoryBarrier2::default()
+        .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+        .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+        .dst_stage_mask(vk::PipelineStageFlags2::HOST | vk::PipelineStageFlags2::ALL_COMMANDS)
+        .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+    device.cmd_pipeline_barrier2(
+        cmd,
+        &vk::DependencyInfo::default().memory_barriers(&to_host),
+    );
 }
 
 /// The pipeline's first use, apart from the render, in milliseconds: one

@@ -32,7 +32,7 @@ use crate::gpu::vk::context::DeviceInfo;
 use crate::gpu::vk::context::GpuContext;
 use crate::gpu::vk::descriptors::{create_set_layout, Descriptors};
 use crate::gpu::vk::error::{GpuError, VkContext};
-use crate::gpu::vk::pipeline::{single_pipeline, PipelineObjects};
+use crate::gpu::vk::pipeline::PipelineObjects;
 use crate::gpu::vk::specialise::specialise;
 use crate::gpu::vk::timestamps::{ms_since, GpuTimings, Timestamps};
 use crate::linear_image::LinearImage;
@@ -125,31 +125,7 @@ fn create_pipeline(
     if let Some(specialised) = specialised {
         words = specialised;
     }
-    let module_info = vk::ShaderModuleCreateInfo::default().code(&words);
-    // SAFETY: the words are SPIR-V validated by naga (at build time, or with
-    // the hook by `hook::module_words`), or for the ray-query engine by
-    // spirv-val at build time, then specialised by SPIRV-Tools' optimizer.
-    let module = unsafe { device.create_shader_module(&module_info, None) }
-        .during("vkCreateShaderModule")?;
-    p.modules.push(module);
-    let spec_info = vk::SpecializationInfo::default()
-        .map_entries(&entries)
-        .data(spec_data);
-    let mut stage = vk::PipelineShaderStageCreateInfo::default()
-        .stage(vk::ShaderStageFlags::COMPUTE)
-        .module(module)
-        .name(c"main");
-    if driver_specialises {
-        // Otherwise the constants are in the module already.
-        stage = stage.specialization_info(&spec_info);
-    }
-    let info = vk::ComputePipelineCreateInfo::default()
-        .stage(stage)
-        .layout(p.layout);
-    // SAFETY: every pointer in `info` refers to locals alive for the call.
-    let created =
-        unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
-    p.pipeline = single_pipeline(created, "vkCreateComputePipelines")?;
+    p.create_compute(&words, (&entries, spec_data), driver_specialises)?;
     Ok(p)
 }
 

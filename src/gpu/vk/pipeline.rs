@@ -7,7 +7,7 @@ use std::sync::{Arc, Mutex};
 
 use ash::vk;
 
-use crate::gpu::vk::error::GpuError;
+use crate::gpu::vk::error::{GpuError, VkContext};
 
 pub struct PipelineObjects {
     /// The device's handle, not the context: the context keeps built
@@ -46,6 +46,47 @@ pub fn single_pipeline(
     created
         .map(|pipelines| pipelines[0])
         .map_err(|(_, result)| GpuError::Vulkan { call, result })
+}
+
+impl PipelineObjects {
+    /// The compute pipeline of `words` (validated SPIR-V) in `self.layout`,
+    /// its module kept in `self.modules`: with the specialization constants
+    /// of `entries`/`data` handed to the driver where `driver_specialises`,
+    /// else already in the module (`specialise`).
+    pub fn create_compute(
+        &mut self,
+        words: &[u32],
+        (entries, data): (&[vk::SpecializationMapEntry], &[u8]),
+        driver_specialises: bool,
+    ) -> Result<(), GpuError> {
+        let device = &self.device;
+        let module_info = vk::ShaderModuleCreateInfo::default().code(words);
+        // SAFETY: the callers pass SPIR-V validated at build time (naga, or
+        // spirv-val for ray queries) or by `hook::module_words`, possibly
+        // specialised by SPIRV-Tools' optimizer.
+        let module = unsafe { device.create_shader_module(&module_info, None) }
+            .during("vkCreateShaderModule")?;
+        self.modules.push(module);
+        let spec_info = vk::SpecializationInfo::default()
+            .map_entries(entries)
+            .data(data);
+        let mut stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module)
+            .name(c"main");
+        if driver_specialises {
+            // Otherwise the constants are in the module already.
+            stage = stage.specialization_info(&spec_info);
+        }
+        let info = vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(self.layout);
+        // SAFETY: every pointer in `info` refers to locals alive for the call.
+        let created =
+            unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
+        self.pipeline = single_pipeline(created, "vkCreateComputePipelines")?;
+        Ok(())
+    }
 }
 
 impl Drop for PipelineObjects {

@@ -12,7 +12,7 @@ use crate::gpu::shared::shader_catalog::{FORWARD_COMP, FORWARD_WIDE_COMP};
 use crate::gpu::vk::context::GpuContext;
 use crate::gpu::vk::descriptors::create_set_layout;
 use crate::gpu::vk::error::{GpuError, VkContext};
-use crate::gpu::vk::pipeline::{single_pipeline, PipelineObjects};
+use crate::gpu::vk::pipeline::PipelineObjects;
 use crate::gpu::vk::specialise::specialise;
 
 /// The batch a dispatch traces (the shader's `PhotonBatch`).
@@ -70,30 +70,9 @@ fn create(
     let spec_data = bytemuck::bytes_of(spec);
     let words = shader.words();
     let specialised = specialise(&words, &entries, spec_data)?;
+    // Without `spirv-opt` the driver takes the constants.
+    let driver_specialises = specialised.is_none();
     let code = specialised.as_deref().unwrap_or(&words);
-    let module_info = vk::ShaderModuleCreateInfo::default().code(code);
-    // SAFETY: the words are SPIR-V validated by naga at build time, then
-    // specialised by SPIRV-Tools' optimizer.
-    let module = unsafe { device.create_shader_module(&module_info, None) }
-        .during("vkCreateShaderModule")?;
-    p.modules.push(module);
-    let spec_info = vk::SpecializationInfo::default()
-        .map_entries(&entries)
-        .data(spec_data);
-    let mut stage = vk::PipelineShaderStageCreateInfo::default()
-        .stage(vk::ShaderStageFlags::COMPUTE)
-        .module(module)
-        .name(c"main");
-    if specialised.is_none() {
-        // Without `spirv-opt` the driver takes the constants.
-        stage = stage.specialization_info(&spec_info);
-    }
-    let info = vk::ComputePipelineCreateInfo::default()
-        .stage(stage)
-        .layout(p.layout);
-    // SAFETY: every pointer in `info` refers to locals alive for the call.
-    let created =
-        unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
-    p.pipeline = single_pipeline(created, "vkCreateComputePipelines")?;
+    p.create_compute(code, (&entries, spec_data), driver_specialises)?;
     Ok(p)
 }

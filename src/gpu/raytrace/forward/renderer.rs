@@ -12,7 +12,9 @@ use super::pipeline::{self, PhotonBatch};
 use crate::camera::View;
 use crate::film_sums::{FilmSums, PhotonJob, PhotonStats};
 use crate::gpu::raytrace::buffers::TraceBuffers;
-use crate::gpu::raytrace::dispatch::{cpu_threads, BoundTrace, QUEUE_EXHAUSTED};
+use crate::gpu::raytrace::dispatch::{
+    cpu_threads, record_writes_to_host, BoundTrace, QUEUE_EXHAUSTED,
+};
 use crate::gpu::raytrace::layout::WORKGROUP_SIZE;
 use crate::gpu::raytrace::records::records;
 use crate::gpu::raytrace::renderer::{specialization, TraceOptions};
@@ -208,17 +210,8 @@ fn run_batch(
             }
             device.cmd_dispatch(cmd, groups, 1, 1);
         });
-        // Orders the shader's writes before the host reads, and before the
-        // next batch's atomics.
-        let to_host = [vk::MemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::HOST | vk::PipelineStageFlags2::ALL_COMMANDS)
-            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-        device.cmd_pipeline_barrier2(
-            commands.cmd,
-            &vk::DependencyInfo::default().memory_barriers(&to_host),
-        );
+        // Before the host reads, and before the next batch's atomics.
+        record_writes_to_host(device, commands.cmd);
         if let Some(t) = timestamps {
             t.stop(commands.cmd);
         }
