@@ -30,6 +30,9 @@ cargo test --release
 # traces the same photons: limits from the noise (docs/check.md).
 ./target/release/shadelab check assets/*.toml assets/hard/*.toml --shading forward \
     --out target/check-forward --images failures --junit target/check-forward/assets.xml
+# Secondary illumination, both estimators, on every asset: two diffuse bounces.
+./target/release/shadelab check assets/*.toml --shading raytrace,forward --bounces 2 \
+    --out target/check-bounces --images failures --junit target/check-bounces/assets.xml
 # Four samples per pixel in the raster modes: the GPU and the reference
 # sample, depth-test and average the same points (docs/check.md).
 ./target/release/shadelab check assets/*.toml assets/hard/*.toml --shading flat,gouraud,phong \

@@ -48,6 +48,8 @@ pub struct CheckArgs {
     traversal: TraversalArg,
     #[command(flatten)]
     msaa: MsaaArg,
+    #[command(flatten)]
+    depth: DepthArg,
     /// Largest error allowed at an interior pixel [default: 1e-3, and 5e-3
     /// for raytrace].
     #[arg(long)]
@@ -80,7 +82,7 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     }
     let modes = args.modes.modes();
     super::ignored::warn(
-        &super::ignored::scene_flags_given(&args.traversal, &args.msaa, &DepthArg::default()),
+        &super::ignored::scene_flags_given(&args.traversal, &args.msaa, &args.depth),
         &modes,
         super::ignored::Backends::Both,
     );
@@ -149,6 +151,7 @@ fn check_flags(args: &CheckArgs) -> Result<(), Failure> {
         args.lighting.apply(&mut probe)?;
         args.traversal.apply(&mut probe)?;
         args.msaa.apply(&mut probe)?;
+        args.depth.apply(&mut probe)?;
     }
     if let Some(path) = &args.junit {
         shadelab::output::prepare_output_path(path)?;
@@ -180,6 +183,7 @@ fn load_scenes(
             args.lighting.apply(&mut scene)?;
             args.traversal.apply(&mut scene)?;
             args.msaa.apply(&mut scene)?;
+            args.depth.apply(&mut scene)?;
             let estimate = memory.check(&stem, &scene, modes, modes)?;
             Ok((scene, stem, estimate))
         });
