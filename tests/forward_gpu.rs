@@ -231,6 +231,28 @@ fn bad_forward_input_is_refused_in_one_line() {
         "{}",
         run.stderr
     );
+    // A batch says it too, per scene that has them.
+    let batch = [
+        "render",
+        "--shading",
+        "phong,forward",
+        "--photons",
+        "20000",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--out-dir",
+        "batch",
+    ];
+    let run = shadelab(dir.path(), &batch);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(
+        run.stderr
+            .contains("default: forward ray tracing cannot see through mirrors or glass"),
+        "{}",
+        run.stderr
+    );
 }
 
 /// `render --shard I/N` four times and `--merge` make the image one render

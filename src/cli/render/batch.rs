@@ -121,6 +121,13 @@ impl Batch {
                 for warning in &loaded.warnings {
                     eprintln!("shadelab: warning: {}: {warning}", scene.name);
                 }
+                let blind = modes
+                    .contains(&Shading::Forward)
+                    .then(|| shadelab::render::forward_blind_spots(loaded))
+                    .flatten();
+                if let Some(warning) = blind {
+                    eprintln!("shadelab: warning: {}: {warning}", scene.name);
+                }
             }
         }
         // One device for the batch, opened only if a case renders on it.
