@@ -109,22 +109,10 @@ pub fn render_gpu_to(
     count_rays: bool,
     target: ColorTarget,
 ) -> Result<Rendered, Error> {
-    let counter = WorkCounter::default();
-    render_gpu_counted(context, scene, shading, (count_rays, target), &counter)
-}
-
-/// [`render_gpu_to`], counting forward tracing's photons into `counter`
-/// as its batches finish (for a caller to show progress).
-pub fn render_gpu_counted(
-    context: &Arc<GpuContext>,
-    scene: &Scene,
-    shading: Shading,
-    (count_rays, target): (bool, ColorTarget),
-    counter: &WorkCounter,
-) -> Result<Rendered, Error> {
     if shading == Shading::Forward {
+        // Progress and shards go through `render_forward` itself.
         let job = PhotonJob::all(scene.render.photons);
-        return render_forward(Some(context), scene, &job, counter);
+        return render_forward(Some(context), scene, &job, &WorkCounter::default());
     }
     refuse_beyond_f32(scene)?;
     let (image, timings, ray_stats, traversal) = match shading.raster_mode() {
