@@ -72,21 +72,22 @@ const int UNROLLED_MATERIALS = 8;
 #include "rt_shading.glsl"     // materials, offsets, direct light with shadow rays
 #ifdef PATHS
 #include "rt_bounce.glsl"      // diffuse bounces: random numbers, directions
+#include "rt_sample_sums.glsl" // samples summed in fixed point, as films are
 #endif
 #include "rt_children.glsl"    // a hit's reflected and refracted rays
 #include "rt_ray_tree.glsl"    // one sample's reflection and refraction tree
 
+// Subgroups take work items from a queue (one atomic counter) until it
+// runs dry, so the image's pixels are shared out as the work goes, not
+// by workgroup id: lavapipe hands each of its threads a fixed share of
+// the workgroups, and a thread that was slower (a busier core, or the
+// share of the image with the scene in it) left the others idle at the
+// end. An item is 16 packets, each packet a 4 x (S/4) patch of
+// pixels for a subgroup of S lanes (4 x 2 on lavapipe): 16 x S pixels,
+// in rows of items from the top. Each lane's colour depends on its own
+// ray alone (see walk_bvh), so which subgroup traces a pixel, and with
+// which neighbours, leaves the image as it is.
 void main() {
-    // Subgroups take work items from a queue (one atomic counter) until it
-    // runs dry, so the image's pixels are shared out as the work goes, not
-    // by workgroup id: lavapipe hands each of its threads a fixed share of
-    // the workgroups, and a thread that was slower (a busier core, or the
-    // share of the image with the scene in it) left the others idle at the
-    // end. An item is 16 packets, each packet a 4 x (S/4) patch of
-    // pixels for a subgroup of S lanes (4 x 2 on lavapipe): 16 x S pixels,
-    // in rows of items from the top. Each lane's colour depends on its own
-    // ray alone (see walk_bvh), so which subgroup traces a pixel, and with
-    // which neighbours, leaves the image as it is.
     uint lane = gl_SubgroupInvocationID;
     uint size = gl_SubgroupSize;
     uvec2 in_patch = uvec2(lane & 3u, lane >> 2);
@@ -102,8 +103,7 @@ void main() {
     if (MATERIALS_LISTED) {
         read_listed_materials();
     }
-    // The host holds the count to 1..1024; at least 1 here all the same,
-    // as the sample loop below runs once before it tests the count.
+    // 1..1024 on the host; at least 1 here, as the sample loop runs once.
     uint samples = max(frame.image.z, 1u);
     float kx = float(frame.grid.x);
     // The camera's divisions, once per invocation: per pixel they were a
@@ -132,21 +132,24 @@ void main() {
         uvec2 origin = uvec2(item % items_across * ITEM_WIDTH, item / items_across * size);
         for (uint b = 0u; b < ITEM_PACKETS; ++b) {
             uvec2 pixel = origin + uvec2((b & 3u) * 4u, (b >> 2) * rows_per_patch) + in_patch;
-            // No early return: the lanes of a pixel off the image still take
-            // part in their subgroup's packets, with nothing to trace.
+            // No early return: lanes off the image still join the packets.
             bool on_image = pixel.x < width && pixel.y < height;
+#ifdef PATHS
+            uvec2 sums[3] = uvec2[3](uvec2(0u), uvec2(0u), uvec2(0u));
+#else
             vec3 sum = vec3(0.0);
-            // At least one sample (`samples` above), so the test ends the
-            // loop rather than opening it: written the other way,
-            // with the count tested first, the small scenes took 1.1x to
-            // 1.3x the time on lavapipe (four spheres 1.2x; 24 to 50 runs
-            // of each shader alternated in one process), the images the
-            // same.
+#endif
+            // At least one sample (the host keeps a PATHS range non-empty),
+            // so the test ends the loop rather than opening it: tested
+            // first, the small scenes took 1.1x to 1.3x the time on
+            // lavapipe (24 to 50 alternated runs), the images the same.
+#ifdef PATHS
+            for (uint i = sample_range.first;;) {
+#else
             for (uint i = 0u;;) {
+#endif
                 // Sample i's cell: row i / kx and column i % kx, in floats
-                // (exact for any sample count the host allows: (i + 0.5) / kx
-                // is at least 0.5 / kx from an integer, far more than a
-                // rounding).
+                // (exact: (i + 0.5) / kx is 0.5 / kx from an integer or more).
                 float row = floor((float(i) + 0.5) * inv_kx);
                 float column = float(i) - row * kx;
                 vec2 cell = vec2(column + 0.5, row + 0.5) * vec2(inv_kx, inv_ky);
@@ -154,10 +157,17 @@ void main() {
                 vec3 dir = frame.forward_cutoff.xyz + right_per_ndc * ndc.x - up_per_ndc * ndc.y;
 #ifdef PATHS
                 uvec2 key = uvec2(pixel.y * width + pixel.x, i);
-                sum += trace_sample(dir * inversesqrt(dot(dir, dir)), on_image, key);
+                vec3 value = trace_sample(dir * inversesqrt(dot(dir, dir)), on_image, key);
+                add_sample(sums, value / float(samples));
+                if (++i >= sample_range.end) {
+                    break;
+                }
+            }
+            if (on_image) {
+                add_to_pixel(pixel.y * width + pixel.x, sums);
+            }
 #else
                 sum += trace_sample(dir * inversesqrt(dot(dir, dir)), on_image);
-#endif
                 if (++i >= samples) {
                     break;
                 }
@@ -165,6 +175,7 @@ void main() {
             if (on_image) {
                 pixels[pixel.y * width + pixel.x] = vec4(sum / float(samples), 1.0);
             }
+#endif
         }
     }
     if (COUNT_RAYS) {

@@ -4,7 +4,7 @@
 //! render's film is the same bits at any thread count, and the films of
 //! renders that split the photons between them (batches, shards on other
 //! machines) add up to the film of one render of them all. `PhotonStats`
-//! counts what the photons did, and `PhotonJob` says which photons a
+//! counts what the photons did, and `RenderPart` says which photons a
 //! render traces, on either tracer.
 
 use std::ops::Range;
@@ -85,6 +85,27 @@ impl FilmSums {
     }
 }
 
+/// The image of `film`, which holds `traced` of the `asked` photons or
+/// samples per pixel of a part: each term was divided by the render's
+/// total, so a part that a time budget stopped short is scaled up by
+/// asked over traced, the estimate of what was asked for.
+pub fn scaled_image(film: &FilmSums, traced: u64, asked: u32) -> LinearImage {
+    let image = film.image();
+    let asked = u64::from(asked);
+    if traced == 0 || traced >= asked {
+        return image;
+    }
+    let scale = asked as f64 / traced as f64;
+    LinearImage {
+        pixels: image
+            .pixels
+            .iter()
+            .map(|p| p.map(|v| (f64::from(v) * scale) as f32))
+            .collect(),
+        ..image
+    }
+}
+
 /// The first line of a film file: what it is, and its format's version.
 pub const FILM_FILE_MAGIC: &[u8] = b"shadelab film 1\n";
 
@@ -149,23 +170,88 @@ impl FilmSums {
     }
 }
 
-/// Which photons a render traces.
+/// The longest a render without a time budget (`--time`) is let run,
+/// judged from its first batch: an hour, or the seconds that
+/// `SHADELAB_LONGEST_RENDER_S` gives (a CI job may want to fail faster).
+pub const UNBUDGETED_LIMIT_S: f64 = 3600.0;
+
+/// `UNBUDGETED_LIMIT_S`, or `SHADELAB_LONGEST_RENDER_S` where that is a
+/// number of seconds above 0.
+pub fn unbudgeted_limit_s() -> f64 {
+    std::env::var("SHADELAB_LONGEST_RENDER_S")
+        .ok()
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .filter(|s| s.is_finite() && *s > 0.0)
+        .unwrap_or(UNBUDGETED_LIMIT_S)
+}
+
+/// The fixed point of `value` (non-negative, rounded to nearest): 0 for a
+/// value under half a unit, over `FILM_MAX`, or not finite, as the GPU's
+/// `film_fixed.glsl` rule.
+pub fn to_fixed(value: f64) -> u64 {
+    let scaled = value * FILM_ONE;
+    if (0.5..=FILM_MAX).contains(&scaled) {
+        (scaled + 0.5) as u64
+    } else {
+        0
+    }
+}
+
+/// Which of a render's photons (forward) or samples per pixel (backward,
+/// with bounces) a run traces.
 #[derive(Debug, Clone)]
-pub struct PhotonJob {
+pub struct RenderPart {
     /// The photons of the whole image, over which the lights' power is
-    /// split (each photon's flux divides by it).
+    /// split (each photon's flux divides by it); or the samples each
+    /// pixel has (each sample's value divides by it).
     pub total: u32,
-    /// The photons this render traces: `0..total`, or a shard's part.
+    /// The photons or samples this run traces: `0..total`, or a shard's
+    /// part.
     pub range: Range<u32>,
-    /// A time budget: no batch (or task) of photons starts after it, and
-    /// the image is scaled to the photons traced (`--time`).
+    /// A time budget: no batch (or task) starts after it, and the image
+    /// is scaled to what was traced (`--time`).
     pub deadline: Option<std::time::Instant>,
 }
 
-impl PhotonJob {
-    /// The photons the job asks for.
-    pub fn photons(&self) -> u32 {
+impl RenderPart {
+    /// The photons or samples the part asks for.
+    pub fn count(&self) -> u32 {
         self.range.end.saturating_sub(self.range.start)
+    }
+
+    /// After `done` of the part's photons or samples (`what`) took
+    /// `elapsed_s` seconds, the rest's time projected: `Err` says the
+    /// figure where, with no time budget, the part would run past
+    /// `unbudgeted_limit_s` (a count that is absurd on this machine, found
+    /// after its first batch rather than hours later).
+    pub fn refuse_if_too_long(&self, done: u32, elapsed_s: f64, what: &str) -> Result<(), String> {
+        self.refuse_past(unbudgeted_limit_s(), done, elapsed_s, what)
+    }
+
+    fn refuse_past(
+        &self,
+        limit_s: f64,
+        done: u32,
+        elapsed_s: f64,
+        what: &str,
+    ) -> Result<(), String> {
+        if self.deadline.is_some() || done == 0 || done >= self.count() {
+            return Ok(());
+        }
+        let rate = f64::from(done) / elapsed_s.max(1e-9);
+        let projected = f64::from(self.count()) / rate;
+        if projected <= limit_s {
+            return Ok(());
+        }
+        let (figure, unit) = if projected >= 3600.0 {
+            (projected / 3600.0, "hours")
+        } else {
+            (projected, "s")
+        };
+        Err(format!(
+            "{} {what} would take about {figure:.1} {unit} here (the first {done} took {elapsed_s:.2} s), past the {limit_s:.0} s a render may run without a budget; give --time SECONDS to stop at a budget with the estimate of those traced, fewer {what}, or --shard I/N to split them over machines",
+            self.count(),
+        ))
     }
 
     /// Whether the time budget is spent.
@@ -174,21 +260,21 @@ impl PhotonJob {
             .is_some_and(|d| std::time::Instant::now() >= d)
     }
 
-    /// Shard `i` of `n` (1-based) of `total` photons: the `i`-th of `n`
-    /// runs of consecutive photons, as even as they go. The shards of one
-    /// `total` cover `0..total` once.
+    /// Shard `i` of `n` (1-based) of `total` photons or samples: the
+    /// `i`-th of `n` runs of consecutive ones, as even as they go. The
+    /// shards of one `total` cover `0..total` once.
     pub fn shard(total: u32, (i, n): (u32, u32)) -> Self {
         let at = |k: u32| (u64::from(total) * u64::from(k) / u64::from(n)) as u32;
-        PhotonJob {
+        RenderPart {
             total,
             range: at(i - 1)..at(i),
             deadline: None,
         }
     }
 
-    /// All `total` photons.
+    /// All `total` photons or samples.
     pub fn all(total: u32) -> Self {
-        PhotonJob {
+        RenderPart {
             total,
             range: 0..total,
             deadline: None,
@@ -270,13 +356,48 @@ mod tests {
         assert!(png.contains("not a shadelab film"), "{png}");
     }
 
+    /// A part whose first batch says it would run past the limit is
+    /// refused with the figure; one within it, one with a time budget,
+    /// and a finished one are not.
+    #[test]
+    fn a_part_projected_past_the_limit_is_refused_with_the_figure() {
+        let part = RenderPart::all(4_000_000_000);
+        // 2^20 in a second: 3815 s, over the hour.
+        let hour = UNBUDGETED_LIMIT_S;
+        let refused = part.refuse_past(hour, 1 << 20, 1.0, "photons").unwrap_err();
+        assert!(refused.contains("about 1.1 hours"), "{refused}");
+        assert!(refused.contains("--time"), "{refused}");
+        assert!(part.refuse_past(hour, 1 << 20, 0.9, "photons").is_ok());
+        let budgeted = RenderPart {
+            deadline: Some(std::time::Instant::now()),
+            ..part.clone()
+        };
+        assert!(budgeted.refuse_past(hour, 1, 10.0, "photons").is_ok());
+        assert!(part
+            .refuse_past(hour, 4_000_000_000, 1e6, "photons")
+            .is_ok());
+        let minute = part.refuse_past(60.0, 1 << 20, 0.1, "photons").unwrap_err();
+        assert!(minute.contains("about 381.5 s"), "{minute}");
+    }
+
+    /// The fixed point rounds to nearest and drops what it cannot hold.
+    #[test]
+    fn fixed_point_rounds_and_drops_what_it_cannot_hold() {
+        assert_eq!(to_fixed(1.0), 1 << 32);
+        assert_eq!(to_fixed(0.75 / FILM_ONE), 1);
+        assert_eq!(to_fixed(0.25 / FILM_ONE), 0);
+        assert_eq!(to_fixed(-1.0), 0);
+        assert_eq!(to_fixed(f64::NAN), 0);
+        assert_eq!(to_fixed(f64::INFINITY), 0);
+    }
+
     /// Shards cover the photons once, in runs as even as they go.
     #[test]
     fn shards_cover_every_photon_once() {
         for (total, n) in [(10, 3), (7, 7), (1, 4), (u32::MAX, 5)] {
             let mut next = 0;
             for i in 1..=n {
-                let job = PhotonJob::shard(total, (i, n));
+                let job = RenderPart::shard(total, (i, n));
                 assert_eq!(job.range.start, next, "{total} in {n}");
                 assert!(job.range.end - job.range.start <= total / n + 1);
                 next = job.range.end;

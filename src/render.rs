@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use crate::cpu;
 use crate::error::Error;
-use crate::film_sums::{FilmSums, PhotonJob, PhotonStats};
+use crate::film_sums::{scaled_image, FilmSums, PhotonStats, RenderPart};
 use crate::gpu::raster::ColorTarget;
 use crate::gpu::shared::image_size::MAX_PIXELS;
 use crate::gpu::{raster, raytrace, GpuContext};
@@ -77,15 +77,38 @@ pub struct Rendered {
     pub ray_stats: Option<RayStats>,
     /// The engine that found the hits: GPU ray tracing only.
     pub traversal: Option<Traversal>,
-    /// Forward ray tracing only: the film's fixed-point sums (which
-    /// shards add up: `film_sums`) and what the photons did.
-    pub forward: Option<ForwardFilm>,
+    /// Forward ray tracing, and ray tracing with bounces: the film's
+    /// fixed-point sums (which shards add up: `film_sums`) and what was
+    /// traced.
+    pub film: Option<FilmRender>,
 }
 
-/// A forward render's film and counts, beside its image.
-pub struct ForwardFilm {
+/// A render summed in fixed point: its film, beside its image, and what
+/// made it.
+pub struct FilmRender {
     pub film: FilmSums,
-    pub stats: PhotonStats,
+    /// Of the part asked for, the photons or samples per pixel traced
+    /// (fewer where a time budget stopped it).
+    pub traced: u64,
+    /// Forward only: what the photons did.
+    pub photons: Option<PhotonStats>,
+}
+
+/// Whether a render in `shading` sums into a film, so that it can be
+/// split into shards, stopped at a time budget and shows its progress in
+/// photons or samples: forward tracing, and ray tracing with bounces.
+pub fn sums_in_film(scene: &Scene, shading: Shading) -> bool {
+    shading == Shading::Forward || (shading == Shading::Raytrace && scene.render.bounces > 0)
+}
+
+/// The photons (forward) or samples per pixel (ray tracing with bounces)
+/// a render in `shading` splits into parts.
+pub fn part_total(scene: &Scene, shading: Shading) -> u32 {
+    if shading == Shading::Forward {
+        scene.render.photons
+    } else {
+        scene.render.samples.max(1)
+    }
 }
 
 /// Renders on the GPU: the raster pipelines, or the ray-tracing compute
@@ -111,8 +134,13 @@ pub fn render_gpu_to(
 ) -> Result<Rendered, Error> {
     if shading == Shading::Forward {
         // Progress and shards go through `render_forward` itself.
-        let job = PhotonJob::all(scene.render.photons);
+        let job = RenderPart::all(scene.render.photons);
         return render_forward(Some(context), scene, &job, &WorkCounter::default());
+    }
+    if sums_in_film(scene, shading) {
+        let part = RenderPart::all(part_total(scene, shading));
+        let counter = WorkCounter::default();
+        return render_film_part(Some(context), scene, shading, (&part, &counter), count_rays);
     }
     refuse_beyond_f32(scene)?;
     let (image, timings, ray_stats, traversal) = match shading.raster_mode() {
@@ -130,7 +158,7 @@ pub fn render_gpu_to(
         timings: Timings::gpu(&timings),
         ray_stats,
         traversal,
-        forward: None,
+        film: None,
     })
 }
 
@@ -140,7 +168,7 @@ pub fn render_gpu_to(
 pub fn render_forward(
     context: Option<&Arc<GpuContext>>,
     scene: &Scene,
-    job: &PhotonJob,
+    job: &RenderPart,
     counter: &WorkCounter,
 ) -> Result<Rendered, Error> {
     refuse_beyond_f32(scene)?;
@@ -150,35 +178,54 @@ pub fn render_forward(
     };
     let out = raytrace::forward::render(context, scene, job, counter)?;
     Ok(Rendered {
-        image: forward_image(&out.film, &out.stats, job),
+        image: scaled_image(&out.film, out.stats.emitted, job.count()),
         timings: Timings::gpu(&out.timings),
         ray_stats: None,
         traversal: Some(Traversal::Bvh),
-        forward: Some(ForwardFilm {
+        film: Some(FilmRender {
             film: out.film,
-            stats: out.stats,
+            traced: out.stats.emitted,
+            photons: Some(out.stats),
         }),
     })
 }
 
-/// A forward film's image. Each photon's flux divides by the job's total,
-/// so a render that a time budget stopped short is scaled up by the
-/// photons asked for over those traced: the estimate of those photons.
-fn forward_image(film: &FilmSums, stats: &PhotonStats, job: &PhotonJob) -> LinearImage {
-    let image = film.image();
-    let asked = u64::from(job.photons());
-    if stats.emitted == 0 || stats.emitted >= asked {
-        return image;
+/// A render that sums into a film (`sums_in_film`): forward, or ray
+/// tracing with bounces of `part`'s samples per pixel, progress counted
+/// into its counter; on the GPU where `context` is given, else with the
+/// CPU twin (which traces all of the part: a time budget is the GPU's).
+/// Rays are counted by kind where `count_rays` (ray tracing on the GPU).
+pub fn render_film_part(
+    context: Option<&Arc<GpuContext>>,
+    scene: &Scene,
+    shading: Shading,
+    (part, counter): (&RenderPart, &WorkCounter),
+    count_rays: bool,
+) -> Result<Rendered, Error> {
+    if shading == Shading::Forward {
+        return render_forward(context, scene, part, counter);
     }
-    let scale = asked as f64 / stats.emitted as f64;
-    LinearImage {
-        pixels: image
-            .pixels
-            .iter()
-            .map(|p| p.map(|v| (f64::from(v) * scale) as f32))
-            .collect(),
-        ..image
-    }
+    refuse_beyond_f32(scene)?;
+    let Some(context) = context else {
+        return Ok(raytrace_cpu(scene, part, counter).0);
+    };
+    let options = raytrace::TraceOptions {
+        count_rays,
+        ..raytrace::TraceOptions::default()
+    };
+    let out = raytrace::render_part(context, scene, options, part, counter)?;
+    let film = out.sums.map(|sums| FilmRender {
+        film: sums.film,
+        traced: u64::from(sums.traced),
+        photons: None,
+    });
+    Ok(Rendered {
+        image: out.image,
+        timings: Timings::gpu(&out.timings),
+        ray_stats: out.stats,
+        traversal: Some(out.traversal),
+        film,
+    })
 }
 
 /// Forward tracing starts from the lights: a scene with none that emits
@@ -295,11 +342,12 @@ pub fn render_cpu_counted(
     refuse_beyond_f32(scene)?;
     if shading == Shading::Forward {
         refuse_forward_without_light(scene)?;
-        let job = PhotonJob::all(scene.render.photons);
+        let job = RenderPart::all(scene.render.photons);
         return Ok(forward_cpu(scene, &job, counter));
     }
     let Some(mode) = shading.raster_mode() else {
-        return Ok(raytrace_cpu(scene, counter));
+        let part = RenderPart::all(part_total(scene, shading));
+        return Ok(raytrace_cpu(scene, &part, counter));
     };
     let msaa = scene.render.msaa;
     if msaa.positions().is_none() {
@@ -315,7 +363,7 @@ pub fn render_cpu_counted(
         timings: Timings::cpu(started),
         ray_stats: None,
         traversal: None,
-        forward: None,
+        film: None,
     };
     let surface_ids = if mode == RasterMode::Flat {
         out.triangle_ids
@@ -334,15 +382,19 @@ pub fn render_cpu_counted(
 /// (within the image) holds more than one path signature: there a
 /// reflected, refracted or shadow edge, or a silhouette, passes close by,
 /// and another tracer's rounding may put it on the other side.
-fn raytrace_cpu(scene: &Scene, counter: &WorkCounter) -> (Rendered, Coverage) {
+fn raytrace_cpu(scene: &Scene, part: &RenderPart, counter: &WorkCounter) -> (Rendered, Coverage) {
     let started = Instant::now();
-    let out = cpu::raytrace::render_counted(scene, counter);
+    let out = cpu::raytrace::render_part(scene, part, counter);
     let rendered = Rendered {
         image: out.image,
         timings: Timings::cpu(started),
         ray_stats: Some(out.stats),
         traversal: None,
-        forward: None,
+        film: out.film.map(|film| FilmRender {
+            film,
+            traced: u64::from(part.count()),
+            photons: None,
+        }),
     };
     let near_edge = signature_edges(
         scene.image.width as usize,
@@ -361,19 +413,20 @@ fn raytrace_cpu(scene: &Scene, counter: &WorkCounter) -> (Rendered, Coverage) {
 /// photon that f32 rounding sends another way moves a splat to any pixel
 /// at all: every pixel is marked as an edge one, and `check` bounds the
 /// share that differ and the images' means (`check::FORWARD_*`).
-fn forward_cpu(scene: &Scene, job: &PhotonJob, counter: &WorkCounter) -> (Rendered, Coverage) {
+fn forward_cpu(scene: &Scene, job: &RenderPart, counter: &WorkCounter) -> (Rendered, Coverage) {
     let started = Instant::now();
     let out = cpu::forward::render_job(scene, job, counter)
         .expect("refuse_forward_without_light let only scenes with light through");
     let pixels = out.film.width as usize * out.film.height as usize;
     let rendered = Rendered {
-        image: forward_image(&out.film, &out.stats, job),
+        image: scaled_image(&out.film, out.stats.emitted, job.count()),
         timings: Timings::cpu(started),
         ray_stats: None,
         traversal: None,
-        forward: Some(ForwardFilm {
+        film: Some(FilmRender {
             film: out.film,
-            stats: out.stats,
+            traced: out.stats.emitted,
+            photons: Some(out.stats),
         }),
     };
     let coverage = Coverage {

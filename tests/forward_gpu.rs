@@ -5,7 +5,7 @@
 
 use common::cli::{assert_one_line_refusal, shadelab, shadelab_with};
 use common::closed_sphere::{closed_sphere, expected};
-use shadelab::film_sums::PhotonJob;
+use shadelab::film_sums::RenderPart;
 use shadelab::gpu::raytrace::forward;
 use shadelab::scene::Scene;
 use shadelab::work_counter::WorkCounter;
@@ -34,7 +34,7 @@ fn the_gpu_traces_the_twins_photons() {
     let context = common::gpu();
     let mut scene = diffuse_box(80, 60);
     scene.render.photons = 1 << 20;
-    let job = PhotonJob::all(scene.render.photons);
+    let job = RenderPart::all(scene.render.photons);
     let gpu = forward::render(&context, &scene, &job, &WorkCounter::default()).unwrap();
     let cpu = shadelab::cpu::forward::render(&scene, scene.render.photons).unwrap();
     assert_eq!(gpu.stats.emitted, cpu.stats.emitted);
@@ -80,7 +80,7 @@ fn gpu_photons_in_a_closed_sphere_converge_to_the_series() {
     for bounces in [0, 2] {
         let want = expected(bounces);
         let scene = closed_sphere(bounces);
-        let job = PhotonJob::all(1 << 20);
+        let job = RenderPart::all(1 << 20);
         let out = forward::render(&context, &scene, &job, &WorkCounter::default()).unwrap();
         let values: Vec<f64> = out
             .film
@@ -111,13 +111,13 @@ fn films_are_the_same_bits_however_the_photons_are_split() {
     scene.render.photons = 300_001;
     let total = scene.render.photons;
     let counter = WorkCounter::default();
-    let whole = forward::render(&context, &scene, &PhotonJob::all(total), &counter).unwrap();
-    let again = forward::render(&context, &scene, &PhotonJob::all(total), &counter).unwrap();
+    let whole = forward::render(&context, &scene, &RenderPart::all(total), &counter).unwrap();
+    let again = forward::render(&context, &scene, &RenderPart::all(total), &counter).unwrap();
     assert_eq!(whole.film, again.film, "a repeat");
     let cuts = [0, 1, 77_777, 200_000, total];
     let mut sum = shadelab::film_sums::FilmSums::zero(40, 30);
     for part in cuts.windows(2) {
-        let job = PhotonJob {
+        let job = RenderPart {
             total,
             range: part[0]..part[1],
             deadline: None,
@@ -456,5 +456,5 @@ fn a_time_budget_gives_the_estimate_of_the_photons_traced() {
     let bad = ["render", "--shading", "forward", "--time", "0"];
     assert_one_line_refusal(&shadelab(dir.path(), &bad), &bad, "--time 0 is invalid");
     let other = ["render", "--shading", "raytrace", "--time", "1"];
-    assert_one_line_refusal(&shadelab(dir.path(), &other), &other, "one forward render");
+    assert_one_line_refusal(&shadelab(dir.path(), &other), &other, "--bounces 1 or more");
 }

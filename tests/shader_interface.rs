@@ -40,12 +40,19 @@ fn host_for(shader: &ShaderBlob) -> HostInterface {
         push_constant_size,
     };
     let forward = shader.defines.iter().any(|(d, _)| *d == "FORWARD");
+    let paths = shader.defines.iter().any(|(d, _)| *d == "PATHS");
     match shader.stage {
         ShaderStage::Compute if forward => HostInterface {
             bindings: rt_layout::BINDINGS,
             record_size: rt_layout::forward_record_size,
             spec_constants: rt_layout::SPEC_CONSTANTS,
             push_constant_size: std::mem::size_of::<PhotonBatch>() as u32,
+        },
+        ShaderStage::Compute if paths => HostInterface {
+            bindings: rt_layout::BINDINGS,
+            record_size: rt_layout::paths_record_size,
+            spec_constants: rt_layout::SPEC_CONSTANTS,
+            push_constant_size: std::mem::size_of::<rt_layout::SampleRange>() as u32,
         },
         ShaderStage::Compute => HostInterface {
             bindings: rt_layout::BINDINGS,

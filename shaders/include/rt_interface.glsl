@@ -168,8 +168,23 @@ layout(std430, set = 0, binding = 9) buffer FilmBuffer { uint64_t film[]; };
 // Photons emitted, splats that landed, photons seen, surfaces hit.
 layout(std430, set = 0, binding = 10) buffer PhotonCountBuffer { uint64_t photon_counts[4]; };
 #else
+#ifdef PATHS
+// With diffuse bounces, each pixel's red, green and blue sums of its
+// samples in fixed point, two words each (rt_sample_sums.glsl), added to
+// by each dispatch of a range of samples.
+layout(std430, set = 0, binding = 9) buffer SampleSumBuffer { uvec2 sample_sums[]; };
+// The samples this dispatch traces, of the frame.image.z each pixel has
+// (gpu::raytrace::sample_batches::SampleRange); first < end.
+layout(push_constant) uniform SampleRange {
+    uint first;
+    uint end;
+    uint unused0;
+    uint unused1;
+} sample_range;
+#else
 // Not `writeonly`: naga does not accept write-only storage buffers.
 layout(std430, set = 0, binding = 9) buffer OutputBuffer { vec4 pixels[]; };
+#endif
 // primary, shadow, reflected, refracted, pruned, deepest level, 2 unused.
 layout(std430, set = 0, binding = 10) buffer StatsBuffer { uint counters[8]; };
 #endif

@@ -2,12 +2,7 @@
 // (forward.comp.glsl): the twin of src/cpu/forward/photon.rs, in the order
 // of docs/lighting-model.md, "Forward: photons from the lights".
 
-// Fixed point of the film: FILM_ONE is 1.0 (2^32), so a splat keeps 2^-32
-// of absolute precision and a pixel holds sums up to 2^31 (far past any
-// image's values). A splat is clamped below FILM_MAX, so that one absurd
-// splat cannot wrap a pixel's sum.
-const float FILM_ONE = 4294967296.0;
-const float FILM_MAX = 9.0e18;
+#include "film_fixed.glsl"
 
 // What this invocation's photons did (flushed once, at the end).
 uint64_t counted_photons[4];

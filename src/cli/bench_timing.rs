@@ -8,7 +8,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use shadelab::compare::run::median_and_spread;
-use shadelab::film_sums::PhotonJob;
+use shadelab::film_sums::RenderPart;
 use shadelab::gpu::raster::ColorTarget;
 use shadelab::gpu::raytrace::TraceOptions;
 use shadelab::gpu::{raster, raytrace, GpuContext, GpuTimings};
@@ -152,7 +152,7 @@ fn once(
     Ok(match shading.raster_mode() {
         Some(mode) => raster::render_to(context, scene, mode, target)?.timings,
         None if shading == Shading::Forward => {
-            let job = PhotonJob::all(scene.render.photons);
+            let job = RenderPart::all(scene.render.photons);
             raytrace::forward::render(context, scene, &job, &Default::default())?.timings
         }
         None => {

@@ -136,7 +136,7 @@ fn render_args(args: &GoldenArgs) -> Result<RenderArgs, Failure> {
         name: Some(args.name.clone()),
         json: args.json,
         stats: false,
-        photon_shard: None,
+        render_shard: None,
         time: None,
         merge: Vec::new(),
         machine: args.machine.clone(),

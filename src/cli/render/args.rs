@@ -56,19 +56,20 @@ pub struct RenderArgs {
     /// the --json object).
     #[arg(long)]
     pub(in crate::cli) stats: bool,
-    /// Forward ray tracing: stop tracing photons after SECONDS (from the
-    /// start of the render) and write the estimate of those traced.
+    /// Forward ray tracing, or ray tracing with --bounces on the GPU: stop
+    /// tracing photons or samples after SECONDS (from the start of the
+    /// render) and write the estimate of those traced.
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     pub(in crate::cli) time: Option<f64>,
-    /// Forward ray tracing split over machines: trace only the I-th of N
-    /// runs of the photons, and write its film to --out FILE.film for
-    /// --merge.
+    /// Forward ray tracing, or ray tracing with --bounces, split over
+    /// machines: trace only the I-th of N runs of the photons or of each
+    /// pixel's samples, and write its film to --out FILE.film for --merge.
     #[arg(long = "shard", value_name = "I/N", value_parser = crate::cli::shards::parse_shard)]
-    pub(in crate::cli) photon_shard: Option<(usize, usize)>,
-    /// Add the films of shards 1 to N of one forward render (each a
-    /// --shard's --out) into --out: the image one render of all the
-    /// photons makes, bit for bit.
-    #[arg(long, num_args = 1.., value_name = "FILE.film", conflicts_with_all = ["scenes", "photon_shard"])]
+    pub(in crate::cli) render_shard: Option<(usize, usize)>,
+    /// Add the films of shards 1 to N of one render (each a --shard's
+    /// --out) into --out: the image one render of all the photons or
+    /// samples makes, bit for bit.
+    #[arg(long, num_args = 1.., value_name = "FILE.film", conflicts_with_all = ["scenes", "render_shard"])]
     pub(in crate::cli) merge: Vec<PathBuf>,
     #[command(flatten)]
     pub machine: crate::cli::args::MachineArgs,

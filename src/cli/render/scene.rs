@@ -63,7 +63,7 @@ pub(super) fn apply_overrides(
     if args.no_shadows {
         scene.render.shadows = false;
     }
-    check_time(args)?;
+    check_time(args, scene)?;
     // Said once the flags are known to be valid: a bad one is the answer.
     if warn {
         let backends = match args.backend.as_str() {
@@ -76,9 +76,11 @@ pub(super) fn apply_overrides(
     Ok(())
 }
 
-/// `--time SECONDS`: a number above 0, for one forward render (a batch, a
-/// shard or another mode has no use for it).
-fn check_time(args: &RenderArgs) -> Result<(), Failure> {
+/// `--time SECONDS`: a number above 0, for one render that sums into a
+/// film (forward, or ray tracing with bounces on the GPU: a batch, a
+/// shard, another mode or the CPU reference's ray tracer has no use for
+/// it).
+fn check_time(args: &RenderArgs, scene: &Scene) -> Result<(), Failure> {
     let Some(t) = args.time else {
         return Ok(());
     };
@@ -87,9 +89,19 @@ fn check_time(args: &RenderArgs) -> Result<(), Failure> {
             "--time {t} is invalid; expected a number of seconds above 0"
         )));
     }
-    if args.modes() != [Shading::Forward] || args.is_batch() || args.photon_shard.is_some() {
+    let one = match args.modes()[..] {
+        [mode] if !args.is_batch() && args.render_shard.is_none() => Some(mode),
+        _ => None,
+    };
+    let budgeted = one.is_some_and(|m| shadelab::render::sums_in_film(scene, m));
+    if !budgeted {
         return Err(Failure::usage(
-            "--time stops one forward render (--shading forward, one scene, no --shard) at a time budget".into(),
+            "--time stops one render (--shading forward, or raytrace with --bounces 1 or more; one scene, no --shard) at a time budget".into(),
+        ));
+    }
+    if one == Some(Shading::Raytrace) && args.backend != "gpu" {
+        return Err(Failure::usage(
+            "--time stops a ray trace between its GPU batches of samples, and the CPU reference traces them all: leave out --backend".into(),
         ));
     }
     Ok(())

@@ -1,14 +1,15 @@
-//! A forward render split over machines: `--shard I/N` traces the I-th of
-//! N runs of the photons and writes its film (`FILE.film`: what made it,
+//! A render split over machines: `--shard I/N` traces the I-th of N runs
+//! of a forward render's photons, or of each pixel's samples of a ray
+//! trace with bounces, and writes its film (`FILE.film`: what made it,
 //! then its fixed-point sums); `--merge` adds the films of shards 1 to N
-//! into the image one render of all the photons makes, bit for bit
-//! (integer sums do not care in what order they are added).
+//! into the image one render of all the photons or samples makes, bit for
+//! bit (integer sums do not care in what order they are added).
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use shadelab::backend_choice::Backend;
-use shadelab::film_sums::{FilmSums, PhotonJob, PhotonStats};
+use shadelab::film_sums::{FilmSums, PhotonStats, RenderPart};
 use shadelab::gpu::{GpuContext, GpuOptions};
 use shadelab::memory::MemoryLimit;
 use shadelab::output::ImageFormat;
@@ -26,17 +27,23 @@ use crate::cli::golden_keys::fnv1a_hex;
 const MACHINE_KEYS: [&str; 4] = ["backend", "device", "driver", "shadelab"];
 
 /// `render --shard I/N --out FILE.film`: shard `(i, n)` of a forward
-/// render's photons, its film written with what made it.
+/// render's photons or a ray trace's samples, its film written with what
+/// made it.
 pub(super) fn run_shard(
     args: &RenderArgs,
     (i, n): (usize, usize),
     options: &GpuOptions,
     memory: &MemoryLimit,
 ) -> Result<(), Failure> {
-    let out = shard_output(args)?;
+    let (out, shading) = shard_output(args)?;
     let path = args.scenes.first().map(PathBuf::as_path);
     let (mut scene, stem) = load_scene(path, memory)?;
-    apply_overrides(&mut scene, args, &[Shading::Forward], true)?;
+    apply_overrides(&mut scene, args, &[shading], true)?;
+    if !shadelab::render::sums_in_film(&scene, shading) {
+        return Err(Failure::usage(
+            "--shard splits the samples of a ray trace with diffuse bounces (--bounces 1 or more); a Whitted trace is exact per sample, quick, and its f32 mean does not add up across machines: render it whole".into(),
+        ));
+    }
     shadelab::output::prepare_output_path(&out)?;
     let backend = if args.backend == "cpu" {
         Backend::Cpu
@@ -44,18 +51,24 @@ pub(super) fn run_shard(
         Backend::Gpu
     };
     match backend {
-        Backend::Cpu => memory.check(&stem, &scene, &[], &[Shading::Forward])?,
-        Backend::Gpu => memory.check(&stem, &scene, &[Shading::Forward], &[])?,
+        Backend::Cpu => memory.check(&stem, &scene, &[], &[shading])?,
+        Backend::Gpu => memory.check(&stem, &scene, &[shading], &[])?,
     };
     let context: Option<Arc<GpuContext>> = match backend {
         Backend::Gpu => Some(GpuContext::new(options)?),
         Backend::Cpu => None,
     };
-    let total = scene.render.photons;
-    let job = PhotonJob::shard(total, (i as u32, n as u32));
-    let label = format!("forward, shard {i} of {n}");
+    let total = shadelab::render::part_total(&scene, shading);
+    let job = RenderPart::shard(total, (i as u32, n as u32));
+    let label = format!("{shading}, shard {i} of {n}");
     let rendered = crate::cli::progress::counted(&label, |counter| {
-        shadelab::render::render_forward(context.as_ref(), &scene, &job, counter)
+        shadelab::render::render_film_part(
+            context.as_ref(),
+            &scene,
+            shading,
+            (&job, counter),
+            false,
+        )
     })?;
     let (device, driver) = match &context {
         Some(c) => (c.info.name.clone(), Some(c.info.driver.clone())),
@@ -63,44 +76,62 @@ pub(super) fn run_shard(
     };
     let settings = effective_settings(
         path,
-        Shading::Forward,
+        shading,
         &scene,
         backend,
         &rendered,
         &device,
         driver.as_deref(),
     );
-    let forward = rendered.forward.as_ref().expect("a forward render");
+    let film = rendered
+        .film
+        .as_ref()
+        .expect("a render that sums into a film");
     let header = serde_json::json!({
         "stem": stem,
         "scene_digest": scene_digest(path)?,
         "settings": settings,
         "shard": [i, n],
         "range": [job.range.start, job.range.end],
-        "stats": forward.stats,
+        "stats": film.photons,
     });
-    let bytes = forward.film.to_file_bytes(&header);
+    let bytes = film.film.to_file_bytes(&header);
     shadelab::output::write_atomically(&out, &bytes)?;
+    let what = if shading == Shading::Forward {
+        "photons"
+    } else {
+        "samples"
+    };
     println!(
-        "wrote {} (shard {i} of {n}: photons {} to {} of {total}, {:.1} ms on {device})",
+        "wrote {} (shard {i} of {n}: {what} {} to {} of {total}, {:.1} ms on {device})",
         out.display(),
         job.range.start,
         job.range.end,
         rendered.timings.total_ms,
     );
-    print_photons(&forward.stats);
+    if let Some(photons) = &film.photons {
+        print_photons(photons);
+    }
     Ok(())
 }
 
-/// `--out FILE.film`, required with `--shard`, for one forward render.
-fn shard_output(args: &RenderArgs) -> Result<PathBuf, Failure> {
-    if args.modes() != [Shading::Forward] || args.scenes.len() > 1 || args.is_batch() {
-        return Err(Failure::usage(
-            "--shard splits one forward render's photons: give one scene, --shading forward and --out FILE.film".into(),
-        ));
-    }
+/// `--out FILE.film`, required with `--shard`, and the mode: one render,
+/// forward or ray tracing (with bounces, checked once the scene is in).
+fn shard_output(args: &RenderArgs) -> Result<(PathBuf, Shading), Failure> {
+    let shading = match args.modes()[..] {
+        [mode @ (Shading::Forward | Shading::Raytrace)]
+            if args.scenes.len() <= 1 && !args.is_batch() =>
+        {
+            mode
+        }
+        _ => {
+            return Err(Failure::usage(
+                "--shard splits one render's photons or samples: give one scene, --shading forward (or raytrace with --bounces 1 or more) and --out FILE.film".into(),
+            ))
+        }
+    };
     match &args.out {
-        Some(out) if out.extension().is_some_and(|e| e == "film") => Ok(out.clone()),
+        Some(out) if out.extension().is_some_and(|e| e == "film") => Ok((out.clone(), shading)),
         _ => Err(Failure::usage(
             "--shard writes a film for --merge: give --out FILE.film".into(),
         )),
@@ -144,14 +175,17 @@ pub(super) fn run_merge(args: &RenderArgs) -> Result<(), Failure> {
         .collect::<Result<Vec<_>, _>>()?;
     check_parts(&parts)?;
     let mut film = parts[0].film.clone();
-    let mut stats = PhotonStats::default();
+    // Forward shards count their photons; a ray trace's have no counts.
+    let mut stats: Option<PhotonStats> = None;
     for part in &parts {
         if !std::ptr::eq(part, &parts[0]) {
             film.add(&part.film).map_err(Failure::usage)?;
         }
-        let s: PhotonStats = serde_json::from_value(part.header["stats"].clone())
+        let s: Option<PhotonStats> = serde_json::from_value(part.header["stats"].clone())
             .map_err(|e| Failure::usage(format!("{}: its counts: {e}", part.path.display())))?;
-        stats.add(&s);
+        if let Some(s) = s {
+            stats.get_or_insert_with(PhotonStats::default).add(&s);
+        }
     }
     let image = film.image();
     let first = &parts[0].header;
@@ -159,14 +193,17 @@ pub(super) fn run_merge(args: &RenderArgs) -> Result<(), Failure> {
     let stem = first["stem"].as_str().unwrap_or("merged");
     let metadata = image_metadata(stem, &devices, &first["settings"]);
     shadelab::output::write_image_with(&image, out, &metadata)?;
+    let shading = first["settings"]["shading"].as_str().unwrap_or("unknown");
     println!(
-        "wrote {} ({}x{}, forward, {} shards merged, rendered on {devices})",
+        "wrote {} ({}x{}, {shading}, {} shards merged, rendered on {devices})",
         out.display(),
         image.width,
         image.height,
         parts.len()
     );
-    print_photons(&stats);
+    if let Some(stats) = &stats {
+        print_photons(stats);
+    }
     Ok(())
 }
 

@@ -106,7 +106,7 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
     if !args.merge.is_empty() {
         return super::shard::run_merge(&args);
     }
-    if let Some(shard) = args.photon_shard {
+    if let Some(shard) = args.render_shard {
         return super::shard::run_shard(&args, shard, options, memory);
     }
     if args.is_batch() {
@@ -232,8 +232,8 @@ fn render(
     target: ColorTarget,
 ) -> Result<(Rendered, String, Option<String>), Failure> {
     let scene = &loaded.scene;
-    if shading == Shading::Forward {
-        return render_forward(args, scene, context);
+    if shadelab::render::sums_in_film(scene, shading) {
+        return render_film(args, scene, shading, context);
     }
     Ok(if let Some(context) = context {
         let rendered =
@@ -249,15 +249,18 @@ fn render(
     })
 }
 
-/// A forward render, its photons counted as the progress, stopped at
-/// `--time` if given (said, with the photons it traced).
-fn render_forward(
+/// A render that sums into a film (forward, or ray tracing with bounces),
+/// its photons or samples counted as the progress, stopped at `--time` if
+/// given (said, with what it traced).
+fn render_film(
     args: &RenderArgs,
     scene: &shadelab::scene::Scene,
+    shading: Shading,
     context: Option<Arc<GpuContext>>,
 ) -> Result<(Rendered, String, Option<String>), Failure> {
-    let mut job = shadelab::film_sums::PhotonJob::all(scene.render.photons);
-    job.deadline = args
+    let total = shadelab::render::part_total(scene, shading);
+    let mut part = shadelab::film_sums::RenderPart::all(total);
+    part.deadline = args
         .time
         .map(|s| Instant::now() + std::time::Duration::from_secs_f64(s));
     let on = if context.is_some() {
@@ -265,15 +268,21 @@ fn render_forward(
     } else {
         "CPU reference"
     };
-    let rendered = crate::cli::progress::counted(&format!("forward on the {on}"), |counter| {
-        shadelab::render::render_forward(context.as_ref(), scene, &job, counter)
+    let rendered = crate::cli::progress::counted(&format!("{shading} on the {on}"), |counter| {
+        let part = (&part, counter);
+        shadelab::render::render_film_part(context.as_ref(), scene, shading, part, args.stats)
     })?;
-    let emitted = rendered.forward.as_ref().map_or(0, |f| f.stats.emitted);
-    if emitted < u64::from(job.photons()) {
+    let traced = rendered.film.as_ref().map_or(0, |f| f.traced);
+    if traced < u64::from(part.count()) {
+        let what = if shading == Shading::Forward {
+            "photons"
+        } else {
+            "samples per pixel"
+        };
         eprintln!(
-            "shadelab: --time {}: stopped after {emitted} of {} photons; the image is their estimate",
+            "shadelab: --time {}: stopped after {traced} of {} {what}; the image is their estimate",
             args.time.unwrap_or_default(),
-            job.photons()
+            part.count()
         );
     }
     Ok(match &context {
@@ -356,9 +365,8 @@ fn print_json(
         value["stats"] =
             serde_json::to_value(rendered.ray_stats).expect("ray statistics serialise to JSON");
     }
-    if let Some(forward) = &rendered.forward {
-        value["photons"] =
-            serde_json::to_value(forward.stats).expect("photon counts serialise to JSON");
+    if let Some(photons) = rendered.film.as_ref().and_then(|f| f.photons) {
+        value["photons"] = serde_json::to_value(photons).expect("photon counts serialise to JSON");
     }
     println!("{value}");
 }
@@ -379,8 +387,8 @@ fn print_line(args: &RenderArgs, shading: Shading, image: &Written) {
         rendered.timings.total_ms,
         image.device
     );
-    if let Some(forward) = &rendered.forward {
-        print_photons(&forward.stats);
+    if let Some(photons) = rendered.film.as_ref().and_then(|f| f.photons) {
+        print_photons(&photons);
     }
     if args.stats {
         print_stats(rendered.ray_stats.as_ref(), &rendered.timings, shading);

@@ -5,7 +5,7 @@
 use glam::DVec3;
 
 use crate::camera::View;
-use crate::film_sums::{FilmSums, FILM_MAX, FILM_ONE};
+use crate::film_sums::{to_fixed, FilmSums};
 
 /// A pinhole eye at the origin of camera-relative coordinates and its
 /// image's pixel sums.
@@ -67,11 +67,8 @@ impl Film {
     /// is not finite adds nothing.
     pub fn add_to(&mut self, pixel: usize, value: DVec3) {
         for (c, v) in value.to_array().into_iter().enumerate() {
-            let scaled = v * FILM_ONE;
-            if (0.5..=FILM_MAX).contains(&scaled) {
-                let sum = &mut self.sums.sums[3 * pixel + c];
-                *sum = sum.wrapping_add((scaled + 0.5) as u64);
-            }
+            let sum = &mut self.sums.sums[3 * pixel + c];
+            *sum = sum.wrapping_add(to_fixed(v));
         }
     }
 

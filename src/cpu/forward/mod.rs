@@ -22,7 +22,7 @@ use rayon::prelude::*;
 
 use crate::camera::View;
 use crate::cpu::intersect::Accel;
-use crate::film_sums::{FilmSums, PhotonJob};
+use crate::film_sums::{FilmSums, RenderPart};
 use crate::linear_image::LinearImage;
 use crate::rt_scene::RtScene;
 use crate::scene::Scene;
@@ -47,14 +47,14 @@ impl ForwardImage {
 /// over its lights by power. `None` where the scene has no light with
 /// power.
 pub fn render(scene: &Scene, photons: u32) -> Option<ForwardImage> {
-    render_job(scene, &PhotonJob::all(photons), &WorkCounter::default())
+    render_job(scene, &RenderPart::all(photons), &WorkCounter::default())
 }
 
 /// Traces `job`'s photons, counting them into `counter` as tasks finish
 /// (under a time budget, the tasks that start before it).
 /// Each thread splats into a film of its own; the films' integer sums add
 /// up to the same bits in any order.
-pub fn render_job(scene: &Scene, job: &PhotonJob, counter: &WorkCounter) -> Option<ForwardImage> {
+pub fn render_job(scene: &Scene, job: &RenderPart, counter: &WorkCounter) -> Option<ForwardImage> {
     let rt = RtScene::new(scene);
     let view = View::new(scene, scene.image.width, scene.image.height);
     let accel = Accel::new(&rt);

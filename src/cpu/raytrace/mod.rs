@@ -17,7 +17,7 @@ mod tracer;
 
 pub use bounce::{bounce_numbers, cosine_direction, pcg4d, photon_numbers};
 pub use path_signature::{PathSignature, RayKind};
-pub use render::{render, render_counted, RayTraced};
+pub use render::{render, render_counted, render_part, RayTraced};
 pub(crate) use secondary_rays::children;
 pub use secondary_rays::{facing_normal, offset_epsilon, offset_origin};
 pub use tracer::{sample_offsets, PixelTrace, Tracer};

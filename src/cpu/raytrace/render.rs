@@ -6,6 +6,7 @@ use rayon::prelude::*;
 
 use super::tracer::{PixelTrace, Tracer};
 use crate::camera::View;
+use crate::film_sums::{FilmSums, RenderPart};
 use crate::linear_image::LinearImage;
 use crate::rt_scene::{RayStats, RtScene};
 use crate::scene::Scene;
@@ -25,6 +26,10 @@ pub struct RayTraced {
     /// Wall time of the tracing alone, after the scene and its BVH are
     /// built (what the GPU's dispatch time compares with).
     pub trace_ms: f64,
+    /// With diffuse bounces: the pixels' fixed-point sums of the part's
+    /// samples, as the GPU sums them (`image` is read from them, so the
+    /// films of a render's shards add up to its image bit for bit).
+    pub film: Option<FilmSums>,
 }
 
 fn add_stats(a: RayStats, b: RayStats) -> RayStats {
@@ -45,7 +50,18 @@ pub fn render(scene: &Scene) -> RayTraced {
 
 /// [`render`], counting its rows into `counter` as they finish.
 pub fn render_counted(scene: &Scene, counter: &WorkCounter) -> RayTraced {
+    render_part(
+        scene,
+        &RenderPart::all(scene.render.samples.max(1)),
+        counter,
+    )
+}
+
+/// [`render_counted`] of `part`'s samples of each pixel (all of them, or a
+/// shard's run; its time budget is not looked at).
+pub fn render_part(scene: &Scene, part: &RenderPart, counter: &WorkCounter) -> RayTraced {
     let (width, height) = (scene.image.width, scene.image.height);
+    let samples = part.range.clone();
     let rt = RtScene::new(scene);
     let tracer = Tracer::new(&rt, View::new(scene, width, height));
     let started = std::time::Instant::now();
@@ -54,7 +70,9 @@ pub fn render_counted(scene: &Scene, counter: &WorkCounter) -> RayTraced {
         .into_par_iter()
         .map(|y| {
             let mut stats = RayStats::default();
-            let row = (0..width).map(|x| tracer.pixel(x, y, &mut stats)).collect();
+            let row = (0..width)
+                .map(|x| tracer.pixel_part(x, y, samples.clone(), &mut stats))
+                .collect();
             counter.add(1);
             (row, stats)
         })
@@ -71,14 +89,22 @@ pub fn render_counted(scene: &Scene, counter: &WorkCounter) -> RayTraced {
         primary_object_ids: Vec::with_capacity(count),
         path_signatures: Vec::with_capacity(count),
         trace_ms,
+        film: None,
     };
+    let mut film = FilmSums::zero(width, height);
     for (row, stats) in rows {
         out.stats = add_stats(out.stats, stats);
         for px in row {
+            let at = 3 * out.image.pixels.len();
+            film.sums[at..at + 3].copy_from_slice(&px.sums);
             out.image.pixels.push(px.color.as_vec3().to_array());
             out.primary_object_ids.push(px.object);
             out.path_signatures.push(px.signature);
         }
+    }
+    if rt.render.bounces > 0 {
+        out.image = film.image();
+        out.film = Some(film);
     }
     out
 }

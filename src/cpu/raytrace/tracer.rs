@@ -34,8 +34,12 @@ pub fn sample_offsets(n: u32) -> Vec<(f64, f64)> {
 /// One pixel's result.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PixelTrace {
-    /// The mean of the sample values.
+    /// The sum of the sample values over the samples the pixel has: their
+    /// mean when all are traced.
     pub color: DVec3,
+    /// The same sum in the films' fixed point, a term per sample
+    /// (`film_sums::to_fixed`), as the GPU sums it with bounces.
+    pub sums: [u64; 3],
     /// The object the first sample's primary ray hit.
     pub object: Option<u32>,
     pub signature: u64,
@@ -100,22 +104,42 @@ impl<'a> Tracer<'a> {
 
     /// Pixel `(x, y)`: every sample traced, their mean, and the signature.
     pub fn pixel(&self, x: u32, y: u32, stats: &mut RayStats) -> PixelTrace {
+        self.pixel_part(x, y, 0..self.offsets.len() as u32, stats)
+    }
+
+    /// Pixel `(x, y)`'s samples `samples` (of those it has: a shard's
+    /// range), their values summed over all it has, and the signature.
+    pub fn pixel_part(
+        &self,
+        x: u32,
+        y: u32,
+        samples: std::ops::Range<u32>,
+        stats: &mut RayStats,
+    ) -> PixelTrace {
         let mut signature = PathSignature::default();
         let mut sum = DVec3::ZERO;
+        let mut sums = [0u64; 3];
         let mut object = None;
         let pixel = y.wrapping_mul(self.view.width).wrapping_add(x);
-        for (i, &(sx, sy)) in self.offsets.iter().enumerate() {
+        let per_sample = 1.0 / self.offsets.len() as f64;
+        let first = samples.start;
+        for i in samples {
+            let (sx, sy) = self.offsets[i as usize];
             let ray = self.primary_ray(f64::from(x) + sx, f64::from(y) + sy);
             stats.primary += 1;
-            let key = (pixel, i as u32);
-            let (value, hit) = self.trace(ray, key, stats, &mut signature);
-            if i == 0 {
+            let (value, hit) = self.trace(ray, (pixel, i), stats, &mut signature);
+            if i == first {
                 object = hit;
+            }
+            let term = value * per_sample;
+            for (sum, v) in sums.iter_mut().zip(term.to_array()) {
+                *sum = sum.wrapping_add(crate::film_sums::to_fixed(v));
             }
             sum += value;
         }
         PixelTrace {
             color: sum / self.offsets.len() as f64,
+            sums,
             object,
             signature: signature.0,
         }

@@ -27,6 +27,10 @@ pub(super) struct BoundTrace<'a> {
     /// The ray-query engine's set of the acceleration structure.
     pub structure_set: Option<vk::DescriptorSet>,
     pub work_queue: vk::Buffer,
+    /// Push constants set after binding (empty: none), so that every
+    /// dispatch of a pipeline that has them (the first use's too) has them
+    /// set; a dispatch may push its own over them.
+    pub push_constants: &'a [u8],
 }
 
 impl BoundTrace<'_> {
@@ -82,6 +86,10 @@ impl BoundTrace<'_> {
                 .cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&built));
             device.cmd_bind_descriptor_sets(cmd, bind, p.layout, QUERY_SET, &[structure_set], &[]);
         }
+        if !self.push_constants.is_empty() {
+            let stage = vk::ShaderStageFlags::COMPUTE;
+            device.cmd_push_constants(cmd, p.layout, stage, 0, self.push_constants);
+        }
         dispatch(cmd);
     }
 
@@ -104,6 +112,50 @@ impl BoundTrace<'_> {
         });
         record_writes_to_host(device, cmd);
         timestamps.stop(cmd);
+    }
+}
+
+/// One submission of `bound`: the work queue set to `queue_head`, `push`
+/// pushed over the bound constants, `groups` workgroups dispatched (between
+/// `timestamps`' stamps where given), its writes made visible to the host;
+/// its submit and GPU milliseconds (GPU 0 without timestamps). A batch of
+/// the forward tracer's photons, or of the ray tracer's samples.
+pub(super) fn submit_batch(
+    context: &Arc<GpuContext>,
+    bound: &BoundTrace,
+    timestamps: Option<&Timestamps>,
+    push: &[u8],
+    (queue_head, (groups_x, groups_y)): (u32, (u32, u32)),
+) -> Result<(f64, f64), GpuError> {
+    let device = &context.device;
+    let commands = OneShot::begin(context)?;
+    let layout = bound.pipeline.layout;
+    // SAFETY: every handle recorded here lives until the submission has
+    // completed (this function waits for it).
+    unsafe {
+        bound.record(device, commands.cmd, queue_head, |cmd| {
+            let stage = vk::ShaderStageFlags::COMPUTE;
+            device.cmd_push_constants(cmd, layout, stage, 0, push);
+            if let Some(t) = timestamps {
+                t.start(cmd);
+            }
+            device.cmd_dispatch(cmd, groups_x, groups_y, 1);
+        });
+        // Before the host reads, and before the next batch adds to what
+        // this one wrote.
+        record_writes_to_host(device, commands.cmd);
+        if let Some(t) = timestamps {
+            t.stop(commands.cmd);
+        }
+    }
+    match timestamps {
+        Some(t) => t.submit_and_measure(&commands),
+        None => {
+            let started = Instant::now();
+            commands.submit_and_wait()?;
+            context.check_validation()?;
+            Ok((ms_since(started), 0.0))
+        }
     }
 }
 

@@ -420,6 +420,28 @@ pub fn forward_record_size(binding: u32) -> usize {
     }
 }
 
+/// The record size at `binding` in the ray tracer's module with diffuse
+/// bounces (`PATHS`): the ray tracer's, but for its output, each pixel's
+/// fixed-point sums of its samples (`film_sums`) as pairs of words.
+pub fn paths_record_size(binding: u32) -> usize {
+    match binding {
+        OUTPUT => 8,
+        _ => record_size(binding),
+    }
+}
+
+/// The samples of each pixel a dispatch of the ray tracer with diffuse
+/// bounces traces (the shader's `SampleRange` push constants).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SampleRange {
+    /// The first sample.
+    pub first: u32,
+    /// One past the last; more than `first`.
+    pub end: u32,
+    pub unused: [u32; 2],
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -6,7 +6,8 @@
 //! acceleration structures (`accel`) that ray queries walk. The records
 //! travel in the trace's `buffers`, which `dispatch` binds and runs.
 //! `forward` traces the other way, photons from the lights, over the same
-//! records and buffers.
+//! records and buffers. With diffuse bounces the ray tracer runs a range
+//! of samples per submission (`sample_batches`) into fixed-point sums.
 
 mod accel;
 mod buffers;
@@ -16,6 +17,9 @@ pub mod forward;
 pub mod layout;
 mod records;
 mod renderer;
+mod sample_batches;
 pub mod wide_bvh;
 
-pub use renderer::{engine_for, render, render_with, TraceOptions, TraceOutput};
+pub use renderer::{
+    engine_for, render, render_part, render_with, SampleSums, TraceOptions, TraceOutput,
+};

@@ -14,12 +14,14 @@ use std::time::Instant;
 use ash::vk;
 
 use crate::camera::View;
+use crate::film_sums::{FilmSums, RenderPart};
 use crate::gpu::raytrace::accel::{self, SceneStructure};
 use crate::gpu::raytrace::buffers::TraceBuffers;
 use crate::gpu::raytrace::bvh::BvhKinds;
 use crate::gpu::raytrace::dispatch::{cpu_threads, first_use, BoundTrace};
 use crate::gpu::raytrace::layout::*;
 use crate::gpu::raytrace::records::{records, SceneRecords};
+use crate::gpu::raytrace::sample_batches;
 use crate::gpu::shared::hook;
 use crate::gpu::shared::image_size::check_image_size;
 use crate::gpu::shared::lights::SceneLighting;
@@ -38,6 +40,7 @@ use crate::gpu::vk::timestamps::{ms_since, GpuTimings, Timestamps};
 use crate::linear_image::LinearImage;
 use crate::rt_scene::{RayStats, RtScene};
 use crate::scene::{LightingHook, Scene, Traversal};
+use crate::work_counter::WorkCounter;
 
 pub struct TraceOutput {
     pub image: LinearImage,
@@ -46,6 +49,16 @@ pub struct TraceOutput {
     pub stats: Option<RayStats>,
     /// The engine that found the hits: `Bvh` or `Query`, never `Auto`.
     pub traversal: Traversal,
+    /// With diffuse bounces: the pixels' fixed-point sums of the samples
+    /// traced (`image` is their estimate of the part asked for).
+    pub sums: Option<SampleSums>,
+}
+
+/// A render with bounces: its sums, and how many of the samples per pixel
+/// asked for they hold.
+pub struct SampleSums {
+    pub film: FilmSums,
+    pub traced: u32,
 }
 
 /// The engine a render uses: the one asked for, or for `Auto` the rule
@@ -107,7 +120,14 @@ fn create_pipeline(
             (false, false) => &RAYTRACE_COMP,
         }
     };
-    let layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
+    // With bounces, each dispatch's range of samples.
+    let push = [vk::PushConstantRange::default()
+        .stage_flags(vk::ShaderStageFlags::COMPUTE)
+        .size(std::mem::size_of::<SampleRange>() as u32)];
+    let push: &[vk::PushConstantRange] = if paths { &push } else { &[] };
+    let layout_info = vk::PipelineLayoutCreateInfo::default()
+        .set_layouts(&set_layouts)
+        .push_constant_ranges(push);
     // SAFETY: valid device and create infos throughout this function.
     p.layout = unsafe { device.create_pipeline_layout(&layout_info, None) }
         .during("vkCreatePipelineLayout")?;
@@ -220,6 +240,20 @@ pub fn render_with(
     scene: &Scene,
     options: TraceOptions,
 ) -> Result<TraceOutput, GpuError> {
+    let part = RenderPart::all(scene.render.samples);
+    render_part(context, scene, options, &part, &WorkCounter::default())
+}
+
+/// Ray traces `scene` as `render_with` does; with diffuse bounces, only
+/// `part`'s samples of each pixel (all of them, a shard's, or those
+/// before a time budget), counted into `counter` as batches finish.
+pub fn render_part(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    options: TraceOptions,
+    part: &RenderPart,
+    counter: &WorkCounter,
+) -> Result<TraceOutput, GpuError> {
     let started = Instant::now();
     let (width, height) = (scene.image.width, scene.image.height);
     let traversal = check_and_choose_engine(context, scene)?;
@@ -240,8 +274,11 @@ pub fn render_with(
         plan.records.add_unhittable_triangle();
     }
     let lights = crate::gpu::shared::lights::lights(scene, view.eye);
-    let pixel_bytes = u64::from(width) * u64::from(height) * 16;
-    let buffers = TraceBuffers::upload(
+    let pixels = u64::from(width) * u64::from(height);
+    let paths = plan.rt.render.bounces > 0;
+    // Four floats a pixel, or with bounces three 64-bit sums.
+    let pixel_bytes = pixels * if paths { 24 } else { 16 };
+    let mut buffers = TraceBuffers::upload(
         context,
         &lights,
         &view,
@@ -249,6 +286,9 @@ pub fn render_with(
         &plan.records,
         pixel_bytes,
     )?;
+    if paths {
+        buffers.zero_output();
+    }
     let descriptors = buffers.bind(context, pipeline.set_layout)?;
     let structure = build_structure(context, &plan, &pipeline)?;
     let groups = workgroups(width, height, context.info.is_cpu(), cpu_threads());
@@ -257,19 +297,36 @@ pub fn render_with(
         set: descriptors.set,
         structure_set: structure.as_ref().map(|(_, set)| set.set),
         work_queue: buffers.work_queue.raw,
+        // With bounces, an empty range for the first use (which takes
+        // no item); each batch pushes its own.
+        push_constants: if paths { EMPTY_RANGE } else { &[] },
     };
     let upload_ms = ms_since(upload_started);
 
     let codegen_ms = first_use(context, &bound)?;
-    let timestamps = Timestamps::new(context)?;
-    let commands = OneShot::begin(context)?;
-    // SAFETY: every handle recorded here lives until after the submission
-    // completes (dropped at the end of this function).
-    unsafe { bound.record_image(&context.device, commands.cmd, &timestamps, groups) };
-    let (submit_ms, gpu_ms) = timestamps.submit_and_measure(&commands)?;
+    let (submit_ms, gpu_ms, traced) = if paths {
+        let work = (pixels, plan.rt.render.bounces);
+        let run = sample_batches::run(context, &bound, part, work, groups, counter)?;
+        (run.submit_ms, run.gpu_ms, run.traced)
+    } else {
+        let timestamps = Timestamps::new(context)?;
+        let commands = OneShot::begin(context)?;
+        // SAFETY: every handle recorded here lives until after the submission
+        // completes (dropped at the end of this function).
+        unsafe { bound.record_image(&context.device, commands.cmd, &timestamps, groups) };
+        let (submit_ms, gpu_ms) = timestamps.submit_and_measure(&commands)?;
+        (submit_ms, gpu_ms, scene.render.samples)
+    };
 
     let readback_started = Instant::now();
-    let image = buffers.image(width, height);
+    let sums = paths.then(|| SampleSums {
+        film: FilmSums::from_ne_bytes(width, height, buffers.output()),
+        traced,
+    });
+    let image = match &sums {
+        Some(s) => crate::film_sums::scaled_image(&s.film, u64::from(s.traced), part.count()),
+        None => buffers.image(width, height),
+    };
     let stats = options.count_rays.then(|| buffers.ray_stats());
     Ok(TraceOutput {
         image,
@@ -285,8 +342,12 @@ pub fn render_with(
         },
         stats,
         traversal,
+        sums,
     })
 }
+
+/// The push constants of a dispatch that traces no sample.
+const EMPTY_RANGE: &[u8] = &[0; std::mem::size_of::<SampleRange>()];
 
 /// The engine that traces `scene`, after refusing what cannot be traced
 /// here: a device without the ray tracer, an image over the device's

@@ -57,6 +57,10 @@ pub enum GpuError {
     },
     #[error("GPU memory allocation failed: {0}")]
     Allocation(#[from] gpu_allocator::AllocationError),
+    /// A render projected from its first batch to run too long
+    /// (`RenderPart::refuse_if_too_long` says the figure).
+    #[error("{0}")]
+    TooLong(String),
     #[error("the Khronos validation layer reported {} message(s):\n{}", .0.len(), .0.join("\n"))]
     Validation(Vec<String>),
 }
@@ -75,6 +79,7 @@ impl GpuError {
                 | GpuError::SceneTooLarge(_)
                 | GpuError::NoRayQuery { .. }
                 | GpuError::NoLightToTraceFrom(_)
+                | GpuError::TooLong(_)
         )
     }
 }

@@ -6,21 +6,16 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use ash::vk;
-
 use super::pipeline::{self, PhotonBatch};
 use crate::camera::View;
-use crate::film_sums::{FilmSums, PhotonJob, PhotonStats};
+use crate::film_sums::{FilmSums, PhotonStats, RenderPart};
 use crate::gpu::raytrace::buffers::TraceBuffers;
-use crate::gpu::raytrace::dispatch::{
-    cpu_threads, record_writes_to_host, BoundTrace, QUEUE_EXHAUSTED,
-};
+use crate::gpu::raytrace::dispatch::{cpu_threads, submit_batch, BoundTrace, QUEUE_EXHAUSTED};
 use crate::gpu::raytrace::layout::WORKGROUP_SIZE;
 use crate::gpu::raytrace::records::records;
 use crate::gpu::raytrace::renderer::{specialization, TraceOptions};
 use crate::gpu::shared::image_size::check_image_size;
 use crate::gpu::shared::lights::lights;
-use crate::gpu::vk::commands::OneShot;
 use crate::gpu::vk::context::GpuContext;
 use crate::gpu::vk::error::GpuError;
 use crate::gpu::vk::timestamps::{ms_since, GpuTimings, Timestamps};
@@ -51,7 +46,7 @@ pub struct ForwardOutput {
 pub fn render(
     context: &Arc<GpuContext>,
     scene: &Scene,
-    job: &PhotonJob,
+    job: &RenderPart,
     counter: &WorkCounter,
 ) -> Result<ForwardOutput, GpuError> {
     let started = Instant::now();
@@ -95,6 +90,8 @@ pub fn render(
         set: descriptors.set,
         structure_set: None,
         work_queue: buffers.work_queue.raw,
+        // Each batch pushes its own (`run_batch`).
+        push_constants: &[],
     };
     let upload_ms = ms_since(upload_started);
 
@@ -155,10 +152,10 @@ impl PhotonBatch {
 fn run_batches(
     context: &Arc<GpuContext>,
     bound: &BoundTrace,
-    job: &PhotonJob,
+    job: &RenderPart,
     counter: &WorkCounter,
 ) -> Result<(f64, f64), GpuError> {
-    counter.begin("photons", u64::from(job.photons()));
+    counter.begin("photons", u64::from(job.count()));
     let timestamps = Timestamps::new(context)?;
     let (mut submit_ms, mut gpu_ms) = (0.0, 0.0);
     // Under a time budget, smaller batches overshoot it less.
@@ -177,6 +174,10 @@ fn run_batches(
             unused: 0,
         };
         let (submit, gpu) = run_batch(context, bound, Some(&timestamps), batch)?;
+        if first == job.range.start {
+            job.refuse_if_too_long(count, submit / 1e3, "photons")
+                .map_err(GpuError::TooLong)?;
+        }
         submit_ms += submit;
         gpu_ms += gpu;
         counter.add(u64::from(count));
@@ -185,46 +186,18 @@ fn run_batches(
     Ok((submit_ms, gpu_ms))
 }
 
-/// One submission: the work queue reset, the batch pushed, the workgroups
-/// dispatched (between `timestamps`' stamps where given); its submit and
-/// GPU milliseconds.
+/// One submission of `batch` (between `timestamps`' stamps where given);
+/// its submit and GPU milliseconds.
 fn run_batch(
     context: &Arc<GpuContext>,
     bound: &BoundTrace,
     timestamps: Option<&Timestamps>,
     batch: PhotonBatch,
 ) -> Result<(f64, f64), GpuError> {
-    let device = &context.device;
-    let commands = OneShot::begin(context)?;
     let groups = workgroups(batch.count, context.info.is_cpu(), cpu_threads());
     let queue_head = if batch.count == 0 { QUEUE_EXHAUSTED } else { 0 };
-    let layout = bound.pipeline.layout;
-    // SAFETY: every handle recorded here lives until the submission has
-    // completed (this function waits for it).
-    unsafe {
-        bound.record(device, commands.cmd, queue_head, |cmd| {
-            let stage = vk::ShaderStageFlags::COMPUTE;
-            device.cmd_push_constants(cmd, layout, stage, 0, bytemuck::bytes_of(&batch));
-            if let Some(t) = timestamps {
-                t.start(cmd);
-            }
-            device.cmd_dispatch(cmd, groups, 1, 1);
-        });
-        // Before the host reads, and before the next batch's atomics.
-        record_writes_to_host(device, commands.cmd);
-        if let Some(t) = timestamps {
-            t.stop(commands.cmd);
-        }
-    }
-    match timestamps {
-        Some(t) => t.submit_and_measure(&commands),
-        None => {
-            let started = Instant::now();
-            commands.submit_and_wait()?;
-            context.check_validation()?;
-            Ok((ms_since(started), 0.0))
-        }
-    }
+    let push = bytemuck::bytes_of(&batch);
+    submit_batch(context, bound, timestamps, push, (queue_head, (groups, 1)))
 }
 
 /// Workgroups for a batch of `photons`. The subgroups take photons from a
