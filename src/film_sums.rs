@@ -211,6 +211,9 @@ pub struct RenderPart {
     /// A time budget: no batch (or task) starts after it, and the image
     /// is scaled to what was traced (`--time`).
     pub deadline: Option<std::time::Instant>,
+    /// An error budget: the RMSE at which the GPU's batches stop, by the
+    /// render's own estimate (`error_budget`, `--error`).
+    pub error: Option<f64>,
 }
 
 impl RenderPart {
@@ -235,7 +238,8 @@ impl RenderPart {
         elapsed_s: f64,
         what: &str,
     ) -> Result<(), String> {
-        if self.deadline.is_some() || done == 0 || done >= self.count() {
+        let budgeted = self.deadline.is_some() || self.error.is_some();
+        if budgeted || done == 0 || done >= self.count() {
             return Ok(());
         }
         let rate = f64::from(done) / elapsed_s.max(1e-9);
@@ -269,6 +273,7 @@ impl RenderPart {
             total,
             range: at(i - 1)..at(i),
             deadline: None,
+            error: None,
         }
     }
 
@@ -278,6 +283,7 @@ impl RenderPart {
             total,
             range: 0..total,
             deadline: None,
+            error: None,
         }
     }
 }

@@ -90,6 +90,7 @@ pub mod check;
 pub mod compare;
 pub mod cpu;
 pub mod error;
+pub mod error_budget;
 pub mod film_sums;
 pub mod gpu;
 pub mod huge_sphere;

@@ -92,6 +92,9 @@ pub struct FilmRender {
     pub traced: u64,
     /// Forward only: what the photons did.
     pub photons: Option<PhotonStats>,
+    /// Under an error budget (GPU only), the render's last estimate of its
+    /// RMSE (`error_budget`).
+    pub estimated_rmse: Option<f64>,
 }
 
 /// Whether a render in `shading` sums into a film, so that it can be
@@ -186,6 +189,7 @@ pub fn render_forward(
             film: out.film,
             traced: out.stats.emitted,
             photons: Some(out.stats),
+            estimated_rmse: out.estimate,
         }),
     })
 }
@@ -218,6 +222,7 @@ pub fn render_film_part(
         film: sums.film,
         traced: u64::from(sums.traced),
         photons: None,
+        estimated_rmse: sums.estimate,
     });
     Ok(Rendered {
         image: out.image,
@@ -394,6 +399,7 @@ fn raytrace_cpu(scene: &Scene, part: &RenderPart, counter: &WorkCounter) -> (Ren
             film,
             traced: u64::from(part.count()),
             photons: None,
+            estimated_rmse: None,
         }),
     };
     let near_edge = signature_edges(
@@ -427,6 +433,7 @@ fn forward_cpu(scene: &Scene, job: &RenderPart, counter: &WorkCounter) -> (Rende
             film: out.film,
             traced: out.stats.emitted,
             photons: Some(out.stats),
+            estimated_rmse: None,
         }),
     };
     let coverage = Coverage {

@@ -37,6 +37,7 @@ fn film_of(
         total: scene.render.samples,
         range: range.0..range.1,
         deadline: None,
+        error: None,
     };
     let counter = WorkCounter::default();
     let rendered =

@@ -138,6 +138,7 @@ fn render_args(args: &GoldenArgs) -> Result<RenderArgs, Failure> {
         stats: false,
         render_shard: None,
         time: None,
+        error_budget: None,
         merge: Vec::new(),
         machine: args.machine.clone(),
         scene_names: Some(golden_keys::scene_keys(&args.scenes, args.root.as_deref())?),

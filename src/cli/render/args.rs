@@ -61,6 +61,12 @@ pub struct RenderArgs {
     /// render) and write the estimate of those traced.
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     pub(in crate::cli) time: Option<f64>,
+    /// Forward ray tracing, or ray tracing with --bounces, on the GPU:
+    /// stop once the render's own estimate of its RMSE (from two halves
+    /// of its batches) is RMSE or less, and write the estimate of what it
+    /// traced.
+    #[arg(long = "error", value_name = "RMSE", allow_negative_numbers = true)]
+    pub(in crate::cli) error_budget: Option<f64>,
     /// Forward ray tracing, or ray tracing with --bounces, split over
     /// machines: trace only the I-th of N runs of the photons or of each
     /// pixel's samples, and write its film to --out FILE.film for --merge.

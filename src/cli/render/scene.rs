@@ -63,7 +63,7 @@ pub(super) fn apply_overrides(
     if args.no_shadows {
         scene.render.shadows = false;
     }
-    check_time(args, scene)?;
+    check_budgets(args, scene)?;
     // Said once the flags are known to be valid: a bad one is the answer.
     if warn {
         let backends = match args.backend.as_str() {
@@ -76,33 +76,40 @@ pub(super) fn apply_overrides(
     Ok(())
 }
 
-/// `--time SECONDS`: a number above 0, for one render that sums into a
-/// film (forward, or ray tracing with bounces on the GPU: a batch, a
-/// shard, another mode or the CPU reference's ray tracer has no use for
-/// it).
-fn check_time(args: &RenderArgs, scene: &Scene) -> Result<(), Failure> {
-    let Some(t) = args.time else {
-        return Ok(());
-    };
-    if !(t.is_finite() && t > 0.0) {
-        return Err(Failure::usage(format!(
-            "--time {t} is invalid; expected a number of seconds above 0"
-        )));
-    }
-    let one = match args.modes()[..] {
-        [mode] if !args.is_batch() && args.render_shard.is_none() => Some(mode),
-        _ => None,
-    };
-    let budgeted = one.is_some_and(|m| shadelab::render::sums_in_film(scene, m));
-    if !budgeted {
-        return Err(Failure::usage(
-            "--time stops one render (--shading forward, or raytrace with --bounces 1 or more; one scene, no --shard) at a time budget".into(),
-        ));
-    }
-    if one == Some(Shading::Raytrace) && args.backend != "gpu" {
-        return Err(Failure::usage(
-            "--time stops a ray trace between its GPU batches of samples, and the CPU reference traces them all: leave out --backend".into(),
-        ));
+/// `--time SECONDS` and `--error RMSE`: numbers above 0, for one render
+/// that sums into a film (forward, or ray tracing with bounces: a batch,
+/// a shard or another mode has no use for them), on the GPU (the CPU
+/// reference's ray tracer traces every sample; its forward tracer keeps
+/// a time budget but cannot judge its error).
+fn check_budgets(args: &RenderArgs, scene: &Scene) -> Result<(), Failure> {
+    for (flag, value, unit) in [
+        ("--time", args.time, "a number of seconds"),
+        ("--error", args.error_budget, "an RMSE"),
+    ] {
+        let Some(v) = value else {
+            continue;
+        };
+        if !(v.is_finite() && v > 0.0) {
+            return Err(Failure::usage(format!(
+                "{flag} {v} is invalid; expected {unit} above 0"
+            )));
+        }
+        let one = match args.modes()[..] {
+            [mode] if !args.is_batch() && args.render_shard.is_none() => Some(mode),
+            _ => None,
+        };
+        let budgeted = one.is_some_and(|m| shadelab::render::sums_in_film(scene, m));
+        if !budgeted {
+            return Err(Failure::usage(format!(
+                "{flag} stops one render (--shading forward, or raytrace with --bounces 1 or more; one scene, no --shard) at a budget"
+            )));
+        }
+        let needs_gpu = one == Some(Shading::Raytrace) || flag == "--error";
+        if needs_gpu && args.backend != "gpu" {
+            return Err(Failure::usage(format!(
+                "{flag} stops a render between its GPU batches, and the CPU reference traces them all: leave out --backend"
+            )));
+        }
     }
     Ok(())
 }

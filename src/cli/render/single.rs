@@ -263,6 +263,7 @@ fn render_film(
     part.deadline = args
         .time
         .map(|s| Instant::now() + std::time::Duration::from_secs_f64(s));
+    part.error = args.error_budget;
     let on = if context.is_some() {
         "GPU"
     } else {
@@ -272,23 +273,46 @@ fn render_film(
         let part = (&part, counter);
         shadelab::render::render_film_part(context.as_ref(), scene, shading, part, args.stats)
     })?;
-    let traced = rendered.film.as_ref().map_or(0, |f| f.traced);
-    if traced < u64::from(part.count()) {
-        let what = if shading == Shading::Forward {
-            "photons"
-        } else {
-            "samples per pixel"
-        };
-        eprintln!(
-            "shadelab: --time {}: stopped after {traced} of {} {what}; the image is their estimate",
-            args.time.unwrap_or_default(),
-            part.count()
-        );
+    if let Some(film) = &rendered.film {
+        say_budget(args, shading, film, part.count());
     }
     Ok(match &context {
         Some(c) => (rendered, c.info.name.clone(), Some(c.info.driver.clone())),
         None => (rendered, "CPU reference (f64)".to_string(), None),
     })
+}
+
+/// What a budget did: where it stopped the render, with the estimate of
+/// the error where there was an error budget, or that the error budget
+/// was not reached.
+fn say_budget(
+    args: &RenderArgs,
+    shading: Shading,
+    film: &shadelab::render::FilmRender,
+    asked: u32,
+) {
+    let what = if shading == Shading::Forward {
+        "photons"
+    } else {
+        "samples per pixel"
+    };
+    let traced = film.traced;
+    let estimate = film
+        .estimated_rmse
+        .map(|e| format!(" (estimated RMSE {e:.3e})"))
+        .unwrap_or_default();
+    match (args.error_budget, args.time) {
+        (Some(target), _) if film.estimated_rmse.is_some_and(|e| e <= target) => eprintln!(
+            "shadelab: --error {target}: reached after {traced} of {asked} {what}{estimate}; the image is their estimate"
+        ),
+        (Some(target), _) => eprintln!(
+            "shadelab: warning: --error {target}: not reached after {traced} of {asked} {what}{estimate}; give more {what}, or a looser budget"
+        ),
+        (None, Some(time)) if traced < u64::from(asked) => eprintln!(
+            "shadelab: --time {time}: stopped after {traced} of {asked} {what}; the image is their estimate"
+        ),
+        _ => {}
+    }
 }
 
 /// The image written, and what it was made with.
@@ -365,8 +389,13 @@ fn print_json(
         value["stats"] =
             serde_json::to_value(rendered.ray_stats).expect("ray statistics serialise to JSON");
     }
-    if let Some(photons) = rendered.film.as_ref().and_then(|f| f.photons) {
-        value["photons"] = serde_json::to_value(photons).expect("photon counts serialise to JSON");
+    if let Some(film) = &rendered.film {
+        if let Some(photons) = film.photons {
+            value["photons"] =
+                serde_json::to_value(photons).expect("photon counts serialise to JSON");
+        }
+        value["traced"] = film.traced.into();
+        value["estimated_rmse"] = film.estimated_rmse.into();
     }
     println!("{value}");
 }

@@ -59,6 +59,8 @@ pub struct TraceOutput {
 pub struct SampleSums {
     pub film: FilmSums,
     pub traced: u32,
+    /// Under an error budget, the render's last estimate of its RMSE.
+    pub estimate: Option<f64>,
 }
 
 /// The engine a render uses: the one asked for, or for `Auto` the rule
@@ -304,24 +306,26 @@ pub fn render_part(
     let upload_ms = ms_since(upload_started);
 
     let codegen_ms = first_use(context, &bound)?;
-    let (submit_ms, gpu_ms, traced) = if paths {
-        let work = (pixels, plan.rt.render.bounces);
-        let run = sample_batches::run(context, &bound, part, work, groups, counter)?;
-        (run.submit_ms, run.gpu_ms, run.traced)
+    let (submit_ms, gpu_ms, traced, estimate) = if paths {
+        let work = sample_batches::SampleWork {
+            bound: &bound,
+            buffers: &buffers,
+            size: (width, height),
+            bounces: plan.rt.render.bounces,
+            groups,
+        };
+        let run = sample_batches::run(context, &work, part, counter)?;
+        (run.submit_ms, run.gpu_ms, run.traced, run.estimate)
     } else {
-        let timestamps = Timestamps::new(context)?;
-        let commands = OneShot::begin(context)?;
-        // SAFETY: every handle recorded here lives until after the submission
-        // completes (dropped at the end of this function).
-        unsafe { bound.record_image(&context.device, commands.cmd, &timestamps, groups) };
-        let (submit_ms, gpu_ms) = timestamps.submit_and_measure(&commands)?;
-        (submit_ms, gpu_ms, scene.render.samples)
+        let (submit_ms, gpu_ms) = trace_image(context, &bound, groups)?;
+        (submit_ms, gpu_ms, scene.render.samples, None)
     };
 
     let readback_started = Instant::now();
     let sums = paths.then(|| SampleSums {
         film: FilmSums::from_ne_bytes(width, height, buffers.output()),
         traced,
+        estimate,
     });
     let image = match &sums {
         Some(s) => crate::film_sums::scaled_image(&s.film, u64::from(s.traced), part.count()),
@@ -344,6 +348,21 @@ pub fn render_part(
         traversal,
         sums,
     })
+}
+
+/// The whole image in one dispatch of `groups` workgroups (the Whitted
+/// tracer): its submit and GPU milliseconds.
+fn trace_image(
+    context: &Arc<GpuContext>,
+    bound: &BoundTrace,
+    groups: (u32, u32),
+) -> Result<(f64, f64), GpuError> {
+    let timestamps = Timestamps::new(context)?;
+    let commands = OneShot::begin(context)?;
+    // SAFETY: every handle recorded here lives until after the submission
+    // completes (this function waits for it).
+    unsafe { bound.record_image(&context.device, commands.cmd, &timestamps, groups) };
+    timestamps.submit_and_measure(&commands)
 }
 
 /// The push constants of a dispatch that traces no sample.

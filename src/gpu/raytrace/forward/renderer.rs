@@ -8,6 +8,7 @@ use std::time::Instant;
 
 use super::pipeline::{self, PhotonBatch};
 use crate::camera::View;
+use crate::error_budget::ErrorBudget;
 use crate::film_sums::{FilmSums, PhotonStats, RenderPart};
 use crate::gpu::raytrace::buffers::TraceBuffers;
 use crate::gpu::raytrace::dispatch::{cpu_threads, submit_batch, BoundTrace, QUEUE_EXHAUSTED};
@@ -37,6 +38,8 @@ pub struct ForwardOutput {
     pub film: FilmSums,
     pub stats: PhotonStats,
     pub timings: GpuTimings,
+    /// Under an error budget, the render's last estimate of its RMSE.
+    pub estimate: Option<f64>,
 }
 
 /// Traces `job`'s photons through `scene` at its image size, counting
@@ -99,7 +102,9 @@ pub fn render(
     run_batch(context, &bound, None, PhotonBatch::zeroed_for(job.total))?;
     let codegen_ms = ms_since(codegen_started);
 
-    let (submit_ms, gpu_ms) = run_batches(context, &bound, job, counter)?;
+    let film = (&buffers, (width, height));
+    let batches = run_batches(context, &bound, film, job, counter)?;
+    let (submit_ms, gpu_ms) = (batches.submit_ms, batches.gpu_ms);
 
     let readback_started = Instant::now();
     let film = FilmSums::from_ne_bytes(width, height, buffers.output());
@@ -117,6 +122,7 @@ pub fn render(
             readback_ms: ms_since(readback_started),
             total_ms: ms_since(started),
         },
+        estimate: batches.estimate,
     })
 }
 
@@ -147,23 +153,39 @@ impl PhotonBatch {
     }
 }
 
-/// Traces the job's photons a batch per submission; the summed submit and
-/// GPU milliseconds.
+/// What the batches took: the summed submit and GPU milliseconds, and
+/// under an error budget the last estimate of the RMSE.
+struct BatchesRun {
+    submit_ms: f64,
+    gpu_ms: f64,
+    estimate: Option<f64>,
+}
+
+/// Traces the job's photons a batch per submission into the film of
+/// `buffers` (`width x height`): until a time budget is spent, or an
+/// error budget reached.
 fn run_batches(
     context: &Arc<GpuContext>,
     bound: &BoundTrace,
+    (buffers, (width, height)): (&TraceBuffers, (u32, u32)),
     job: &RenderPart,
     counter: &WorkCounter,
-) -> Result<(f64, f64), GpuError> {
+) -> Result<BatchesRun, GpuError> {
     counter.begin("photons", u64::from(job.count()));
     let timestamps = Timestamps::new(context)?;
     let (mut submit_ms, mut gpu_ms) = (0.0, 0.0);
-    // Under a time budget, smaller batches overshoot it less.
-    let batch_size = if job.deadline.is_some() {
-        BATCH / 4
-    } else {
-        BATCH
+    // Under a time budget, smaller batches overshoot it less; under an
+    // error budget, the estimate needs a few, and stops at a finer count.
+    let batch_size = match (job.error, job.deadline) {
+        (Some(_), _) => BATCH / 16,
+        (None, Some(_)) => BATCH / 4,
+        (None, None) => BATCH,
     };
+    let sums = 3 * width as usize * height as usize;
+    let mut budget = job
+        .error
+        .map(|target| ErrorBudget::new(target, job.total, sums));
+    let mut estimate = None;
     let mut first = job.range.start;
     while first < job.range.end && !job.past_deadline() {
         let count = (job.range.end - first).min(batch_size);
@@ -182,8 +204,20 @@ fn run_batches(
         gpu_ms += gpu;
         counter.add(u64::from(count));
         first += count;
+        if let Some(budget) = &mut budget {
+            let film = FilmSums::from_ne_bytes(width, height, buffers.output());
+            let reached = budget.after_batch(&film.sums, count);
+            estimate = budget.estimate;
+            if reached {
+                break;
+            }
+        }
     }
-    Ok((submit_ms, gpu_ms))
+    Ok(BatchesRun {
+        submit_ms,
+        gpu_ms,
+        estimate,
+    })
 }
 
 /// One submission of `batch` (between `timestamps`' stamps where given);
