@@ -77,29 +77,34 @@ fn cost(shading: Shading, backend: Backend) -> Cost {
         // Forward adds its fixed-point film: 24 bytes a pixel on the
         // device and as many read back.
         (Backend::Gpu, Shading::Forward) => Cost {
-            pixel: 40 + 48,
+            pixel: 72 + 48,
             ..cost(Shading::Raytrace, backend)
         },
+        // With bounces, 24 bytes a pixel of sums on the device (16 of
+        // floats without), read back into a film beside the image.
         (Backend::Gpu, Shading::Raytrace) => Cost {
             base: 164 * MIB,
             object: 280,
             vertex: 60,
             triangle: 660,
-            pixel: 40,
+            pixel: 72,
             attributed_vertex: 40,
             attributed_triangle: 280,
         },
         // A fixed-point film (24 bytes a pixel) per thread, up to 16.
         (Backend::Cpu, Shading::Forward) => Cost {
-            pixel: 80 + 16 * 24,
+            pixel: 128 + 16 * 24,
             ..cost(Shading::Raytrace, backend)
         },
+        // Per pixel, beside its colour and signature, its samples'
+        // fixed-point sums (24 bytes), and with bounces the film they go
+        // into (24).
         (Backend::Cpu, Shading::Raytrace) => Cost {
             base: 16 * MIB,
             object: 280,
             vertex: 60,
             triangle: 560,
-            pixel: 80,
+            pixel: 128,
             attributed_vertex: 40,
             attributed_triangle: 120,
         },

@@ -91,12 +91,15 @@ pub fn render_part(scene: &Scene, part: &RenderPart, counter: &WorkCounter) -> R
         trace_ms,
         film: None,
     };
-    let mut film = FilmSums::zero(width, height);
+    // Only with bounces: a Whitted image keeps its f64 mean.
+    let mut film = FilmSums::zero(width, height * u32::from(rt.render.bounces > 0));
     for (row, stats) in rows {
         out.stats = add_stats(out.stats, stats);
         for px in row {
             let at = 3 * out.image.pixels.len();
-            film.sums[at..at + 3].copy_from_slice(&px.sums);
+            if let Some(sums) = film.sums.get_mut(at..at + 3) {
+                sums.copy_from_slice(&px.sums);
+            }
             out.image.pixels.push(px.color.as_vec3().to_array());
             out.primary_object_ids.push(px.object);
             out.path_signatures.push(px.signature);
