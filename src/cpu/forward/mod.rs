@@ -17,6 +17,8 @@ mod photon;
 pub use crate::film_sums::PhotonStats;
 pub use film::Film;
 pub use photon::trace_photon;
+pub use photon::LightChoice;
+pub(crate) use photon::{go_on, Flight};
 
 use rayon::prelude::*;
 

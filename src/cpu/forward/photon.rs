@@ -17,7 +17,7 @@ use crate::scene::Material;
 /// The scene's lights, picked in proportion to their power
 /// (`LightShares`, the GPU's split too).
 pub struct LightChoice<'a> {
-    scene: &'a RtScene,
+    pub(crate) scene: &'a RtScene,
     shares: LightShares,
 }
 
@@ -33,8 +33,8 @@ impl<'a> LightChoice<'a> {
 
 /// A photon on its way: its ray, the flux it carries, and what the path
 /// has met so far.
-struct Flight {
-    ray: Ray,
+pub(crate) struct Flight {
+    pub ray: Ray,
     /// Without the falloff until the path's first surface that is not a
     /// mirror or glass has been left by a diffuse bounce; with it after.
     flux: DVec3,
@@ -43,6 +43,42 @@ struct Flight {
     falloff_applied: bool,
     /// Diffuse surfaces met so far.
     diffuse_vertices: u32,
+}
+
+impl Flight {
+    /// Photon `i` of `total` leaving a light chosen by power in a uniform
+    /// direction, with flux `4 pi Il / (total p)`.
+    pub(crate) fn emit(lights: &LightChoice, i: u32, total: u32) -> Self {
+        let scene = lights.scene;
+        let [u0, u1, u2, _] = photon_numbers(i, 0);
+        let (j, chance) = lights.shares.pick(u0);
+        let light = &scene.lights[j];
+        let z = 1.0 - 2.0 * u1;
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        let phi = 2.0 * std::f64::consts::PI * u2;
+        Flight {
+            ray: Ray {
+                origin: light.position,
+                dir: DVec3::new(r * phi.cos(), r * phi.sin(), z),
+            },
+            flux: 4.0 * std::f64::consts::PI * light.intensity / (f64::from(total) * chance),
+            travelled: 0.0,
+            falloff_applied: false,
+            diffuse_vertices: 0,
+        }
+    }
+
+    /// The flux arriving at a hit at distance `t` along the ray: with the
+    /// falloff of the path's length from the light, `d^2 F(d)`, until a
+    /// diffuse bounce has applied it.
+    pub(crate) fn arriving(&self, scene: &RtScene, t: f64) -> DVec3 {
+        if self.falloff_applied {
+            return self.flux;
+        }
+        let d = self.travelled + t;
+        let lighting = &scene.lighting;
+        self.flux * d * d * lighting.falloff.attenuate(DVec3::ONE, d, lighting.k)
+    }
 }
 
 /// Traces photon `i` of `total`: emitted from a light chosen by power in
@@ -59,22 +95,7 @@ pub fn trace_photon(
     stats: &mut PhotonStats,
 ) {
     let scene = lights.scene;
-    let [u0, u1, u2, _] = photon_numbers(i, 0);
-    let (j, chance) = lights.shares.pick(u0);
-    let light = &scene.lights[j];
-    let z = 1.0 - 2.0 * u1;
-    let r = (1.0 - z * z).max(0.0).sqrt();
-    let phi = 2.0 * std::f64::consts::PI * u2;
-    let mut flight = Flight {
-        ray: Ray {
-            origin: light.position,
-            dir: DVec3::new(r * phi.cos(), r * phi.sin(), z),
-        },
-        flux: 4.0 * std::f64::consts::PI * light.intensity / (f64::from(total) * chance),
-        travelled: 0.0,
-        falloff_applied: false,
-        diffuse_vertices: 0,
-    };
+    let mut flight = Flight::emit(lights, i, total);
     stats.emitted += 1;
     let mut seen = false;
     for level in 0..=scene.render.depth {
@@ -86,13 +107,7 @@ pub fn trace_photon(
         let material = &scene.materials[hit.material as usize];
         let (tint, _) = hit_tint(scene, &hit, p, flight.ray.dir, 0.0);
         let albedo = material.kd * material.color * tint;
-        let d = flight.travelled + hit.t;
-        let arriving = if flight.falloff_applied {
-            flight.flux
-        } else {
-            let lighting = &scene.lighting;
-            flight.flux * d * d * lighting.falloff.attenuate(DVec3::ONE, d, lighting.k)
-        };
+        let arriving = flight.arriving(scene, hit.t);
         let first_surface = flight.diffuse_vertices == 0;
         let shows = albedo != DVec3::ZERO || (first_surface && material.ks > 0.0);
         if shows && hit.normal != DVec3::ZERO {
@@ -113,13 +128,8 @@ pub fn trace_photon(
         }
         let numbers = photon_numbers(i, level + 1);
         let surface = (&hit, p, material, albedo);
-        if !go_on(
-            &mut flight,
-            surface,
-            arriving,
-            numbers,
-            scene.render.bounces,
-        ) {
+        let diffuse_allowed = flight.diffuse_vertices <= scene.render.bounces;
+        if !go_on(&mut flight, surface, arriving, numbers, diffuse_allowed) {
             break;
         }
     }
@@ -198,18 +208,19 @@ fn splat(
 /// Sends the photon on from its hit by one event picked with `u0` in
 /// proportion to `mean(kd C)` (while diffuse bounces are left), `kr` and
 /// `kt` (total internal reflection giving `kt` to the reflection), scaled
-/// down together where they add to more than 1; whether it goes on (not
-/// absorbed, nor sent below the surface).
-fn go_on(
+/// down together where they add to more than 1 (no diffuse event unless
+/// `diffuse_allowed`); whether it goes on (not absorbed, nor sent below
+/// the surface).
+pub(crate) fn go_on(
     flight: &mut Flight,
     (hit, p, material, albedo): (&Hit, DVec3, &Material, DVec3),
     arriving: DVec3,
     [u0, u1, u2, _]: [f64; 4],
-    bounces: u32,
+    diffuse_allowed: bool,
 ) -> bool {
     let d = flight.ray.dir;
     let [reflected, refracted] = children(d, hit.normal, material, DVec3::ONE);
-    let p_diffuse = if flight.diffuse_vertices <= bounces && albedo != DVec3::ZERO {
+    let p_diffuse = if diffuse_allowed && albedo != DVec3::ZERO {
         (albedo.x + albedo.y + albedo.z) / 3.0
     } else {
         0.0
