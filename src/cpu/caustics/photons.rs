@@ -1,13 +1,10 @@
-//! Caustic photons, the first part of the backward tracer's photon map
-//! (issue 46; docs/lighting-model.md, "Caustics: light the eye's rays
-//! cannot find"): photons from the lights, exactly as the forward tracer
-//! emits them, that reach a diffuse surface through at least one mirror or
-//! glass event (paths `L S+ D`). They are kept where they land, with the
-//! flux they arrive with, and go no further: light that leaves a diffuse
-//! surface is the backward tracer's, which also finds light that reaches
-//! a diffuse surface straight from a light, so no path is counted twice.
-//! Gathering them at the eye's hits, with SPPM's shrinking radius, is the
-//! next part.
+//! Caustic photons (docs/lighting-model.md, "Caustics"): photons from the
+//! lights, exactly as the forward tracer emits them, that reach a diffuse
+//! surface through at least one mirror or glass event (paths `L S+ D`).
+//! They are kept where they land, with the flux they arrive with, and go
+//! no further: light that leaves a diffuse surface is the backward
+//! tracer's, which also finds light that reaches a diffuse surface
+//! straight from a light, so no path is counted twice.
 
 use glam::DVec3;
 use rayon::prelude::*;
