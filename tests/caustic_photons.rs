@@ -194,3 +194,113 @@ fn the_gathered_caustic_is_the_mirror_images_light() {
     assert!((mean - 1.0).abs() < 0.01, "{mean}");
     assert!(worst < 0.2, "{worst}");
 }
+
+/// A glass ball (kt = 1, ior 1.5) under a light, over a white floor, seen
+/// from above at an angle; no ambient, no highlight, lecture falloff.
+const GLASS_BALL_ON_A_FLOOR: &str = r#"
+[camera]
+position = [0.0, 3.0, 3.5]
+look_at = [0.0, 0.0, 0.0]
+fov_y = 40.0
+
+[image]
+width = 96
+height = 72
+
+[lighting]
+ambient = 0.0
+
+[[lights]]
+position = [0.3, 3.0, 0.0]
+intensity = 3.0
+
+[render]
+depth = 8
+samples = 16
+
+[materials.white]
+color = [1.0, 1.0, 1.0]
+kd = 0.8
+ks = 0.0
+
+[materials.glass]
+color = [1.0, 1.0, 1.0]
+kd = 0.0
+ks = 0.0
+kt = 1.0
+ior = 1.5
+
+[[objects]]
+shape = "plane"
+center = [0.0, 0.0, 0.0]
+normal = [0.0, 1.0, 0.0]
+size = 6.0
+material = "white"
+
+[[objects]]
+shape = "sphere"
+center = [0.0, 0.8, 0.0]
+radius = 0.5
+material = "glass"
+"#;
+
+/// Where both see the same paths, the floor seen directly under a glass
+/// ball, the gathered caustic is the forward tracer's: its image (direct
+/// light and caustic: the light tracer splats both) less the backward
+/// tracer's direct light (shadow rays, which glass blocks) leaves the
+/// caustic, photons through the ball. Over the floor pixels that do not
+/// see the ball the two caustics' sums agree within 3%. Measured: the
+/// forward image's own noise over them is 0.6% of the caustic (2^23
+/// against 2^25 photons); SPPM's sum after 128 passes is 0.06% off at an
+/// initial radius of 0.02 and 1.3% at 0.01 (after 32 passes it still
+/// moved by 5% with the radius: its finite-pass bias and noise, where a
+/// concentrated caustic gives each pixel few photons). Refraction, total
+/// internal reflection and the falloff along the path follow the same
+/// rules in both; a wrong one moves the caustic's sum or its place by far
+/// more. The brightest pixel of each is the same pixel or a neighbour.
+#[test]
+fn the_gathered_caustic_under_a_glass_ball_is_the_forward_tracers() {
+    use shadelab::cpu::caustics::{render_caustics, CausticSettings};
+    let scene = scene_of(GLASS_BALL_ON_A_FLOOR);
+    let width = scene.image.width as usize;
+    let forward = shadelab::cpu::forward::render(&scene, 1 << 23)
+        .unwrap()
+        .image();
+    let backward = shadelab::cpu::raytrace::render(&scene);
+    let settings = CausticSettings {
+        photons_per_pass: 1 << 18,
+        passes: 128,
+        initial_radius: 0.02,
+        alpha: 2.0 / 3.0,
+    };
+    let gathered = render_caustics(&scene, &settings).unwrap();
+    let (mut from_forward, mut from_map) = (0.0, 0.0);
+    let (mut brightest_forward, mut brightest_map) = ((0.0, 0), (0.0, 0));
+    for (i, object) in backward.primary_object_ids.iter().enumerate() {
+        if *object != Some(0) {
+            continue;
+        }
+        let f = f64::from(forward.pixels[i][0] - backward.image.pixels[i][0]);
+        let c = f64::from(gathered.pixels[i][0]);
+        from_forward += f;
+        from_map += c;
+        if f > brightest_forward.0 {
+            brightest_forward = (f, i);
+        }
+        if c > brightest_map.0 {
+            brightest_map = (c, i);
+        }
+    }
+    eprintln!("caustic: forward less backward {from_forward}, gathered {from_map}; brightest at {:?} and {:?}", brightest_forward, brightest_map);
+    assert!(from_map > 1.0, "{from_map}");
+    assert!(
+        (from_map / from_forward - 1.0).abs() < 0.03,
+        "{from_map} against {from_forward}"
+    );
+    let at = |i: usize| ((i % width) as i64, (i / width) as i64);
+    let (a, b) = (at(brightest_forward.1), at(brightest_map.1));
+    assert!(
+        (a.0 - b.0).abs() <= 1 && (a.1 - b.1).abs() <= 1,
+        "{a:?} and {b:?}"
+    );
+}
