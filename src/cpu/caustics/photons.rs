@@ -36,15 +36,19 @@ pub struct CausticPhoton {
 }
 
 /// Traces photons `range` of `total` through `scene` and keeps the
-/// caustic ones, in photon order. `None` for a scene with no light that
-/// has power.
+/// caustic ones, in photon order; traces none where no material has `kr`
+/// or `kt`. `None` for a scene with no light that has power.
 pub fn caustic_photons(
     scene: &RtScene,
     range: std::ops::Range<u32>,
     total: u32,
 ) -> Option<Vec<CausticPhoton>> {
-    let accel = Accel::new(scene);
     let lights = LightChoice::new(scene)?;
+    // No mirror or glass, no caustic: no photon is traced.
+    if !scene.materials.iter().any(|m| m.kr > 0.0 || m.kt > 0.0) {
+        return Some(Vec::new());
+    }
+    let accel = Accel::new(scene);
     let tasks = range
         .end
         .saturating_sub(range.start)
