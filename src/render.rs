@@ -135,11 +135,6 @@ pub fn render_gpu_to(
     count_rays: bool,
     target: ColorTarget,
 ) -> Result<Rendered, Error> {
-    if shading == Shading::Forward {
-        // Progress and shards go through `render_forward` itself.
-        let job = RenderPart::all(scene.render.photons);
-        return render_forward(Some(context), scene, &job, &WorkCounter::default());
-    }
     if sums_in_film(scene, shading) {
         let part = RenderPart::all(part_total(scene, shading));
         let counter = WorkCounter::default();

@@ -3,7 +3,7 @@
 //! to its promise of the same bits on every run, thread count and split of
 //! the photons; and the command line's refusals.
 
-use common::cli::{assert_one_line_refusal, shadelab, shadelab_with};
+use common::cli::{assert_one_line_refusal, render_mean, shadelab, shadelab_with};
 use common::closed_sphere::{closed_sphere, expected};
 use shadelab::film_sums::RenderPart;
 use shadelab::gpu::raytrace::forward;
@@ -430,11 +430,7 @@ fn a_time_budget_gives_the_estimate_of_the_photons_traced() {
         let mut args = vec!["render", scene, "--shading", "forward", "--out", out];
         args.extend_from_slice(&size);
         args.extend_from_slice(extra);
-        let run = shadelab(dir.path(), &args);
-        assert_eq!(run.code, 0, "{}", run.stderr);
-        let image = shadelab::output::read_image(&dir.path().join(out)).unwrap();
-        let sum: f64 = image.pixels.iter().flatten().map(|&v| f64::from(v)).sum();
-        (sum / image.pixels.len() as f64, run.stderr)
+        render_mean(dir.path(), &args, out)
     };
     let (full, _) = mean_of(&["--photons", "2000000"], "full.exr");
     for backend in ["gpu", "cpu"] {

@@ -58,3 +58,14 @@ pub fn assert_one_line_refusal(run: &Run, args: &[&str], expect: &str) {
         run.stderr
     );
 }
+
+/// Runs `shadelab` with `args` in `dir` (a render that writes `out`),
+/// asserting it succeeds; the mean of every channel of `out`, and the
+/// run's stderr.
+pub fn render_mean(dir: &Path, args: &[&str], out: &str) -> (f64, String) {
+    let run = shadelab(dir, args);
+    assert_eq!(run.code, 0, "{args:?}: {}", run.stderr);
+    let image = shadelab::output::read_image(&dir.join(out)).unwrap();
+    let sum: f64 = image.pixels.iter().flatten().map(|&v| f64::from(v)).sum();
+    (sum / (3 * image.pixels.len()) as f64, run.stderr)
+}

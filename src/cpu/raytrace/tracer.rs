@@ -37,8 +37,8 @@ pub struct PixelTrace {
     /// The sum of the sample values over the samples the pixel has: their
     /// mean when all are traced.
     pub color: DVec3,
-    /// The same sum in the films' fixed point, a term per sample
-    /// (`film_sums::to_fixed`), as the GPU sums it with bounces.
+    /// With bounces, the same sum in the films' fixed point, a term per
+    /// sample (`film_sums::to_fixed`), as the GPU sums it (0 without).
     pub sums: [u64; 3],
     /// The object the first sample's primary ray hit.
     pub object: Option<u32>,
@@ -122,6 +122,7 @@ impl<'a> Tracer<'a> {
         let mut object = None;
         let pixel = y.wrapping_mul(self.view.width).wrapping_add(x);
         let per_sample = 1.0 / self.offsets.len() as f64;
+        let with_bounces = !self.diffuse_materials.is_empty();
         let first = samples.start;
         for i in samples {
             let (sx, sy) = self.offsets[i as usize];
@@ -131,9 +132,13 @@ impl<'a> Tracer<'a> {
             if i == first {
                 object = hit;
             }
-            let term = value * per_sample;
-            for (sum, v) in sums.iter_mut().zip(term.to_array()) {
-                *sum = sum.wrapping_add(crate::film_sums::to_fixed(v));
+            // Only paths with bounces sum into a film; a Whitted pixel
+            // keeps its f64 mean alone.
+            if with_bounces {
+                let term = value * per_sample;
+                for (sum, v) in sums.iter_mut().zip(term.to_array()) {
+                    *sum = sum.wrapping_add(crate::film_sums::to_fixed(v));
+                }
             }
             sum += value;
         }

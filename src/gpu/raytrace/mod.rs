@@ -7,9 +7,11 @@
 //! travel in the trace's `buffers`, which `dispatch` binds and runs.
 //! `forward` traces the other way, photons from the lights, over the same
 //! records and buffers. With diffuse bounces the ray tracer runs a range
-//! of samples per submission (`sample_batches`) into fixed-point sums.
+//! of samples per submission into fixed-point sums, as the forward tracer
+//! runs its photons (`batches`).
 
 mod accel;
+mod batches;
 mod buffers;
 pub mod bvh;
 mod dispatch;
@@ -17,7 +19,6 @@ pub mod forward;
 pub mod layout;
 mod records;
 mod renderer;
-mod sample_batches;
 pub mod wide_bvh;
 
 pub use renderer::{

@@ -16,12 +16,12 @@ use ash::vk;
 use crate::camera::View;
 use crate::film_sums::{FilmSums, RenderPart};
 use crate::gpu::raytrace::accel::{self, SceneStructure};
+use crate::gpu::raytrace::batches;
 use crate::gpu::raytrace::buffers::TraceBuffers;
 use crate::gpu::raytrace::bvh::BvhKinds;
-use crate::gpu::raytrace::dispatch::{cpu_threads, first_use, BoundTrace};
+use crate::gpu::raytrace::dispatch::{cpu_threads, first_use, submit_batch, BoundTrace};
 use crate::gpu::raytrace::layout::*;
 use crate::gpu::raytrace::records::{records, SceneRecords};
-use crate::gpu::raytrace::sample_batches;
 use crate::gpu::shared::hook;
 use crate::gpu::shared::image_size::check_image_size;
 use crate::gpu::shared::lights::SceneLighting;
@@ -307,14 +307,13 @@ pub fn render_part(
 
     let codegen_ms = first_use(context, &bound)?;
     let (submit_ms, gpu_ms, traced, estimate) = if paths {
-        let work = sample_batches::SampleWork {
-            bound: &bound,
+        let work = batches::FilmWork {
             buffers: &buffers,
             size: (width, height),
-            bounces: plan.rt.render.bounces,
-            groups,
+            unit: "samples per pixel",
+            batch: batches::batch_samples(pixels, plan.rt.render.bounces),
         };
-        let run = sample_batches::run(context, &work, part, counter)?;
+        let run = trace_samples(context, (&bound, groups), &work, part, counter)?;
         (run.submit_ms, run.gpu_ms, run.traced, run.estimate)
     } else {
         let (submit_ms, gpu_ms) = trace_image(context, &bound, groups)?;
@@ -347,6 +346,26 @@ pub fn render_part(
         stats,
         traversal,
         sums,
+    })
+}
+
+/// With bounces, `part`'s samples of every pixel, a range of them per
+/// dispatch of `groups` workgroups (`batches`).
+fn trace_samples(
+    context: &Arc<GpuContext>,
+    (bound, groups): (&BoundTrace, (u32, u32)),
+    work: &batches::FilmWork,
+    part: &RenderPart,
+    counter: &WorkCounter,
+) -> Result<batches::BatchesRun, GpuError> {
+    batches::run(context, work, part, counter, |timestamps, first, end| {
+        let range = SampleRange {
+            first,
+            end,
+            unused: [0; 2],
+        };
+        let push = bytemuck::bytes_of(&range);
+        submit_batch(context, bound, Some(timestamps), push, (0, groups))
     })
 }
 

@@ -8,8 +8,8 @@ use std::time::Instant;
 
 use super::pipeline::{self, PhotonBatch};
 use crate::camera::View;
-use crate::error_budget::ErrorBudget;
 use crate::film_sums::{FilmSums, PhotonStats, RenderPart};
+use crate::gpu::raytrace::batches;
 use crate::gpu::raytrace::buffers::TraceBuffers;
 use crate::gpu::raytrace::dispatch::{cpu_threads, submit_batch, BoundTrace, QUEUE_EXHAUSTED};
 use crate::gpu::raytrace::layout::WORKGROUP_SIZE;
@@ -102,8 +102,21 @@ pub fn render(
     run_batch(context, &bound, None, PhotonBatch::zeroed_for(job.total))?;
     let codegen_ms = ms_since(codegen_started);
 
-    let film = (&buffers, (width, height));
-    let batches = run_batches(context, &bound, film, job, counter)?;
+    let work = batches::FilmWork {
+        buffers: &buffers,
+        size: (width, height),
+        unit: "photons",
+        batch: BATCH,
+    };
+    let batches = batches::run(context, &work, job, counter, |timestamps, first, end| {
+        let batch = PhotonBatch {
+            first,
+            count: end - first,
+            total: job.total,
+            unused: 0,
+        };
+        run_batch(context, &bound, Some(timestamps), batch)
+    })?;
     let (submit_ms, gpu_ms) = (batches.submit_ms, batches.gpu_ms);
 
     let readback_started = Instant::now();
@@ -151,73 +164,6 @@ impl PhotonBatch {
             unused: 0,
         }
     }
-}
-
-/// What the batches took: the summed submit and GPU milliseconds, and
-/// under an error budget the last estimate of the RMSE.
-struct BatchesRun {
-    submit_ms: f64,
-    gpu_ms: f64,
-    estimate: Option<f64>,
-}
-
-/// Traces the job's photons a batch per submission into the film of
-/// `buffers` (`width x height`): until a time budget is spent, or an
-/// error budget reached.
-fn run_batches(
-    context: &Arc<GpuContext>,
-    bound: &BoundTrace,
-    (buffers, (width, height)): (&TraceBuffers, (u32, u32)),
-    job: &RenderPart,
-    counter: &WorkCounter,
-) -> Result<BatchesRun, GpuError> {
-    counter.begin("photons", u64::from(job.count()));
-    let timestamps = Timestamps::new(context)?;
-    let (mut submit_ms, mut gpu_ms) = (0.0, 0.0);
-    // Under a time budget, smaller batches overshoot it less; under an
-    // error budget, the estimate needs a few, and stops at a finer count.
-    let batch_size = match (job.error, job.deadline) {
-        (Some(_), _) => BATCH / 16,
-        (None, Some(_)) => BATCH / 4,
-        (None, None) => BATCH,
-    };
-    let sums = 3 * width as usize * height as usize;
-    let mut budget = job
-        .error
-        .map(|target| ErrorBudget::new(target, job.total, sums));
-    let mut estimate = None;
-    let mut first = job.range.start;
-    while first < job.range.end && !job.past_deadline() {
-        let count = (job.range.end - first).min(batch_size);
-        let batch = PhotonBatch {
-            first,
-            count,
-            total: job.total,
-            unused: 0,
-        };
-        let (submit, gpu) = run_batch(context, bound, Some(&timestamps), batch)?;
-        if first == job.range.start {
-            job.refuse_if_too_long(count, submit / 1e3, "photons")
-                .map_err(GpuError::TooLong)?;
-        }
-        submit_ms += submit;
-        gpu_ms += gpu;
-        counter.add(u64::from(count));
-        first += count;
-        if let Some(budget) = &mut budget {
-            let film = FilmSums::from_ne_bytes(width, height, buffers.output());
-            let reached = budget.after_batch(&film.sums, count);
-            estimate = budget.estimate;
-            if reached {
-                break;
-            }
-        }
-    }
-    Ok(BatchesRun {
-        submit_ms,
-        gpu_ms,
-        estimate,
-    })
 }
 
 /// One submission of `batch` (between `timestamps`' stamps where given);
