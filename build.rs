@@ -153,6 +153,20 @@ fn variants() -> Vec<Variant> {
         "FORWARD_WIDE_COMP",
         &[("FORWARD", None), ("WIDE_BVH", None)],
     ));
+    // Caustics from a photon map: the forward tracer's photons and film,
+    // gathered at the eye's visible points (its own module, so that a
+    // render without caustics neither compiles nor carries it).
+    let caustics = |name: &str, defines| Variant {
+        name: name.to_string(),
+        source: "caustics.comp.glsl",
+        stage: shader_compile::Stage::Compute,
+        defines,
+    };
+    out.push(caustics("CAUSTICS_COMP", &[("FORWARD", None)]));
+    out.push(caustics(
+        "CAUSTICS_WIDE_COMP",
+        &[("FORWARD", None), ("WIDE_BVH", None)],
+    ));
     out
 }
 

@@ -86,6 +86,7 @@
 pub mod backend_choice;
 pub mod cache;
 pub mod camera;
+pub mod caustics;
 pub mod check;
 pub mod compare;
 pub mod cpu;

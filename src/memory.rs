@@ -159,6 +159,25 @@ pub fn multisample_bytes(pixels: u64, shading: Shading, backend: Backend, msaa: 
         .saturating_mul(per_sample)
 }
 
+/// The bytes a ray trace's photon map adds where the scene asks for
+/// caustics: on the GPU the map's buffers and a pass's fixed-point sums
+/// per pixel; on the CPU reference a visible point and a state per pixel,
+/// and a pass's caustic photons (80 bytes each, as many as it emits at
+/// most: a photon kept more than once is rare).
+pub fn caustic_bytes(pixels: u64, shading: Shading, backend: Backend, scene: &Scene) -> u64 {
+    let caustics = scene.render.caustics;
+    if shading != Shading::Raytrace || crate::caustics::pointless(scene).is_some() || !caustics.on()
+    {
+        return 0;
+    }
+    match backend {
+        Backend::Gpu => pixels.saturating_mul(crate::gpu::raytrace::caustics::BYTES_PER_PIXEL + 24),
+        Backend::Cpu => pixels
+            .saturating_mul(96 + 48)
+            .saturating_add(u64::from(caustics.photons_per_pass).saturating_mul(80)),
+    }
+}
+
 /// The most memory shadelab may plan to use, and how it was set.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct MemoryLimit {
@@ -257,7 +276,8 @@ impl MemoryLimit {
             modes
                 .iter()
                 .map(|&s| {
-                    let samples = multisample_bytes(pixels, s, backend, scene.render.msaa);
+                    let samples = multisample_bytes(pixels, s, backend, scene.render.msaa)
+                        .saturating_add(caustic_bytes(pixels, s, backend, scene));
                     (
                         estimate(&size_for(s), pixels, s, backend).saturating_add(samples),
                         s,

@@ -4,6 +4,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
+use crate::caustics::CausticReport;
 use crate::cpu;
 use crate::error::Error;
 use crate::film_sums::{scaled_image, FilmSums, PhotonStats, RenderPart};
@@ -81,6 +82,9 @@ pub struct Rendered {
     /// fixed-point sums (which shards add up: `film_sums`) and what was
     /// traced.
     pub film: Option<FilmRender>,
+    /// Ray tracing with caustics: what the photon map took (its image is
+    /// in `image`, not in `film`).
+    pub caustics: Option<CausticReport>,
 }
 
 /// A render summed in fixed point: its film, beside its image, and what
@@ -151,13 +155,18 @@ pub fn render_gpu_to(
             (out.image, out.timings, out.stats, Some(out.traversal))
         }
     };
-    Ok(Rendered {
+    let mut rendered = Rendered {
         image,
         timings: Timings::gpu(&timings),
         ray_stats,
         traversal,
         film: None,
-    })
+        caustics: None,
+    };
+    if shading == Shading::Raytrace {
+        with_caustics(Some(context), scene, &mut rendered, &WorkCounter::default())?;
+    }
+    Ok(rendered)
 }
 
 /// Forward ray tracing of `job`'s photons (all of them, or a shard's) on
@@ -186,6 +195,7 @@ pub fn render_forward(
             photons: Some(out.stats),
             estimated_rmse: out.estimate,
         }),
+        caustics: None,
     })
 }
 
@@ -206,7 +216,9 @@ pub fn render_film_part(
     }
     refuse_beyond_f32(scene)?;
     let Some(context) = context else {
-        return Ok(raytrace_cpu(scene, part, counter).0);
+        let mut rendered = raytrace_cpu(scene, part, counter).0;
+        with_caustics(None, scene, &mut rendered, counter)?;
+        return Ok(rendered);
     };
     let options = raytrace::TraceOptions {
         count_rays,
@@ -219,13 +231,31 @@ pub fn render_film_part(
         photons: None,
         estimated_rmse: sums.estimate,
     });
-    Ok(Rendered {
+    let mut rendered = Rendered {
         image: out.image,
         timings: Timings::gpu(&out.timings),
         ray_stats: out.stats,
         traversal: Some(out.traversal),
         film,
-    })
+        caustics: None,
+    };
+    with_caustics(Some(context), scene, &mut rendered, counter)?;
+    Ok(rendered)
+}
+
+/// Adds the caustic image where the scene asks for caustics (and has
+/// some: `caustics::pointless`), its time to the render's.
+fn with_caustics(
+    context: Option<&Arc<GpuContext>>,
+    scene: &Scene,
+    rendered: &mut Rendered,
+    counter: &WorkCounter,
+) -> Result<(), Error> {
+    rendered.caustics = crate::caustics::add(context, scene, &mut rendered.image, counter)?;
+    if let Some(report) = &rendered.caustics {
+        rendered.timings.total_ms += report.ms;
+    }
+    Ok(())
 }
 
 /// Forward tracing starts from the lights: a scene with none that emits
@@ -347,7 +377,9 @@ pub fn render_cpu_counted(
     }
     let Some(mode) = shading.raster_mode() else {
         let part = RenderPart::all(part_total(scene, shading));
-        return Ok(raytrace_cpu(scene, &part, counter));
+        let (mut rendered, coverage) = raytrace_cpu(scene, &part, counter);
+        with_caustics(None, scene, &mut rendered, counter)?;
+        return Ok((rendered, coverage));
     };
     let msaa = scene.render.msaa;
     if msaa.positions().is_none() {
@@ -364,6 +396,7 @@ pub fn render_cpu_counted(
         ray_stats: None,
         traversal: None,
         film: None,
+        caustics: None,
     };
     let surface_ids = if mode == RasterMode::Flat {
         out.triangle_ids
@@ -396,6 +429,7 @@ fn raytrace_cpu(scene: &Scene, part: &RenderPart, counter: &WorkCounter) -> (Ren
             photons: None,
             estimated_rmse: None,
         }),
+        caustics: None,
     };
     let near_edge = signature_edges(
         scene.image.width as usize,
@@ -430,6 +464,7 @@ fn forward_cpu(scene: &Scene, job: &RenderPart, counter: &WorkCounter) -> (Rende
             photons: Some(out.stats),
             estimated_rmse: None,
         }),
+        caustics: None,
     };
     let coverage = Coverage {
         object_ids: vec![None; pixels],

@@ -2,63 +2,14 @@
 //! light that reaches a diffuse surface through a mirror, held to the
 //! answer worked out by hand, a second light at the mirror image.
 
+use common::caustic_scenes::{
+    mirror_caustic_ratios, scene_of, summary, GLASS_BALL_ON_A_FLOOR, MIRROR_BESIDE_A_LIGHT,
+};
 use glam::DVec3;
 use shadelab::cpu::caustics::caustic_photons;
 use shadelab::rt_scene::RtScene;
 
-/// A point light at (0, 0.5, 0) over a white floor (y = 0), a mirror
-/// (kr = 0.8, kd = 0) standing at x = 0.5 from the floor to y = 2,
-/// |z| <= 1, facing the light; the lecture's falloff `1 / (d + k)`, k = 1,
-/// `d` along the light's path.
-const MIRROR_BESIDE_A_LIGHT: &str = r#"
-[camera]
-position = [0.0, 3.0, 5.0]
-look_at = [0.0, 0.0, 0.0]
-fov_y = 45.0
-
-[image]
-width = 64
-height = 48
-
-[lighting]
-ambient = 0.0
-falloff = "lecture"
-k = 1.0
-
-[[lights]]
-position = [0.0, 0.5, 0.0]
-intensity = 1.0
-
-[materials.white]
-color = [1.0, 1.0, 1.0]
-kd = 1.0
-
-[materials.mirror]
-color = [1.0, 1.0, 1.0]
-kd = 0.0
-kr = 0.8
-
-[[objects]]
-shape = "plane"
-center = [0.0, 0.0, 0.0]
-normal = [0.0, 1.0, 0.0]
-size = 10.0
-material = "white"
-
-[[objects]]
-shape = "plane"
-center = [0.5, 1.0, 0.0]
-normal = [-1.0, 0.0, 0.0]
-size = 2.0
-material = "mirror"
-"#;
-
-fn scene_of(toml: &str) -> shadelab::scene::Scene {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("scene.toml");
-    std::fs::write(&path, toml).unwrap();
-    shadelab::scene::load(&path).unwrap()
-}
+mod common;
 
 /// The flux of the caustic photons that land in a patch of the floor
 /// (x in [-0.5, 0.3], |z| <= 0.3, where every path from the mirror image
@@ -160,32 +111,13 @@ fn the_gathered_caustic_is_the_mirror_images_light() {
     let settings = CausticSettings {
         photons_per_pass: 1 << 18,
         passes: 64,
-        initial_radius: 0.05,
-        alpha: 2.0 / 3.0,
+        // 1.5 pixel footprints: 0.05 on the floor under the patch.
+        initial_radius: 1.5,
+        alpha: shadelab::scene::defaults::CAUSTIC_ALPHA,
     };
     let image = render_caustics(&scene, &settings).unwrap();
-    let view = shadelab::camera::View::new(&scene, scene.image.width, scene.image.height);
-    let mirror_image = DVec3::new(1.0, 0.5, 0.0);
-    let (mut ratios, mut worst) = (Vec::new(), 0.0f64);
-    for y in 0..scene.image.height {
-        for x in 0..scene.image.width {
-            let dir = view.ray_direction(f64::from(x) + 0.5, f64::from(y) + 0.5);
-            let t = -view.eye.y / dir.y;
-            let p = view.eye + t * dir;
-            if !(t > 0.0 && p.x > -0.45 && p.x < 0.25 && p.z.abs() < 0.25) {
-                continue;
-            }
-            let to = mirror_image - p;
-            let d = to.length();
-            let want = 0.8 * (to.y / d) / (d + 1.0);
-            let got = f64::from(image.pixels[(y * scene.image.width + x) as usize][0]);
-            ratios.push(got / want);
-            worst = worst.max((got / want - 1.0).abs());
-        }
-    }
-    let mean = ratios.iter().sum::<f64>() / ratios.len() as f64;
-    let spread =
-        (ratios.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / ratios.len() as f64).sqrt();
+    let ratios = mirror_caustic_ratios(&scene, &image);
+    let (mean, spread, worst) = summary(&ratios);
     eprintln!(
         "{} pixels: mean ratio {mean}, spread {spread}, worst {worst}",
         ratios.len()
@@ -194,55 +126,6 @@ fn the_gathered_caustic_is_the_mirror_images_light() {
     assert!((mean - 1.0).abs() < 0.01, "{mean}");
     assert!(worst < 0.2, "{worst}");
 }
-
-/// A glass ball (kt = 1, ior 1.5) under a light, over a white floor, seen
-/// from above at an angle; no ambient, no highlight, lecture falloff.
-const GLASS_BALL_ON_A_FLOOR: &str = r#"
-[camera]
-position = [0.0, 3.0, 3.5]
-look_at = [0.0, 0.0, 0.0]
-fov_y = 40.0
-
-[image]
-width = 96
-height = 72
-
-[lighting]
-ambient = 0.0
-
-[[lights]]
-position = [0.3, 3.0, 0.0]
-intensity = 3.0
-
-[render]
-depth = 8
-samples = 16
-
-[materials.white]
-color = [1.0, 1.0, 1.0]
-kd = 0.8
-ks = 0.0
-
-[materials.glass]
-color = [1.0, 1.0, 1.0]
-kd = 0.0
-ks = 0.0
-kt = 1.0
-ior = 1.5
-
-[[objects]]
-shape = "plane"
-center = [0.0, 0.0, 0.0]
-normal = [0.0, 1.0, 0.0]
-size = 6.0
-material = "white"
-
-[[objects]]
-shape = "sphere"
-center = [0.0, 0.8, 0.0]
-radius = 0.5
-material = "glass"
-"#;
 
 /// Where both see the same paths, the floor seen directly under a glass
 /// ball, the gathered caustic is the forward tracer's: its image (direct
@@ -270,8 +153,9 @@ fn the_gathered_caustic_under_a_glass_ball_is_the_forward_tracers() {
     let settings = CausticSettings {
         photons_per_pass: 1 << 18,
         passes: 128,
-        initial_radius: 0.02,
-        alpha: 2.0 / 3.0,
+        // Half a pixel footprint: 0.02 on the floor under the ball.
+        initial_radius: 0.5,
+        alpha: shadelab::scene::defaults::CAUSTIC_ALPHA,
     };
     let gathered = render_caustics(&scene, &settings).unwrap();
     let (mut from_forward, mut from_map) = (0.0, 0.0);

@@ -8,6 +8,7 @@
 use ash::vk;
 use rt_layout::TraceSpecialization;
 use shadelab::gpu::raster::layout as raster_layout;
+use shadelab::gpu::raytrace::caustics;
 use shadelab::gpu::raytrace::forward::{PhotonBatch, PHOTONS_PER_LANE};
 use shadelab::gpu::raytrace::layout as rt_layout;
 use shadelab::gpu::shared::shader_catalog::{BindingKind, ShaderBlob, ShaderStage, ALL_SHADERS};
@@ -42,6 +43,12 @@ fn host_for(shader: &ShaderBlob) -> HostInterface {
     let forward = shader.defines.iter().any(|(d, _)| *d == "FORWARD");
     let paths = shader.defines.iter().any(|(d, _)| *d == "PATHS");
     match shader.stage {
+        ShaderStage::Compute if shader.name.starts_with("caustics.") => HostInterface {
+            bindings: rt_layout::BINDINGS,
+            record_size: rt_layout::forward_record_size,
+            spec_constants: rt_layout::SPEC_CONSTANTS,
+            push_constant_size: std::mem::size_of::<caustics::CausticPass>() as u32,
+        },
         ShaderStage::Compute if forward => HostInterface {
             bindings: rt_layout::BINDINGS,
             record_size: rt_layout::forward_record_size,
@@ -81,6 +88,20 @@ fn every_shader_binding_is_declared_by_the_host_with_the_same_type_and_record() 
         let host = host_for(shader);
         for b in shader.bindings {
             let ray_query = shader.defines.iter().any(|(d, _)| *d == "RAY_QUERY");
+            if shader.name.starts_with("caustics.") && b.set == 1 {
+                // The photon map's set (gpu::raytrace::caustics::map).
+                let (binding, ty) = caustics::MAP_BINDINGS[b.binding as usize];
+                assert_eq!(b.binding, binding, "{}", shader.name);
+                assert_eq!(host_kind(ty), b.kind, "{}", shader.name);
+                assert_eq!(
+                    caustics::MAP_RECORD_SIZES[b.binding as usize],
+                    b.record_size as usize,
+                    "{}: map binding {} record size",
+                    shader.name,
+                    b.binding
+                );
+                continue;
+            }
             if b.set == rt_layout::QUERY_SET && ray_query {
                 // The ray-query engine's second set: its structure alone.
                 let (binding, ty) = rt_layout::QUERY_BINDINGS[0];
@@ -278,8 +299,9 @@ fn every_stage_is_present() {
         // (Per-sample MSAA is a pass per sample: no variant of its own.)
         // The ray tracer: the binary and the 4-wide BVH walk and ray
         // queries, and the three again with diffuse bounces (PATHS); the
-        // forward tracer on the binary and the 4-wide walk.
-        (2 + 8 + 8, 1 + (4 + 2) + (8 + 4), 3 + 3 + 2)
+        // forward tracer and the photon map's caustics on the binary and
+        // the 4-wide walk.
+        (2 + 8 + 8, 1 + (4 + 2) + (8 + 4), 3 + 3 + 2 + 2)
     );
     // The second ray tracer is the ray-query engine, and it has its set.
     assert!(ALL_SHADERS.iter().any(|s| {
@@ -309,6 +331,12 @@ fn the_bvh_stack_size_listed_objects_and_work_item_are_the_shaders() {
     assert!(
         forward.contains(&photons),
         "forward.comp.glsl lacks `{photons}`"
+    );
+    let caustics_source = include_str!("../shaders/caustics.comp.glsl");
+    let per_lane = format!("const uint PER_LANE = {}u;", caustics::PER_LANE);
+    assert!(
+        caustics_source.contains(&per_lane),
+        "caustics.comp.glsl lacks `{per_lane}`"
     );
     for declared in [
         format!("const int BVH_STACK_SIZE = {};", rt_layout::BVH_STACK_SIZE),

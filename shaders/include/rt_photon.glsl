@@ -146,15 +146,16 @@ void add_to_film(uint pixel, vec3 value) {
 }
 
 // Sends the photon on from its hit by one event picked with u.x in
-// proportion to mean(kd C) (while diffuse bounces are left), kr and kt
-// (total internal reflection giving kt to the reflection), scaled down
-// together where they add to more than 1; whether it goes on (not
-// absorbed, nor sent below the surface).
-bool go_on(inout Flight f, Surfel s, MaterialRecord material, vec3 albedo, vec3 arriving, vec4 u) {
+// proportion to mean(kd C) (where `diffuse_allowed` and while diffuse
+// bounces are left), kr and kt (total internal reflection giving kt to the
+// reflection), scaled down together where they add to more than 1;
+// whether it goes on (not absorbed, nor sent below the surface).
+bool go_on(inout Flight f, Surfel s, MaterialRecord material, vec3 albedo, vec3 arriving, vec4 u,
+           bool diffuse_allowed) {
     vec3 d = f.dir;
     Children c = children_of(Ray(f.origin, d, 1.0, 0), s.normal, material, 0.0);
     float p_diffuse = 0.0;
-    if (f.diffuse_vertices <= int(frame.leaf_bases.w) && albedo != vec3(0.0)) {
+    if (diffuse_allowed && f.diffuse_vertices <= int(frame.leaf_bases.w) && albedo != vec3(0.0)) {
         p_diffuse = (albedo.x + albedo.y + albedo.z) / 3.0;
     }
     float p_reflect = c.reflects ? c.reflect_weight : 0.0;
@@ -185,17 +186,24 @@ bool go_on(inout Flight f, Surfel s, MaterialRecord material, vec3 albedo, vec3 
     return true;
 }
 
-// Photon i's flight, if `live`. Call in uniform control flow (its searches
-// walk the BVH as packets): a lane with no photon takes part with none.
-void trace_photon(uint i, bool live) {
+// Photon i of `total` as it leaves its light: the light its power picks,
+// a direction drawn uniformly over the sphere, and its share of the
+// light's power (cpu::forward::Flight::emit).
+Flight emit_photon(uint i, uint total) {
     vec4 u = photon_numbers(i, 0);
     float chance;
     int j = light_of(u.x, chance);
     float z = 1.0 - 2.0 * u.y;
     float r = sqrt(max(1.0 - z * z, 0.0));
     float phi = 6.283185307179586 * u.z;
-    Flight f = Flight(lights[j].position.xyz, vec3(r * cos(phi), r * sin(phi), z),
-                      12.566370614359172 * lights[j].intensity.rgb / (float(batch.total) * chance), 0.0, false, 0);
+    return Flight(lights[j].position.xyz, vec3(r * cos(phi), r * sin(phi), z),
+                  12.566370614359172 * lights[j].intensity.rgb / (float(total) * chance), 0.0, false, 0);
+}
+
+// Photon i's flight, if `live`. Call in uniform control flow (its searches
+// walk the BVH as packets): a lane with no photon takes part with none.
+void trace_photon(uint i, bool live) {
+    Flight f = emit_photon(i, batch.total);
     if (live) {
         counted_photons[0] += 1ul;
     }
@@ -243,7 +251,7 @@ void trace_photon(uint i, bool live) {
             f.diffuse_vertices += 1;
         }
         live = hits && level < depth && s.normal != vec3(0.0) &&
-               go_on(f, s, material, albedo, arriving, photon_numbers(i, level + 1));
+               go_on(f, s, material, albedo, arriving, photon_numbers(i, level + 1), true);
         if (!(HAS_BVH ? packet_any(live) : live)) {
             break;
         }

@@ -191,6 +191,22 @@ pub struct DepthArg {
     /// default 4194304). The noise falls as one over their square root.
     #[arg(long, allow_negative_numbers = true)]
     pub photons: Option<i64>,
+    /// Ray tracing: caustics from a photon map, N photons from the
+    /// lights each pass, gathered where the eye's paths land through
+    /// mirrors and glass and added to the image (overrides the scene's
+    /// render.caustics; 0, the default, is none).
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub caustics: Option<i64>,
+    /// Ray tracing with --caustics: the photon map's passes, 1 to 1048576
+    /// (overrides render.caustic_passes; default 16). Its gathering
+    /// radius shrinks pass by pass.
+    #[arg(long, value_name = "P", allow_negative_numbers = true)]
+    pub caustic_passes: Option<i64>,
+    /// Ray tracing with --caustics: the first gathering radius, in pixel
+    /// footprints where the eye's path lands (overrides
+    /// render.caustic_radius; default 2).
+    #[arg(long, value_name = "R", allow_negative_numbers = true)]
+    pub caustic_radius: Option<f64>,
 }
 
 impl DepthArg {
@@ -210,6 +226,47 @@ impl DepthArg {
         }
         if let Some(p) = self.photons {
             scene.render.photons = check_photons(p)?;
+        }
+        self.apply_caustics(&mut scene.render.caustics)
+    }
+
+    /// `--caustics`, `--caustic-passes` and `--caustic-radius`, each in
+    /// its range, all the passes' photons numbered in 32 bits.
+    fn apply_caustics(
+        &self,
+        caustics: &mut shadelab::scene::CausticSettings,
+    ) -> Result<(), Failure> {
+        if let Some(n) = self.caustics {
+            caustics.photons_per_pass = u32::try_from(n).map_err(|_| {
+                Failure::usage(format!(
+                    "--caustics {n} is out of range; expected 0 to {} photons per pass",
+                    u32::MAX
+                ))
+            })?;
+        }
+        if let Some(p) = self.caustic_passes {
+            caustics.passes = u32::try_from(p)
+                .ok()
+                .filter(|p| (1..=1 << 20).contains(p))
+                .ok_or_else(|| {
+                    Failure::usage(format!(
+                        "--caustic-passes {p} is out of range; expected 1 to 1048576"
+                    ))
+                })?;
+        }
+        if let Some(r) = self.caustic_radius {
+            if !(r.is_finite() && r > 0.0) {
+                return Err(Failure::usage(format!(
+                    "--caustic-radius {r} is out of range; expected a number above 0 (pixel footprints)"
+                )));
+            }
+            caustics.initial_radius = r;
+        }
+        if caustics.total_photons().is_none() {
+            return Err(Failure::usage(format!(
+                "--caustics {} times {} passes is past 4294967295 photons (photons are numbered in 32 bits); take fewer passes or photons per pass",
+                caustics.photons_per_pass, caustics.passes
+            )));
         }
         Ok(())
     }

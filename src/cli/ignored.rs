@@ -133,6 +133,9 @@ pub fn scene_flags_given(
         ("--depth", depth.depth.is_some()),
         ("--bounces", depth.bounces.is_some()),
         ("--photons", depth.photons.is_some()),
+        ("--caustics", depth.caustics.is_some()),
+        ("--caustic-passes", depth.caustic_passes.is_some()),
+        ("--caustic-radius", depth.caustic_radius.is_some()),
         ("--traversal", traversal.traversal.is_some()),
         ("--msaa", msaa.msaa.is_some()),
     ]

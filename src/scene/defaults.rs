@@ -10,7 +10,8 @@
 use glam::DVec3;
 
 use super::model::{
-    Falloff, ImageSettings, Interpolation, Lighting, Material, RenderSettings, Traversal,
+    CausticSettings, Falloff, ImageSettings, Interpolation, Lighting, Material, RenderSettings,
+    Traversal,
 };
 
 /// Vertical field of view in degrees, for a camera that does not give one.
@@ -70,11 +71,36 @@ impl Default for RenderSettings {
             samples: 1,
             bounces: 0,
             photons: DEFAULT_PHOTONS,
+            caustics: CausticSettings::default(),
             traversal: Traversal::Auto,
             msaa: crate::msaa::Msaa::default(),
         }
     }
 }
+
+impl Default for CausticSettings {
+    fn default() -> Self {
+        Self {
+            photons_per_pass: 0,
+            passes: DEFAULT_CAUSTIC_PASSES,
+            initial_radius: DEFAULT_CAUSTIC_RADIUS,
+            alpha: CAUSTIC_ALPHA,
+        }
+    }
+}
+
+/// The photon map's passes when a scene or `--caustic-passes` does not
+/// say.
+pub const DEFAULT_CAUSTIC_PASSES: u32 = 16;
+
+/// The photon map's first gathering radius, in pixel footprints, when a
+/// scene or `--caustic-radius` does not say: a disc about four pixels
+/// across.
+pub const DEFAULT_CAUSTIC_RADIUS: f64 = 2.0;
+
+/// SPPM's `alpha`, the share of a pass's photons a pixel's radius keeps:
+/// Hachisuka and Jensen's 2/3, and pbrt's.
+pub const CAUSTIC_ALPHA: f64 = 2.0 / 3.0;
 
 /// Forward ray tracing's photons when a scene or `--photons` does not
 /// say: 2^22, about 14 splats a pixel of a 640 x 480 image of a closed

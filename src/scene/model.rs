@@ -397,10 +397,43 @@ pub struct RenderSettings {
     /// Forward ray tracing: photons traced from the lights, split over
     /// them by power.
     pub photons: u32,
+    /// Ray tracing: caustics from a photon map, added to the backward
+    /// tracer's image (none where its photons per pass are 0).
+    pub caustics: CausticSettings,
     /// Ray tracing on the GPU: the engine that finds hits.
     pub traversal: Traversal,
     /// The raster modes: samples per pixel and where they are shaded.
     pub msaa: crate::msaa::Msaa,
+}
+
+/// How the ray tracer's caustics are gathered from a progressive photon
+/// map (docs/lighting-model.md, "Caustics").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CausticSettings {
+    /// Photons emitted each pass (each carries `1 / photons_per_pass` of
+    /// the lights' power); 0: no caustics.
+    pub photons_per_pass: u32,
+    pub passes: u32,
+    /// Every pixel's gathering radius where its eye path first finds a
+    /// diffuse surface, in pixel footprints there: the path's length
+    /// times the angle a pixel spans (`2 / (focal height)`), so that the
+    /// first radius covers about as many pixels anywhere in the image.
+    pub initial_radius: f64,
+    /// The share of a pass's photons the radius keeps (SPPM's `alpha`).
+    pub alpha: f64,
+}
+
+impl CausticSettings {
+    /// Whether the ray tracer gathers caustics at all.
+    pub fn on(&self) -> bool {
+        self.photons_per_pass > 0 && self.passes > 0
+    }
+
+    /// Every photon the passes emit; `None` past 2^32 - 1 (a photon's
+    /// number is 32 bits).
+    pub fn total_photons(&self) -> Option<u32> {
+        u32::try_from(u64::from(self.photons_per_pass) * u64::from(self.passes)).ok()
+    }
 }
 
 /// Two unit vectors `(u, v)` spanning the plane with unit normal `n`, with

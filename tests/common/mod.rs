@@ -3,6 +3,7 @@
 //! surface point each pixel centre sees.
 #![allow(dead_code)]
 
+pub mod caustic_scenes;
 pub mod cli;
 pub mod closed_sphere;
 pub mod doc_commands;

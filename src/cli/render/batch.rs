@@ -128,6 +128,13 @@ impl Batch {
                 if let Some(warning) = blind {
                     eprintln!("shadelab: warning: {}: {warning}", scene.name);
                 }
+                let pointless = modes
+                    .contains(&Shading::Raytrace)
+                    .then(|| shadelab::caustics::pointless(loaded))
+                    .flatten();
+                if let Some(warning) = pointless {
+                    eprintln!("shadelab: warning: {}: {warning}", scene.name);
+                }
             }
         }
         // One device for the batch, opened only if a case renders on it.

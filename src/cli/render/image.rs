@@ -37,6 +37,12 @@ pub(super) fn effective_settings(
         "samples": ray_traced.then_some(r.samples),
         "bounces": (ray_traced || forward).then_some(r.bounces),
         "photons": forward.then_some(r.photons),
+        "caustics": rendered.caustics.map(|c| serde_json::json!({
+            "photons_per_pass": c.photons_per_pass,
+            "passes": c.passes,
+            "initial_radius": r.caustics.initial_radius,
+            "alpha": r.caustics.alpha,
+        })),
         "shadows": ray_traced.then_some(r.shadows),
         "cutoff": ray_traced.then_some(r.cutoff),
         "traversal": rendered.traversal.map(|t| t.name()),

@@ -44,6 +44,11 @@ pub(super) fn run_shard(
             "--shard splits the samples of a ray trace with diffuse bounces (--bounces 1 or more); a Whitted trace is exact per sample, quick, and its f32 mean does not add up across machines: render it whole".into(),
         ));
     }
+    if shading == Shading::Raytrace && scene.render.caustics.on() {
+        return Err(Failure::usage(
+            "--shard splits the samples of a ray trace, and its caustics do not split: each pass of the photon map shrinks the radius the last one left; leave out --caustics (and render.caustics) for a shard".into(),
+        ));
+    }
     shadelab::output::prepare_output_path(&out)?;
     let backend = if args.backend == "cpu" {
         Backend::Cpu

@@ -149,6 +149,11 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
             eprintln!("shadelab: warning: {warning}");
         }
     }
+    if shading == Shading::Raytrace {
+        if let Some(warning) = shadelab::caustics::pointless(&loaded.scene) {
+            eprintln!("shadelab: warning: {warning}");
+        }
+    }
     let settings = effective_settings(
         path,
         shading,
@@ -397,6 +402,10 @@ fn print_json(
         value["traced"] = film.traced.into();
         value["estimated_rmse"] = film.estimated_rmse.into();
     }
+    if let Some(caustics) = &rendered.caustics {
+        value["caustics"] =
+            serde_json::to_value(caustics).expect("the photon map's report serialises to JSON");
+    }
     println!("{value}");
 }
 
@@ -418,6 +427,9 @@ fn print_line(args: &RenderArgs, shading: Shading, image: &Written) {
     );
     if let Some(photons) = rendered.film.as_ref().and_then(|f| f.photons) {
         print_photons(&photons);
+    }
+    if let Some(caustics) = &rendered.caustics {
+        super::stats::print_caustics(caustics);
     }
     if args.stats {
         print_stats(rendered.ray_stats.as_ref(), &rendered.timings, shading);

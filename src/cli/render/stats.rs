@@ -50,3 +50,19 @@ pub(super) fn print_photons(s: &PhotonStats) {
         s.emitted, s.seen, s.splats
     );
 }
+
+/// One line: the photon map's passes and photons, what they did (on the
+/// GPU), and its time.
+pub(super) fn print_caustics(c: &shadelab::caustics::CausticReport) {
+    let photons = u64::from(c.photons_per_pass) * u64::from(c.passes);
+    let did = c.photons.map_or(String::new(), |p| {
+        format!(
+            ", {} landed on a diffuse surface through a mirror or glass, {} gathered",
+            p.landed, p.gathered
+        )
+    });
+    println!(
+        "caustics: {} passes of {} photons ({photons} in all{did}), {:.1} ms",
+        c.passes, c.photons_per_pass, c.ms
+    );
+}

@@ -7,5 +7,6 @@
 mod photons;
 mod sppm;
 
+pub use crate::scene::CausticSettings;
 pub use photons::{caustic_photons, trace_caustic_photon, CausticPhoton};
-pub use sppm::{render_caustics, CausticSettings};
+pub use sppm::render_caustics;

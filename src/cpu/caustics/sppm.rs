@@ -23,35 +23,23 @@ use crate::cpu::raytrace::{children, facing_normal, offset_origin, pcg4d};
 use crate::cpu::surface::hit_tint;
 use crate::linear_image::LinearImage;
 use crate::rt_scene::RtScene;
-use crate::scene::Scene;
-
-/// How a caustic image is made.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CausticSettings {
-    /// Photons emitted each pass (a pass's photons carry `1 / photons` of
-    /// the lights' power each).
-    pub photons_per_pass: u32,
-    pub passes: u32,
-    /// Every pixel's gathering radius before the first pass, in scene
-    /// units.
-    pub initial_radius: f64,
-    /// The share of a pass's photons the radius keeps (SPPM's `alpha`;
-    /// 2/3 is Hachisuka and Jensen's, and pbrt's).
-    pub alpha: f64,
-}
+use crate::scene::{CausticSettings, Scene};
 
 /// A pixel's eye path where it stops on a diffuse surface.
 #[derive(Debug, Clone, Copy)]
-struct VisiblePoint {
-    position: DVec3,
-    normal: DVec3,
+pub(crate) struct VisiblePoint {
+    pub position: DVec3,
+    pub normal: DVec3,
     /// The path's mirror and glass weights times the surface's `kd C`.
-    weight: DVec3,
+    pub weight: DVec3,
+    /// The path's length from the eye.
+    pub length: f64,
 }
 
 /// What a pixel has gathered so far.
 #[derive(Debug, Clone, Copy)]
 struct PixelState {
+    /// 0 until its eye path first finds a diffuse surface.
     radius: f64,
     /// Photons kept by the radius rule (fractional).
     count: f64,
@@ -69,8 +57,9 @@ pub fn render_caustics(scene: &Scene, settings: &CausticSettings) -> Option<Line
     let view = View::new(scene, width, height);
     let per_pass = settings.photons_per_pass;
     u32::try_from(u64::from(per_pass) * u64::from(settings.passes)).ok()?;
+    let pixel_angle = 2.0 / (view.focal * f64::from(height));
     let fresh = PixelState {
-        radius: settings.initial_radius,
+        radius: 0.0,
         count: 0.0,
         flux: DVec3::ZERO,
     };
@@ -78,17 +67,25 @@ pub fn render_caustics(scene: &Scene, settings: &CausticSettings) -> Option<Line
     for pass in 0..settings.passes {
         let first = pass * per_pass;
         let photons = caustic_photons(&rt, first..first + per_pass, per_pass)?;
+        let points: Vec<Option<VisiblePoint>> = (0..states.len() as u32)
+            .into_par_iter()
+            .map(|pixel| visible_point(&rt, &accel, &view, (pixel, pass)))
+            .collect();
+        for (state, point) in states.iter_mut().zip(&points) {
+            if let (Some(point), true) = (point, state.radius == 0.0) {
+                state.radius = settings.initial_radius * point.length * pixel_angle;
+            }
+        }
         let widest = states.iter().map(|s| s.radius).fold(0.0, f64::max);
         let grid = PhotonGrid::new(&photons, widest);
         states
             .par_iter_mut()
-            .enumerate()
-            .for_each(|(pixel, state)| {
-                let pixel = pixel as u32;
-                let Some(point) = visible_point(&rt, &accel, &view, (pixel, pass)) else {
+            .zip(points.par_iter())
+            .for_each(|(state, point)| {
+                let Some(point) = point else {
                     return;
                 };
-                let (found, flux) = grid.gather(&point, state.radius);
+                let (found, flux) = grid.gather(point, state.radius);
                 if found > 0 {
                     let count = state.count + settings.alpha * f64::from(found);
                     let shrink = count / (state.count + f64::from(found));
@@ -102,6 +99,9 @@ pub fn render_caustics(scene: &Scene, settings: &CausticSettings) -> Option<Line
     let pixels = states
         .iter()
         .map(|s| {
+            if s.count == 0.0 {
+                return [0.0; 3];
+            }
             let area = std::f64::consts::PI * s.radius * s.radius * passes;
             (s.flux / area).as_vec3().to_array()
         })
@@ -115,10 +115,11 @@ pub fn render_caustics(scene: &Scene, settings: &CausticSettings) -> Option<Line
 
 /// The visible point of `pixel` (`y * width + x`) in `pass`: its eye ray
 /// through a point of the pixel drawn from `pcg4d(pixel, pass, 0, 3)`,
-/// through mirrors and glass by events drawn from `pcg4d(pixel, pass,
-/// level, 3)`, to its first surface with `kd C` not zero. `None` where
-/// the path leaves the scene, is absorbed, or runs past `depth`.
-fn visible_point(
+/// then one event at each surface drawn from `pcg4d(pixel, pass, level, 3)`
+/// (docs/lighting-model.md, "Caustics": stop on the surface's `kd C`, or go
+/// on by `kr` or `kt`), to the surface it stops on. `None` where the path
+/// leaves the scene, is absorbed, or runs past `depth`.
+pub(crate) fn visible_point(
     rt: &RtScene,
     accel: &Accel,
     view: &View,
@@ -131,29 +132,39 @@ fn visible_point(
         origin: DVec3::ZERO,
         dir: view.ray_direction(f64::from(x) + unit(u0), f64::from(y) + unit(u1)),
     };
-    let mut weight = DVec3::ONE;
+    let (mut weight, mut length) = (DVec3::ONE, 0.0);
     for level in 0..=rt.render.depth {
         let hit = accel.nearest(&ray)?;
         if hit.normal == DVec3::ZERO {
             return None;
         }
         let p = ray.origin + hit.t * ray.dir;
+        length += hit.t;
         let material = &rt.materials[hit.material as usize];
         let (tint, _) = hit_tint(rt, &hit, p, ray.dir, 0.0);
         let albedo = material.kd * material.color * tint;
         let ng = hit.geometric_normal;
-        if albedo != DVec3::ZERO {
-            return Some(VisiblePoint {
-                position: p,
-                normal: facing_normal(hit.normal, ng, ray.dir),
-                weight: weight * albedo,
-            });
-        }
         let [reflected, refracted] = children(ray.dir, hit.normal, material, DVec3::ONE);
         let p_reflect = reflected.map_or(0.0, |(_, w, _)| w.x);
         let p_refract = refracted.map_or(0.0, |(_, w, _)| w.x);
+        // Where the surface also reflects or transmits, half the paths
+        // stop on it and half go on, each weighted up by two.
+        let p_stop = match (albedo != DVec3::ZERO, p_reflect + p_refract > 0.0) {
+            (false, _) => 0.0,
+            (true, false) => 1.0,
+            (true, true) => 0.5,
+        };
+        let u = unit(pcg4d([pixel, pass, level + 1, 3])[0]);
+        if u < p_stop {
+            return Some(VisiblePoint {
+                position: p,
+                normal: facing_normal(hit.normal, ng, ray.dir),
+                weight: weight * albedo / p_stop,
+                length,
+            });
+        }
         let scale = (p_reflect + p_refract).max(1.0);
-        let pick = unit(pcg4d([pixel, pass, level + 1, 3])[0]) * scale;
+        let pick = (u - p_stop) / (1.0 - p_stop) * scale;
         let dir = if pick < p_reflect {
             reflected?.0
         } else if pick < p_reflect + p_refract {
@@ -161,7 +172,7 @@ fn visible_point(
         } else {
             return None;
         };
-        weight *= scale;
+        weight *= scale / (1.0 - p_stop);
         ray = Ray {
             origin: offset_origin(p, ray.origin, ng, dir),
             dir,

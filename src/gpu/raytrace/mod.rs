@@ -14,6 +14,7 @@ mod accel;
 mod batches;
 mod buffers;
 pub mod bvh;
+pub mod caustics;
 mod dispatch;
 pub mod forward;
 pub mod layout;

@@ -231,6 +231,7 @@ msaa    = 1                       # raster modes: samples per pixel ("4,per-samp
                 samples: 1,
                 bounces: 0,
                 photons: 1 << 22,
+                caustics: crate::scene::CausticSettings::default(),
                 traversal: Traversal::Auto,
                 msaa: crate::msaa::Msaa::default(),
             }
@@ -342,7 +343,7 @@ msaa    = 1                       # raster modes: samples per pixel ("4,per-samp
             "[lighting]\nambient = [0.1, 0.2, 0.3]\nk = 0\ninterpolation = \"screen\"\nattenuation = false\n\
              [[lights]]\nposition = [1, 2, 3]\nintensity = [1, 0.5, 0]\n\
              [materials.m]\n[[objects]]\nshape = \"box\"\ncenter = [0, 0, 0]\nsize = [2, 4, 6]\nrotate_deg = [0, 90, 0]\nmaterial = \"m\"\n\
-             [render]\ndepth = 0\ncutoff = 0\nshadows = false\nsamples = 16\nbounces = 3\nphotons = 1000\ntraversal = \"query\"\nmsaa = \"4,per-sample\"\n",
+             [render]\ndepth = 0\ncutoff = 0\nshadows = false\nsamples = 16\nbounces = 3\nphotons = 1000\ncaustics = 5000\ncaustic_passes = 7\ncaustic_radius = 1.5\ntraversal = \"query\"\nmsaa = \"4,per-sample\"\n",
         ));
         assert_eq!(s.lighting.ambient, DVec3::new(0.1, 0.2, 0.3));
         assert_eq!(s.lighting.k, 0.0);
@@ -369,6 +370,12 @@ msaa    = 1                       # raster modes: samples per pixel ("4,per-samp
                 samples: 16,
                 bounces: 3,
                 photons: 1000,
+                caustics: crate::scene::CausticSettings {
+                    photons_per_pass: 5000,
+                    passes: 7,
+                    initial_radius: 1.5,
+                    alpha: crate::scene::defaults::CAUSTIC_ALPHA,
+                },
                 traversal: Traversal::Query,
                 msaa: crate::msaa::Msaa {
                     samples: 4,

@@ -48,6 +48,7 @@ pub(super) fn render(cx: &Ctx, raw: Option<&RenderRaw>) -> Result<RenderSettings
             let why = " (photons are numbered in 32 bits)";
             render.photons = cx.int_in(p, "render.photons", 1, i64::from(u32::MAX), why)?;
         }
+        caustics(cx, r, &mut render.caustics)?;
         if let Some(t) = r.traversal {
             render.traversal = t;
         }
@@ -62,6 +63,44 @@ pub(super) fn render(cx: &Ctx, raw: Option<&RenderRaw>) -> Result<RenderSettings
         }
     }
     Ok(render)
+}
+
+/// `render.caustics`, `render.caustic_passes` and `render.caustic_radius`:
+/// the photon map's photons per pass, its passes and its first radius, all
+/// its photons numbered in 32 bits.
+fn caustics(
+    cx: &Ctx,
+    r: &RenderRaw,
+    caustics: &mut crate::scene::CausticSettings,
+) -> Result<(), SceneError> {
+    let most = i64::from(u32::MAX);
+    if let Some(p) = &r.caustics {
+        let why = " (photons are numbered in 32 bits)";
+        caustics.photons_per_pass = cx.int_in(p, "render.caustics", 0, most, why)?;
+    }
+    if let Some(p) = &r.caustic_passes {
+        caustics.passes = cx.int_in(p, "render.caustic_passes", 1, 1 << 20, "")?;
+    }
+    if let Some(radius) = &r.caustic_radius {
+        let value = cx.non_negative(radius, "render.caustic_radius")?;
+        if value <= 0.0 {
+            return Err(cx.err(
+                radius,
+                "render.caustic_radius must be above 0 (pixel footprints)",
+            ));
+        }
+        caustics.initial_radius = value;
+    }
+    if let (Some(p), None) = (&r.caustics, caustics.total_photons()) {
+        return Err(cx.err(
+            p,
+            format!(
+                "render.caustics times render.caustic_passes is {} photons, past 4294967295 (photons are numbered in 32 bits)",
+                u64::from(caustics.photons_per_pass) * u64::from(caustics.passes)
+            ),
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

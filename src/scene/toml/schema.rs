@@ -224,6 +224,9 @@ pub(super) struct RenderRaw {
     pub(super) samples: Option<Spanned<i64>>,
     pub(super) bounces: Option<Spanned<i64>>,
     pub(super) photons: Option<Spanned<i64>>,
+    pub(super) caustics: Option<Spanned<i64>>,
+    pub(super) caustic_passes: Option<Spanned<i64>>,
+    pub(super) caustic_radius: Option<Spanned<Finite>>,
     pub(super) traversal: Option<Traversal>,
     pub(super) msaa: Option<Spanned<MsaaRaw>>,
 }

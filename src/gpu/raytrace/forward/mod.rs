@@ -8,4 +8,5 @@ mod pipeline;
 mod renderer;
 
 pub use pipeline::PhotonBatch;
+pub(in crate::gpu::raytrace) use renderer::{refuse_what_cannot_run, PhotonScene};
 pub use renderer::{render, ForwardOutput, PHOTONS_PER_LANE};

@@ -12,8 +12,9 @@ use crate::film_sums::{FilmSums, PhotonStats, RenderPart};
 use crate::gpu::raytrace::batches;
 use crate::gpu::raytrace::buffers::TraceBuffers;
 use crate::gpu::raytrace::dispatch::{cpu_threads, submit_batch, BoundTrace, QUEUE_EXHAUSTED};
+use crate::gpu::raytrace::layout::TraceSpecialization;
 use crate::gpu::raytrace::layout::WORKGROUP_SIZE;
-use crate::gpu::raytrace::records::records;
+use crate::gpu::raytrace::records::{records, SceneRecords};
 use crate::gpu::raytrace::renderer::{specialization, TraceOptions};
 use crate::gpu::shared::image_size::check_image_size;
 use crate::gpu::shared::lights::lights;
@@ -58,35 +59,17 @@ pub fn render(
     let view = View::new(scene, width, height);
 
     let prepare_started = Instant::now();
-    let rt = RtScene::new(scene);
-    let shares = LightShares::of(&rt).ok_or_else(|| {
-        GpuError::NoLightToTraceFrom(if rt.lights.is_empty() {
-            "no light".into()
-        } else {
-            "only lights of zero intensity".into()
-        })
-    })?;
-    let mut records = records(&rt)?;
-    let spec = specialization(scene, &rt, TraceOptions::default());
+    let prepared = PhotonScene::prepare(scene)?;
     let prepare_ms = ms_since(prepare_started);
 
     let pipeline_started = Instant::now();
-    let wide = records.bvh.wide.is_some();
-    let pipeline = pipeline::get_or_build(context, &spec, wide)?;
+    let wide = prepared.records.bvh.wide.is_some();
+    let pipeline = pipeline::get_or_build(context, &prepared.spec, wide)?;
     let pipeline_ms = ms_since(pipeline_started);
 
     let upload_started = Instant::now();
-    if spec.has_bvh != 0 && records.bvh.root.is_none() {
-        records.add_unhittable_triangle();
-    }
-    let mut light_records = lights(scene, view.eye);
-    for (j, light) in light_records.iter_mut().enumerate() {
-        light.position[3] = shares.end(j);
-    }
     let film_bytes = 3 * 8 * u64::from(width) * u64::from(height);
-    let mut buffers =
-        TraceBuffers::upload(context, &light_records, &view, &rt, &records, film_bytes)?;
-    buffers.zero_output();
+    let buffers = prepared.upload(context, scene, &view, film_bytes)?;
     let descriptors = buffers.bind(context, pipeline.set_layout)?;
     let bound = BoundTrace {
         pipeline: &pipeline,
@@ -139,9 +122,71 @@ pub fn render(
     })
 }
 
+/// A scene laid out for photons: as the ray tracer lays it out, the
+/// lights' shares of the photons beside (also the photon map's).
+pub(in crate::gpu::raytrace) struct PhotonScene {
+    pub rt: RtScene,
+    pub shares: LightShares,
+    pub records: SceneRecords,
+    pub spec: TraceSpecialization,
+}
+
+impl PhotonScene {
+    /// The records of `scene`; refused where no light has power.
+    pub fn prepare(scene: &Scene) -> Result<Self, GpuError> {
+        let rt = RtScene::new(scene);
+        let shares = LightShares::of(&rt).ok_or_else(|| {
+            GpuError::NoLightToTraceFrom(if rt.lights.is_empty() {
+                "no light".into()
+            } else {
+                "only lights of zero intensity".into()
+            })
+        })?;
+        let records = records(&rt)?;
+        let spec = specialization(scene, &rt, TraceOptions::default());
+        Ok(Self {
+            rt,
+            shares,
+            records,
+            spec,
+        })
+    }
+
+    /// The trace's buffers, each light's running share of the photons in
+    /// its record's w, a zeroed film of `film_bytes` as the output.
+    pub fn upload(
+        mut self,
+        context: &Arc<GpuContext>,
+        scene: &Scene,
+        view: &View,
+        film_bytes: u64,
+    ) -> Result<TraceBuffers, GpuError> {
+        if self.spec.has_bvh != 0 && self.records.bvh.root.is_none() {
+            self.records.add_unhittable_triangle();
+        }
+        let mut light_records = lights(scene, view.eye);
+        for (j, light) in light_records.iter_mut().enumerate() {
+            light.position[3] = self.shares.end(j);
+        }
+        let mut buffers = TraceBuffers::upload(
+            context,
+            &light_records,
+            view,
+            &self.rt,
+            &self.records,
+            film_bytes,
+        )?;
+        buffers.zero_output();
+        Ok(buffers)
+    }
+}
+
 /// Refuses a device without the forward tracer's needs, and an image over
-/// its limits.
-fn refuse_what_cannot_run(context: &Arc<GpuContext>, scene: &Scene) -> Result<(), GpuError> {
+/// its limits (also the photon map's).
+pub(in crate::gpu::raytrace) fn refuse_what_cannot_run(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+) -> Result<(), GpuError> {
     let info = &context.info;
     let why_not = info.no_ray_tracer_because.as_ref();
     if let Some(why) = why_not.or(info.no_forward_because.as_ref()) {
