@@ -28,12 +28,26 @@ pub struct CausticReport {
     pub photons: Option<CausticStats>,
 }
 
+/// Whether `scene` has caustics to gather: a mirror or glass, and a light
+/// with power.
+pub fn has_caustics(scene: &Scene) -> bool {
+    why_none(scene).is_none()
+}
+
 /// Why `scene`'s caustics add nothing, where they are asked for: no
 /// material reflects or transmits, or no light has power.
 pub fn pointless(scene: &Scene) -> Option<String> {
     if !scene.render.caustics.on() {
         return None;
     }
+    let why = why_none(scene)?;
+    Some(format!(
+        "--caustics: {why}, so the scene has no caustic; no photon is traced"
+    ))
+}
+
+/// Why `scene` has no caustic, if it has none.
+fn why_none(scene: &Scene) -> Option<&'static str> {
     let redirects = scene.objects.iter().any(|o| {
         let m = &scene.materials[o.material];
         m.kr > 0.0 || m.kt > 0.0
@@ -42,16 +56,13 @@ pub fn pointless(scene: &Scene) -> Option<String> {
         .lights
         .iter()
         .any(|l| l.intensity.x + l.intensity.y + l.intensity.z > 0.0);
-    let why = if !redirects {
-        "no object has a mirror (kr) or glass (kt) to send light on"
+    if !redirects {
+        Some("no object has a mirror (kr) or glass (kt) to send light on")
     } else if !emits {
-        "no light has an intensity above 0"
+        Some("no light has an intensity above 0")
     } else {
-        return None;
-    };
-    Some(format!(
-        "--caustics: {why}, so the scene has no caustic; no photon is traced"
-    ))
+        None
+    }
 }
 
 /// Adds `scene`'s caustic image to `image` (the backward tracer's), on the

@@ -33,6 +33,13 @@ pub struct Variant {
     /// Forward ray tracing's photons (`--photons`).
     #[serde(default)]
     pub photons: Option<u32>,
+    /// The ray tracer's caustics: photons per pass of its photon map
+    /// (`--caustics`; 0: none).
+    #[serde(default)]
+    pub caustics: Option<u32>,
+    /// The photon map's passes (`--caustic-passes`).
+    #[serde(default)]
+    pub caustic_passes: Option<u32>,
     pub shadows: Option<bool>,
     /// A lighting hook's file (`--lighting`), for every mode.
     #[serde(default)]
@@ -60,6 +67,8 @@ impl Variant {
             samples: None,
             bounces: None,
             photons: None,
+            caustics: None,
+            caustic_passes: None,
             shadows: None,
             lighting: None,
             traversal: None,
@@ -99,6 +108,12 @@ impl Variant {
         }
         if let Some(n) = self.photons {
             s.render.photons = n;
+        }
+        if let Some(n) = self.caustics {
+            s.render.caustics.photons_per_pass = n;
+        }
+        if let Some(n) = self.caustic_passes {
+            s.render.caustics.passes = n;
         }
         if let Some(on) = self.shadows {
             s.render.shadows = on;
@@ -146,6 +161,12 @@ impl fmt::Display for Variant {
         }
         if let Some(n) = self.photons {
             keys.push(format!("photons={n}"));
+        }
+        if let Some(n) = self.caustics {
+            keys.push(format!("caustics={n}"));
+        }
+        if let Some(n) = self.caustic_passes {
+            keys.push(format!("caustic_passes={n}"));
         }
         if let Some(on) = self.shadows {
             keys.push(format!("shadows={on}"));
@@ -298,6 +319,22 @@ impl Variant {
                 }
                 self.photons = Some(n);
             }
+            "caustics" => {
+                setting.only(backward, "raytrace")?;
+                let range = "an integer from 0 to 4294967295";
+                self.caustics = Some(value.parse().map_err(|_| bad(range))?);
+                self.check_caustic_photons(setting)?;
+            }
+            "caustic_passes" => {
+                setting.only(backward, "raytrace")?;
+                let range = "an integer from 1 to 1048576";
+                let n: u32 = value.parse().map_err(|_| bad(range))?;
+                if !(1..=1 << 20).contains(&n) {
+                    return Err(bad(range));
+                }
+                self.caustic_passes = Some(n);
+                self.check_caustic_photons(setting)?;
+            }
             "shadows" => {
                 setting.only(backward, "raytrace")?;
                 self.shadows = Some(value.parse().map_err(|_| bad("true or false"))?);
@@ -324,7 +361,7 @@ impl Variant {
             }
             key => {
                 return Err(format!(
-                    "variant `{}`: unknown setting `{key}`; expected segments, interpolation, depth, cutoff, samples, bounces, photons, shadows, lighting, traversal, filter or msaa",
+                    "variant `{}`: unknown setting `{key}`; expected segments, interpolation, depth, cutoff, samples, bounces, photons, caustics, caustic_passes, shadows, lighting, traversal, filter or msaa",
                     setting.text
                 ))
             }
@@ -333,11 +370,34 @@ impl Variant {
     }
 }
 
+impl Variant {
+    /// A variant's caustic photons in all are numbered in 32 bits.
+    fn check_caustic_photons(&self, setting: &Setting) -> Result<(), String> {
+        let photons = u64::from(self.caustics.unwrap_or(0));
+        let passes = u64::from(self.caustic_passes.unwrap_or(1));
+        if photons * passes > u64::from(u32::MAX) {
+            return Err(format!(
+                "variant `{}`: caustics times caustic_passes is {} photons, past 4294967295",
+                setting.text,
+                photons * passes
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Photons per pass of the default caustic variants: few, so that the
+/// reference's four times as many passes of four times as many stay
+/// quick on the CPU.
+pub const DEFAULT_CAUSTIC_PHOTONS: u32 = 16384;
+
 /// The variants that show a scene's interesting axes: every mode; a
 /// tessellation sweep of the raster modes if the scene has spheres; screen
 /// against perspective interpolation; 4 samples per pixel in each raster
 /// mode; a depth sweep and a cut-off sweep of
-/// the ray tracer if anything reflects or refracts; the three texture
+/// the ray tracer if anything reflects or refracts; caustics from a photon
+/// map at 4, 16 and 64 passes if a mirror or glass can redirect a light's
+/// light; the three texture
 /// filters in Phong shading and ray tracing if an object has an image.
 pub fn default_variants(scene: &Scene) -> Vec<Variant> {
     let parse = |s: &str| s.parse::<Variant>().expect("built-in variants parse");
@@ -373,6 +433,14 @@ pub fn default_variants(scene: &Scene) -> Vec<Variant> {
         list.push(parse("raytrace"));
     }
     list.push(parse("raytrace:samples=4"));
+    if crate::caustics::has_caustics(scene) {
+        // SPPM's error pass by pass: the time doubles with the passes.
+        for passes in [4, 16, 64] {
+            list.push(parse(&format!(
+                "raytrace:caustics={DEFAULT_CAUSTIC_PHOTONS},caustic_passes={passes}"
+            )));
+        }
+    }
     let textured = scene
         .objects
         .iter()
@@ -411,6 +479,7 @@ mod tests {
             "gouraud:segments=16,msaa=4,per-sample",
             "raytrace:samples=16,bounces=2",
             "forward:bounces=2,photons=1048576",
+            "raytrace:caustics=65536,caustic_passes=16",
         ] {
             let v: Variant = text.parse().unwrap();
             assert_eq!(v.to_string(), text);
@@ -481,6 +550,12 @@ mod tests {
             ("forward:samples=4", "raytrace only"),
             ("raytrace:photons=1000", "forward only"),
             ("forward:photons=0", "1 to 4294967295"),
+            ("phong:caustics=1000", "raytrace only"),
+            ("raytrace:caustic_passes=0", "1 to 1048576"),
+            (
+                "raytrace:caustics=100000,caustic_passes=100000",
+                "past 4294967295",
+            ),
             ("raytrace:segments=8", "flat, gouraud and phong only"),
             ("gouraud:segments=2", "3 to 4096"),
             ("raytrace:cutoff=-1", ">= 0"),

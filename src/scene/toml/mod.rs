@@ -30,6 +30,9 @@
 //! | `render.samples` | `1` | 1..=1024 |
 //! | `render.bounces` | `0` | 0..=64: diffuse bounces of the ray tracer's paths (secondary illumination; 0 is the Whitted tracer) |
 //! | `render.photons` | `4194304` | 1..=4294967295: photons forward ray tracing traces from the lights |
+//! | `render.caustics` | `0` | 0..=4294967295: photons per pass of the ray tracer's photon map (caustics) |
+//! | `render.caustic_passes` | `16` | 1..=1048576: the photon map's passes |
+//! | `render.caustic_radius` | `2` | > 0: its first radius, in pixel footprints |
 //! | `render.traversal` | `"auto"` | or `"bvh"`, `"query"`: the GPU ray tracer's engine |
 //! | `render.msaa` | `1` | the raster modes' samples per pixel, 1..=64 (the device's counts: `shadelab info`), or `"4,per-sample"` to shade every sample |
 //!
