@@ -24,6 +24,10 @@ pub struct CausticReport {
     pub passes: u32,
     /// The photon map's whole time, in milliseconds.
     pub ms: f64,
+    /// The GPU's only: its passes' GPU time and submit-to-completion time
+    /// (added to the render's `gpu_ms` and `submit_ms`).
+    pub gpu_ms: Option<f64>,
+    pub submit_ms: Option<f64>,
     /// The GPU's only: what the photons did.
     pub photons: Option<CausticStats>,
 }
@@ -81,10 +85,11 @@ pub fn add(
     }
     let started = Instant::now();
     let passes = RenderPart::all(settings.passes);
-    let (caustic, photons, done) = match context {
+    let (caustic, photons, done, gpu) = match context {
         Some(context) => {
             let out = caustics::render(context, scene, &passes, counter)?;
-            (out.image, Some(out.stats), out.stats.passes)
+            let gpu = (out.timings.gpu_ms, out.timings.submit_ms);
+            (out.image, Some(out.stats), out.stats.passes, Some(gpu))
         }
         None => {
             counter.begin("caustic passes", u64::from(settings.passes));
@@ -95,7 +100,7 @@ pub fn add(
                 ))
             })?;
             counter.add(u64::from(settings.passes));
-            (image, None, settings.passes)
+            (image, None, settings.passes, None)
         }
     };
     for (pixel, add) in image.pixels.iter_mut().zip(&caustic.pixels) {
@@ -107,6 +112,8 @@ pub fn add(
         photons_per_pass: settings.photons_per_pass,
         passes: done,
         ms: started.elapsed().as_secs_f64() * 1e3,
+        gpu_ms: gpu.map(|g| g.0),
+        submit_ms: gpu.map(|g| g.1),
         photons,
     }))
 }

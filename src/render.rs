@@ -253,7 +253,11 @@ fn with_caustics(
 ) -> Result<(), Error> {
     rendered.caustics = crate::caustics::add(context, scene, &mut rendered.image, counter)?;
     if let Some(report) = &rendered.caustics {
-        rendered.timings.total_ms += report.ms;
+        let t = &mut rendered.timings;
+        t.total_ms += report.ms;
+        let add = |a: Option<f64>, b: Option<f64>| a.map(|a| a + b.unwrap_or(0.0));
+        t.gpu_ms = add(t.gpu_ms, report.gpu_ms);
+        t.submit_ms = add(t.submit_ms, report.submit_ms);
     }
     Ok(())
 }
@@ -377,8 +381,20 @@ pub fn render_cpu_counted(
     }
     let Some(mode) = shading.raster_mode() else {
         let part = RenderPart::all(part_total(scene, shading));
-        let (mut rendered, coverage) = raytrace_cpu(scene, &part, counter);
+        let (mut rendered, mut coverage) = raytrace_cpu(scene, &part, counter);
+        let backward = rendered.image.pixels.clone();
         with_caustics(None, scene, &mut rendered, counter)?;
+        // The GPU gathers the same photons, but f32 rounding can put one
+        // on the other side of a pixel's radius: a caustic's pixels and
+        // their neighbours (a photon at a caustic's rim) are judged as
+        // edge pixels, by the share that differ (docs/check.md).
+        let lit: Vec<u64> = (backward.iter().zip(&rendered.image.pixels))
+            .map(|(a, b)| u64::from(a != b))
+            .collect();
+        let (width, height) = (scene.image.width as usize, scene.image.height as usize);
+        for (near, rim) in coverage.near_edge.iter_mut().zip(neighbourhoods(width, height, &lit)) {
+            *near |= rim;
+        }
         return Ok((rendered, coverage));
     };
     let msaa = scene.render.msaa;
@@ -477,18 +493,33 @@ fn forward_cpu(scene: &Scene, job: &RenderPart, counter: &WorkCounter) -> (Rende
 /// Whether each pixel's 3x3 neighbourhood, clipped to the image, holds more
 /// than one signature.
 fn signature_edges(width: usize, height: usize, signatures: &[u64]) -> Vec<bool> {
-    let mut edges = vec![false; width * height];
+    neighbourhood_any(width, height, |own, other| signatures[own] != signatures[other])
+}
+
+/// Whether each pixel's 3x3 neighbourhood, clipped to the image, holds a
+/// pixel whose `marks` is not 0.
+fn neighbourhoods(width: usize, height: usize, marks: &[u64]) -> Vec<bool> {
+    neighbourhood_any(width, height, |_, other| marks[other] != 0)
+}
+
+/// Whether `test(pixel, neighbour)` holds for a pixel of each pixel's 3x3
+/// neighbourhood, clipped to the image (indices `y * width + x`).
+fn neighbourhood_any(
+    width: usize,
+    height: usize,
+    test: impl Fn(usize, usize) -> bool,
+) -> Vec<bool> {
+    let mut found = vec![false; width * height];
     for y in 0..height {
         for x in 0..width {
-            let own = signatures[y * width + x];
+            let own = y * width + x;
             let ys = y.saturating_sub(1)..(y + 2).min(height);
-            edges[y * width + x] = ys.into_iter().any(|ny| {
-                (x.saturating_sub(1)..(x + 2).min(width))
-                    .any(|nx| signatures[ny * width + nx] != own)
+            found[own] = ys.into_iter().any(|ny| {
+                (x.saturating_sub(1)..(x + 2).min(width)).any(|nx| test(own, ny * width + nx))
             });
         }
     }
-    edges
+    found
 }
 
 #[cfg(test)]
