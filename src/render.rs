@@ -392,7 +392,11 @@ pub fn render_cpu_counted(
             .map(|(a, b)| u64::from(a != b))
             .collect();
         let (width, height) = (scene.image.width as usize, scene.image.height as usize);
-        for (near, rim) in coverage.near_edge.iter_mut().zip(neighbourhoods(width, height, &lit)) {
+        for (near, rim) in coverage
+            .near_edge
+            .iter_mut()
+            .zip(neighbourhoods(width, height, &lit))
+        {
             *near |= rim;
         }
         return Ok((rendered, coverage));
@@ -493,7 +497,9 @@ fn forward_cpu(scene: &Scene, job: &RenderPart, counter: &WorkCounter) -> (Rende
 /// Whether each pixel's 3x3 neighbourhood, clipped to the image, holds more
 /// than one signature.
 fn signature_edges(width: usize, height: usize, signatures: &[u64]) -> Vec<bool> {
-    neighbourhood_any(width, height, |own, other| signatures[own] != signatures[other])
+    neighbourhood_any(width, height, |own, other| {
+        signatures[own] != signatures[other]
+    })
 }
 
 /// Whether each pixel's 3x3 neighbourhood, clipped to the image, holds a

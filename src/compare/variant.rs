@@ -319,21 +319,9 @@ impl Variant {
                 }
                 self.photons = Some(n);
             }
-            "caustics" => {
+            "caustics" | "caustic_passes" => {
                 setting.only(backward, "raytrace")?;
-                let range = "an integer from 0 to 4294967295";
-                self.caustics = Some(value.parse().map_err(|_| bad(range))?);
-                self.check_caustic_photons(setting)?;
-            }
-            "caustic_passes" => {
-                setting.only(backward, "raytrace")?;
-                let range = "an integer from 1 to 1048576";
-                let n: u32 = value.parse().map_err(|_| bad(range))?;
-                if !(1..=1 << 20).contains(&n) {
-                    return Err(bad(range));
-                }
-                self.caustic_passes = Some(n);
-                self.check_caustic_photons(setting)?;
+                self.set_caustics(setting)?;
             }
             "shadows" => {
                 setting.only(backward, "raytrace")?;
@@ -371,6 +359,24 @@ impl Variant {
 }
 
 impl Variant {
+    /// `caustics=N` (0 to 2^32 - 1) or `caustic_passes=P` (1 to 2^20),
+    /// all the photons numbered in 32 bits.
+    fn set_caustics(&mut self, setting: &Setting) -> Result<(), String> {
+        let bad = |expected: &str| setting.bad(expected);
+        if setting.key == "caustics" {
+            let range = "an integer from 0 to 4294967295";
+            self.caustics = Some(setting.value.parse().map_err(|_| bad(range))?);
+        } else {
+            let range = "an integer from 1 to 1048576";
+            let n: u32 = setting.value.parse().map_err(|_| bad(range))?;
+            if !(1..=1 << 20).contains(&n) {
+                return Err(bad(range));
+            }
+            self.caustic_passes = Some(n);
+        }
+        self.check_caustic_photons(setting)
+    }
+
     /// A variant's caustic photons in all are numbered in 32 bits.
     fn check_caustic_photons(&self, setting: &Setting) -> Result<(), String> {
         let photons = u64::from(self.caustics.unwrap_or(0));

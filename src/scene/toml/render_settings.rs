@@ -71,7 +71,7 @@ pub(super) fn render(cx: &Ctx, raw: Option<&RenderRaw>) -> Result<RenderSettings
 fn caustics(
     cx: &Ctx,
     r: &RenderRaw,
-    caustics: &mut crate::scene::CausticSettings,
+    caustics: &mut crate::scene::model::CausticSettings,
 ) -> Result<(), SceneError> {
     let most = i64::from(u32::MAX);
     if let Some(p) = &r.caustics {
