@@ -96,7 +96,7 @@ pub fn first_clash(cases: &[(String, String)]) -> Option<(&str, &str, &str)> {
 /// in a PNG's `shadelab:settings` (`render::image::effective_settings`),
 /// plus the reference's key and the hook's source digest that `golden`
 /// adds.
-const PIXEL_SETTINGS: [&str; 14] = [
+const PIXEL_SETTINGS: [&str; 15] = [
     "golden_scene",
     "shading",
     "width",
@@ -108,6 +108,7 @@ const PIXEL_SETTINGS: [&str; 14] = [
     "samples",
     "bounces",
     "photons",
+    "caustics",
     "shadows",
     "cutoff",
     "backend",

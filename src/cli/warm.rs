@@ -47,6 +47,13 @@ pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result
         scene.image.width = WARM_SIZE;
         scene.image.height = WARM_SIZE;
         args.settings.apply(&mut scene)?;
+        // The photon map's pipeline is the same at any count: one pass
+        // of a few photons builds it.
+        let caustics = &mut scene.render.caustics;
+        if caustics.on() {
+            caustics.passes = 1;
+            caustics.photons_per_pass = caustics.photons_per_pass.min(1024);
+        }
         memory.check(&name, &scene, &modes, &[])?;
         scenes.push((scene, name));
     }
