@@ -20,8 +20,10 @@ use crate::work_counter::WorkCounter;
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct CausticReport {
     pub photons_per_pass: u32,
-    /// Passes run.
+    /// Passes run: those asked for, or fewer where a time budget stopped
+    /// them (at least one).
     pub passes: u32,
+    pub asked_passes: u32,
     /// The photon map's whole time, in milliseconds.
     pub ms: f64,
     /// The GPU's only: its passes' GPU time and submit-to-completion time
@@ -71,20 +73,24 @@ fn why_none(scene: &Scene) -> Option<&'static str> {
 
 /// Adds `scene`'s caustic image to `image` (the backward tracer's), on the
 /// GPU where `context` is given, else with the f64 twin, passes counted
-/// into `counter`; what it took, or `None` where the scene asks for none
+/// into `counter`; on the GPU the passes that start before `deadline`
+/// (one at least). What it took, or `None` where the scene asks for none
 /// or has none (`pointless`).
 pub fn add(
     context: Option<&Arc<GpuContext>>,
     scene: &Scene,
     image: &mut LinearImage,
-    counter: &WorkCounter,
+    (counter, deadline): (&WorkCounter, Option<Instant>),
 ) -> Result<Option<CausticReport>, Error> {
     let settings = scene.render.caustics;
     if !settings.on() || pointless(scene).is_some() {
         return Ok(None);
     }
     let started = Instant::now();
-    let passes = RenderPart::all(settings.passes);
+    let passes = RenderPart {
+        deadline,
+        ..RenderPart::all(settings.passes)
+    };
     let (caustic, photons, done, gpu) = match context {
         Some(context) => {
             let out = caustics::render(context, scene, &passes, counter)?;
@@ -111,6 +117,7 @@ pub fn add(
     Ok(Some(CausticReport {
         photons_per_pass: settings.photons_per_pass,
         passes: done,
+        asked_passes: settings.passes,
         ms: started.elapsed().as_secs_f64() * 1e3,
         gpu_ms: gpu.map(|g| g.0),
         submit_ms: gpu.map(|g| g.1),

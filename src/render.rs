@@ -139,6 +139,18 @@ pub fn render_gpu_to(
     count_rays: bool,
     target: ColorTarget,
 ) -> Result<Rendered, Error> {
+    render_gpu_until(context, scene, shading, (count_rays, target), None)
+}
+
+/// As `render_gpu_to`, a Whitted trace's caustics (`render.caustics`)
+/// gathered in the passes that start before `deadline` (one at least).
+pub fn render_gpu_until(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    shading: Shading,
+    (count_rays, target): (bool, ColorTarget),
+    deadline: Option<Instant>,
+) -> Result<Rendered, Error> {
     if sums_in_film(scene, shading) {
         let part = RenderPart::all(part_total(scene, shading));
         let counter = WorkCounter::default();
@@ -164,7 +176,8 @@ pub fn render_gpu_to(
         caustics: None,
     };
     if shading == Shading::Raytrace {
-        with_caustics(Some(context), scene, &mut rendered, &WorkCounter::default())?;
+        let counter = WorkCounter::default();
+        with_caustics(Some(context), scene, &mut rendered, (&counter, deadline))?;
     }
     Ok(rendered)
 }
@@ -217,7 +230,7 @@ pub fn render_film_part(
     refuse_beyond_f32(scene)?;
     let Some(context) = context else {
         let mut rendered = raytrace_cpu(scene, part, counter).0;
-        with_caustics(None, scene, &mut rendered, counter)?;
+        with_caustics(None, scene, &mut rendered, (counter, None))?;
         return Ok(rendered);
     };
     let options = raytrace::TraceOptions {
@@ -239,19 +252,25 @@ pub fn render_film_part(
         film,
         caustics: None,
     };
-    with_caustics(Some(context), scene, &mut rendered, counter)?;
+    with_caustics(
+        Some(context),
+        scene,
+        &mut rendered,
+        (counter, part.deadline),
+    )?;
     Ok(rendered)
 }
 
 /// Adds the caustic image where the scene asks for caustics (and has
-/// some: `caustics::pointless`), its time to the render's.
+/// some: `caustics::pointless`), its passes stopped at `deadline` where
+/// given, its time to the render's.
 fn with_caustics(
     context: Option<&Arc<GpuContext>>,
     scene: &Scene,
     rendered: &mut Rendered,
-    counter: &WorkCounter,
+    budget: (&WorkCounter, Option<Instant>),
 ) -> Result<(), Error> {
-    rendered.caustics = crate::caustics::add(context, scene, &mut rendered.image, counter)?;
+    rendered.caustics = crate::caustics::add(context, scene, &mut rendered.image, budget)?;
     if let Some(report) = &rendered.caustics {
         let t = &mut rendered.timings;
         t.total_ms += report.ms;
@@ -383,7 +402,7 @@ pub fn render_cpu_counted(
         let part = RenderPart::all(part_total(scene, shading));
         let (mut rendered, mut coverage) = raytrace_cpu(scene, &part, counter);
         let backward = rendered.image.pixels.clone();
-        with_caustics(None, scene, &mut rendered, counter)?;
+        with_caustics(None, scene, &mut rendered, (counter, None))?;
         // The GPU gathers the same photons, but f32 rounding can put one
         // on the other side of a pixel's radius: a caustic's pixels and
         // their neighbours (a photon at a caustic's rim) are judged as

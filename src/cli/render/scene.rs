@@ -78,9 +78,10 @@ pub(super) fn apply_overrides(
 
 /// `--time SECONDS` and `--error RMSE`: numbers above 0, for one render
 /// that sums into a film (forward, or ray tracing with bounces: a batch,
-/// a shard or another mode has no use for them), on the GPU (the CPU
-/// reference's ray tracer traces every sample; its forward tracer keeps
-/// a time budget but cannot judge its error).
+/// a shard or another mode has no use for them) or a ray trace with
+/// caustics (`--time` alone: the photon map is biased), on the GPU (the
+/// CPU reference's ray tracer traces every sample; its forward tracer
+/// keeps a time budget but cannot judge its error).
 fn check_budgets(args: &RenderArgs, scene: &Scene) -> Result<(), Failure> {
     for (flag, value, unit) in [
         ("--time", args.time, "a number of seconds"),
@@ -98,10 +99,16 @@ fn check_budgets(args: &RenderArgs, scene: &Scene) -> Result<(), Failure> {
             [mode] if !args.is_batch() && args.render_shard.is_none() => Some(mode),
             _ => None,
         };
-        let budgeted = one.is_some_and(|m| shadelab::render::sums_in_film(scene, m));
+        let caustics = one == Some(Shading::Raytrace) && scene.render.caustics.on();
+        if caustics && flag == "--error" {
+            return Err(Failure::usage(
+                "--error estimates an unbiased render's error from two halves of its batches, and the photon map's caustics are biased (their radius shrinks pass by pass): stop them with --time or --caustic-passes".into(),
+            ));
+        }
+        let budgeted = caustics || one.is_some_and(|m| shadelab::render::sums_in_film(scene, m));
         if !budgeted {
             return Err(Failure::usage(format!(
-                "{flag} stops one render (--shading forward, or raytrace with --bounces 1 or more; one scene, no --shard) at a budget"
+                "{flag} stops one render (--shading forward, or raytrace with --bounces 1 or more or with --caustics; one scene, no --shard) at a budget"
             )));
         }
         let needs_gpu = one == Some(Shading::Raytrace) || flag == "--error";

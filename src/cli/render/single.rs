@@ -241,8 +241,17 @@ fn render(
         return render_film(args, scene, shading, context);
     }
     Ok(if let Some(context) = context {
-        let rendered =
-            shadelab::render::render_gpu_to(&context, scene, shading, args.stats, target)?;
+        // A time budget stops the caustics' passes (`check_budgets`).
+        let deadline = args
+            .time
+            .map(|s| Instant::now() + std::time::Duration::from_secs_f64(s));
+        let rendered = shadelab::render::render_gpu_until(
+            &context,
+            scene,
+            shading,
+            (args.stats, target),
+            deadline,
+        )?;
         let info = &context.info;
         (rendered, info.name.clone(), Some(info.driver.clone()))
     } else {

@@ -61,8 +61,16 @@ pub(super) fn print_caustics(c: &shadelab::caustics::CausticReport) {
             p.landed, p.gathered
         )
     });
+    let stopped = if c.passes < c.asked_passes {
+        format!(
+            " (of {} asked: the time budget stopped them)",
+            c.asked_passes
+        )
+    } else {
+        String::new()
+    };
     println!(
-        "caustics: {} passes of {} photons ({photons} in all{did}), {:.1} ms",
+        "caustics: {} passes{stopped} of {} photons ({photons} in all{did}), {:.1} ms",
         c.passes, c.photons_per_pass, c.ms
     );
 }

@@ -58,7 +58,7 @@ pub struct CausticOutput {
 
 /// The caustic image of `scene` (`scene.render.caustics`), passes counted
 /// into `counter` as they finish; under a time budget in `passes`, the
-/// passes that start before it.
+/// passes that start before it, one at least.
 pub fn render(
     context: &Arc<GpuContext>,
     scene: &Scene,
@@ -107,7 +107,7 @@ pub fn render(
     let timestamps = Timestamps::new(context)?;
     let (mut submit_ms, mut gpu_ms, mut done) = (0.0, 0.0, 0u32);
     for pass in passes.range.clone() {
-        if passes.past_deadline() {
+        if done > 0 && passes.past_deadline() {
             break;
         }
         let push = CausticPass {
