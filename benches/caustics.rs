@@ -18,9 +18,13 @@
 //!
 //! `cargo bench --bench caustics` (about a minute on two cores).
 
+#[path = "common/fit.rs"]
+mod fit;
+
 #[path = "../tests/common/caustic_scenes.rs"]
 mod caustic_scenes;
 
+use fit::fit;
 use glam::DVec3;
 use shadelab::film_sums::RenderPart;
 use shadelab::gpu::raytrace::{caustics, forward};
@@ -71,18 +75,6 @@ fn patch_rmse(
         .map(|&(i, c, d)| (f64::from(image.pixels[i][0]) - want(c, d)).powi(2))
         .sum();
     (sum / patch.len() as f64).sqrt()
-}
-
-/// Least squares `log(time) = a + b log(error)`: `(a, b)`.
-fn fit(points: &[(f64, f64)]) -> (f64, f64) {
-    let n = points.len() as f64;
-    let xs: Vec<f64> = points.iter().map(|p| p.1.ln()).collect();
-    let ys: Vec<f64> = points.iter().map(|p| p.0.ln()).collect();
-    let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
-    let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let sxx: f64 = xs.iter().map(|x| (x - mx).powi(2)).sum();
-    let b = sxy / sxx;
-    (my - b * mx, b)
 }
 
 fn main() {

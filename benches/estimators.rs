@@ -17,6 +17,10 @@
 //!
 //! `cargo bench --bench estimators` (about a minute on two cores).
 
+#[path = "common/fit.rs"]
+mod fit;
+
+use fit::fit;
 use std::path::Path;
 use std::time::Instant;
 
@@ -50,18 +54,6 @@ fn rmse(a: &LinearImage, b: &LinearImage) -> f64 {
         .flat_map(|(p, q)| p.iter().zip(q).map(|(x, y)| f64::from(x - y).powi(2)))
         .sum();
     (sum / (3 * a.pixels.len()) as f64).sqrt()
-}
-
-/// Least squares `log(time) = a + b log(error)`: `(a, b)`.
-fn fit(points: &[(f64, f64)]) -> (f64, f64) {
-    let n = points.len() as f64;
-    let xs: Vec<f64> = points.iter().map(|p| p.1.ln()).collect();
-    let ys: Vec<f64> = points.iter().map(|p| p.0.ln()).collect();
-    let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
-    let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let sxx: f64 = xs.iter().map(|x| (x - mx).powi(2)).sum();
-    let b = sxy / sxx;
-    (my - b * mx, b)
 }
 
 fn main() {

@@ -4,17 +4,15 @@
 
 use std::sync::Arc;
 
-use ash::vk;
 use bytemuck::{Pod, Zeroable};
 
 use super::map::MAP_BINDINGS;
-use crate::gpu::raytrace::layout::{TraceSpecialization, BINDINGS};
+use crate::gpu::raytrace::forward::create_photon_pipeline;
+use crate::gpu::raytrace::layout::TraceSpecialization;
 use crate::gpu::shared::shader_catalog::{CAUSTICS_COMP, CAUSTICS_WIDE_COMP};
 use crate::gpu::vk::context::GpuContext;
-use crate::gpu::vk::descriptors::create_set_layout;
-use crate::gpu::vk::error::{GpuError, VkContext};
+use crate::gpu::vk::error::GpuError;
 use crate::gpu::vk::pipeline::PipelineObjects;
-use crate::gpu::vk::specialise::specialise;
 
 /// One dispatch of a pass (the shader's `CausticPass`).
 #[repr(C)]
@@ -67,33 +65,11 @@ fn create(
     spec: &TraceSpecialization,
     wide_bvh: bool,
 ) -> Result<PipelineObjects, GpuError> {
-    let device = &context.device;
-    let stage = vk::ShaderStageFlags::COMPUTE;
-    let mut p = PipelineObjects::new(device);
-    p.set_layout = create_set_layout(context, BINDINGS, stage)?;
-    p.extra_set_layout = create_set_layout(context, MAP_BINDINGS, stage)?;
-    let set_layouts = [p.set_layout, p.extra_set_layout];
-    let push = [vk::PushConstantRange::default()
-        .stage_flags(stage)
-        .size(std::mem::size_of::<CausticPass>() as u32)];
-    let layout_info = vk::PipelineLayoutCreateInfo::default()
-        .set_layouts(&set_layouts)
-        .push_constant_ranges(&push);
-    // SAFETY: valid device and create infos throughout this function.
-    p.layout = unsafe { device.create_pipeline_layout(&layout_info, None) }
-        .during("vkCreatePipelineLayout")?;
     let shader = if wide_bvh {
         &CAUSTICS_WIDE_COMP
     } else {
         &CAUSTICS_COMP
     };
-    let entries = TraceSpecialization::map_entries();
-    let spec_data = bytemuck::bytes_of(spec);
-    let words = shader.words();
-    let specialised = specialise(&words, &entries, spec_data)?;
-    // Without `spirv-opt` the driver takes the constants.
-    let driver_specialises = specialised.is_none();
-    let code = specialised.as_deref().unwrap_or(&words);
-    p.create_compute(code, (&entries, spec_data), driver_specialises)?;
-    Ok(p)
+    let push = std::mem::size_of::<CausticPass>() as u32;
+    create_photon_pipeline(context, (shader, spec), push, Some(MAP_BINDINGS))
 }

@@ -7,6 +7,7 @@
 mod pipeline;
 mod renderer;
 
+pub(in crate::gpu::raytrace) use pipeline::create_photon_pipeline;
 pub use pipeline::PhotonBatch;
 pub(in crate::gpu::raytrace) use renderer::{refuse_what_cannot_run, PhotonScene};
 pub use renderer::{render, ForwardOutput, PHOTONS_PER_LANE};

@@ -8,7 +8,7 @@ use ash::vk;
 use bytemuck::{Pod, Zeroable};
 
 use crate::gpu::raytrace::layout::{TraceSpecialization, BINDINGS};
-use crate::gpu::shared::shader_catalog::{FORWARD_COMP, FORWARD_WIDE_COMP};
+use crate::gpu::shared::shader_catalog::{ShaderBlob, FORWARD_COMP, FORWARD_WIDE_COMP};
 use crate::gpu::vk::context::GpuContext;
 use crate::gpu::vk::descriptors::create_set_layout;
 use crate::gpu::vk::error::{GpuError, VkContext};
@@ -48,24 +48,42 @@ fn create(
     spec: &TraceSpecialization,
     wide_bvh: bool,
 ) -> Result<PipelineObjects, GpuError> {
+    let shader = if wide_bvh {
+        &FORWARD_WIDE_COMP
+    } else {
+        &FORWARD_COMP
+    };
+    let push = std::mem::size_of::<PhotonBatch>() as u32;
+    create_photon_pipeline(context, (shader, spec), push, None)
+}
+
+/// A compute pipeline over the ray tracer's set 0 (and `extra`'s set 1
+/// where given), `shader` specialised to `spec`, `push_size` bytes of
+/// push constants: the forward tracer's, and the photon map's.
+pub(in crate::gpu::raytrace) fn create_photon_pipeline(
+    context: &Arc<GpuContext>,
+    (shader, spec): (&ShaderBlob, &TraceSpecialization),
+    push_size: u32,
+    extra: Option<&[(u32, vk::DescriptorType)]>,
+) -> Result<PipelineObjects, GpuError> {
     let device = &context.device;
+    let stage = vk::ShaderStageFlags::COMPUTE;
     let mut p = PipelineObjects::new(device);
-    p.set_layout = create_set_layout(context, BINDINGS, vk::ShaderStageFlags::COMPUTE)?;
-    let set_layouts = [p.set_layout];
+    p.set_layout = create_set_layout(context, BINDINGS, stage)?;
+    let mut set_layouts = vec![p.set_layout];
+    if let Some(bindings) = extra {
+        p.extra_set_layout = create_set_layout(context, bindings, stage)?;
+        set_layouts.push(p.extra_set_layout);
+    }
     let push = [vk::PushConstantRange::default()
-        .stage_flags(vk::ShaderStageFlags::COMPUTE)
-        .size(std::mem::size_of::<PhotonBatch>() as u32)];
+        .stage_flags(stage)
+        .size(push_size)];
     let layout_info = vk::PipelineLayoutCreateInfo::default()
         .set_layouts(&set_layouts)
         .push_constant_ranges(&push);
     // SAFETY: valid device and create infos throughout this function.
     p.layout = unsafe { device.create_pipeline_layout(&layout_info, None) }
         .during("vkCreatePipelineLayout")?;
-    let shader = if wide_bvh {
-        &FORWARD_WIDE_COMP
-    } else {
-        &FORWARD_COMP
-    };
     let entries = TraceSpecialization::map_entries();
     let spec_data = bytemuck::bytes_of(spec);
     let words = shader.words();
