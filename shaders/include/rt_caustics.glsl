@@ -161,9 +161,10 @@ void gather(vec3 p, vec3 n, vec3 flux) {
 }
 
 // Caustic photon i's flight, if `live`: the forward tracer's photon, sent
-// on only by mirror and glass events, gathered at every surface with
-// kd C that it reaches after one (cpu::caustics::trace_caustic_photon).
-// Call in uniform control flow.
+// on from its first surface only by a mirror or glass event, from the
+// others by any (diffuse bounces up to the scene's), gathered at every
+// surface with kd C that it reaches after its first
+// (cpu::caustics::trace_caustic_photon). Call in uniform control flow.
 void trace_caustic_photon(uint i, bool live) {
     Flight f = emit_photon(i, batch.total);
     if (live) {
@@ -191,7 +192,13 @@ void trace_caustic_photon(uint i, bool live) {
                 gather(s.p, dot(s.geometric, f.dir) > 0.0 ? -s.normal : s.normal, arriving);
             }
         }
-        live = live && level < depth && go_on(f, s, material, albedo, arriving, photon_numbers(i, level + 1), false);
+        if (albedo != vec3(0.0)) {
+            f.diffuse_vertices += 1;
+        }
+        // Light that leaves its first surface diffusely is the backward
+        // tracer's (its shadow rays find that surface's light).
+        live = live && level < depth &&
+               go_on(f, s, material, albedo, arriving, photon_numbers(i, level + 1), level > 0);
         if (!(HAS_BVH ? packet_any(live) : live)) {
             break;
         }

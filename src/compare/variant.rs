@@ -392,18 +392,13 @@ impl Variant {
     }
 }
 
-/// Photons per pass of the default caustic variants: few, so that the
-/// reference's four times as many passes of four times as many stay
-/// quick on the CPU.
-pub const DEFAULT_CAUSTIC_PHOTONS: u32 = 16384;
-
 /// The variants that show a scene's interesting axes: every mode; a
 /// tessellation sweep of the raster modes if the scene has spheres; screen
 /// against perspective interpolation; 4 samples per pixel in each raster
 /// mode; a depth sweep and a cut-off sweep of
-/// the ray tracer if anything reflects or refracts; caustics from a photon
-/// map at 4, 16 and 64 passes if a mirror or glass can redirect a light's
-/// light; the three texture
+/// the ray tracer if anything reflects or refracts; where the scene asks
+/// for caustics (and has some), its photon map at 4, 16 and 64 passes and
+/// none; the three texture
 /// filters in Phong shading and ray tracing if an object has an image.
 pub fn default_variants(scene: &Scene) -> Vec<Variant> {
     let parse = |s: &str| s.parse::<Variant>().expect("built-in variants parse");
@@ -439,13 +434,13 @@ pub fn default_variants(scene: &Scene) -> Vec<Variant> {
         list.push(parse("raytrace"));
     }
     list.push(parse("raytrace:samples=4"));
-    if crate::caustics::has_caustics(scene) {
-        // SPPM's error pass by pass: the time doubles with the passes.
+    if scene.render.caustics.on() && crate::caustics::has_caustics(scene) {
+        // SPPM's error pass by pass, at the scene's photons per pass; and
+        // the ray tracer without them, what the caustics cost and buy.
         for passes in [4, 16, 64] {
-            list.push(parse(&format!(
-                "raytrace:caustics={DEFAULT_CAUSTIC_PHOTONS},caustic_passes={passes}"
-            )));
+            list.push(parse(&format!("raytrace:caustic_passes={passes}")));
         }
+        list.push(parse("raytrace:caustics=0"));
     }
     let textured = scene
         .objects

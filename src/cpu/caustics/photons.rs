@@ -68,10 +68,11 @@ pub fn caustic_photons(
     Some(parts.concat())
 }
 
-/// Traces photon `i` of `total`: through mirrors and glass by one event
-/// picked in proportion to `kr` and `kt` (no diffuse event: absorbed with
-/// what is left), kept at every surface with `kd C` not zero that it
-/// reaches after at least one of them.
+/// Traces photon `i` of `total`: from its first surface by a mirror or
+/// glass event picked in proportion to `kr` and `kt` (absorbed with what
+/// is left), then by any event as the forward tracer's photons go, diffuse
+/// bounces included up to the scene's `bounces`; kept at every surface
+/// with `kd C` not zero that it reaches after its first.
 pub fn trace_caustic_photon(
     accel: &Accel,
     lights: &LightChoice,
@@ -103,13 +104,17 @@ pub fn trace_caustic_photon(
         if level == scene.render.depth {
             return;
         }
+        flight.met(albedo);
         let numbers = photon_numbers(i, level + 1);
+        // Light that leaves its first surface diffusely is the backward
+        // tracer's (its shadow rays find that surface's light).
+        let diffuse_allowed = level > 0 && flight.may_bounce(scene);
         if !go_on(
             &mut flight,
             (&hit, p, material, albedo),
             arriving,
             numbers,
-            false,
+            diffuse_allowed,
         ) {
             return;
         }

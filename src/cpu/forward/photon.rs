@@ -46,6 +46,20 @@ pub(crate) struct Flight {
 }
 
 impl Flight {
+    /// Counts a surface the photon met: a diffuse one (`albedo`, its `kd C`,
+    /// not zero) counts toward the diffuse bounces it may take.
+    pub(crate) fn met(&mut self, albedo: DVec3) {
+        if albedo != DVec3::ZERO {
+            self.diffuse_vertices += 1;
+        }
+    }
+
+    /// Whether the photon may leave its last surface by a diffuse bounce:
+    /// no more diffuse surfaces met than the scene's bounces.
+    pub(crate) fn may_bounce(&self, scene: &RtScene) -> bool {
+        self.diffuse_vertices <= scene.render.bounces
+    }
+
     /// Photon `i` of `total` leaving a light chosen by power in a uniform
     /// direction, with flux `4 pi Il / (total p)`.
     pub(crate) fn emit(lights: &LightChoice, i: u32, total: u32) -> Self {
@@ -120,15 +134,13 @@ pub fn trace_photon(
             };
             seen |= splat(accel, film, &flight.ray, &vertex, arriving, stats);
         }
-        if albedo != DVec3::ZERO {
-            flight.diffuse_vertices += 1;
-        }
+        flight.met(albedo);
         if level == scene.render.depth || hit.normal == DVec3::ZERO {
             break;
         }
         let numbers = photon_numbers(i, level + 1);
         let surface = (&hit, p, material, albedo);
-        let diffuse_allowed = flight.diffuse_vertices <= scene.render.bounces;
+        let diffuse_allowed = flight.may_bounce(scene);
         if !go_on(&mut flight, surface, arriving, numbers, diffuse_allowed) {
             break;
         }
