@@ -102,6 +102,18 @@ radius = 0.5
 material = "glass"
 "#;
 
+/// A white wall behind `MIRROR_BESIDE_A_LIGHT`'s light (z = -1, facing
+/// the camera), added to its objects: the mirror's light on the floor
+/// lights it, and its light from the mirror lights the floor.
+pub const WALL_BEHIND_THE_LIGHT: &str = r#"
+[[objects]]
+shape = "plane"
+center = [0.0, 1.0, -1.0]
+normal = [0.0, 0.0, 1.0]
+size = 6.0
+material = "white"
+"#;
+
 /// `toml` loaded as a scene file.
 pub fn scene_of(toml: &str) -> shadelab::scene::Scene {
     let dir = tempfile::tempdir().unwrap();
