@@ -76,6 +76,14 @@ const RASTER_FIXED_MS: (f64, f64) = (50.0, 230.0);
 /// against 42 ms). The low ends again.
 const RAY_TRACE_GPU_SPEEDUP: f64 = 4.0;
 const RASTER_GPU_SPEEDUP: f64 = 2.0;
+/// The photon map's own fixed costs on the GPU (warm, cold: its pipeline's
+/// code generation, about 3 s on lavapipe with an empty cache) and how
+/// many times faster the GPU runs its passes than the CPU twin on all
+/// cores (`assets/caustics.toml`: 730 against 1790 ms; the low end).
+const CAUSTICS_FIXED_MS: (f64, f64) = (20.0, 2500.0);
+const CAUSTICS_GPU_SPEEDUP: f64 = 2.0;
+/// Caustic photons the pilot traces on one thread to time them.
+const CAUSTIC_PILOT_PHOTONS: u32 = 4096;
 /// Work past which the GPU is taken without a pilot: the CPU reference
 /// takes seconds there, and building its acceleration structure alone
 /// would cost the GPU path time.
@@ -138,8 +146,16 @@ pub fn choose(scene: &Scene, shading: Shading) -> Choice {
         let fixed_ms = warm_or_cold(RASTER_FIXED_MS);
         (raster_pilot(scene, shading), fixed_ms, RASTER_GPU_SPEEDUP)
     };
+    let mut gpu_estimate_ms = fixed_ms + cpu_estimate_ms / speedup;
+    let mut cpu_estimate_ms = cpu_estimate_ms;
+    if shading == Shading::Raytrace {
+        if let Some(caustics_ms) = caustics_pilot(scene, cpu_estimate_ms) {
+            cpu_estimate_ms += caustics_ms;
+            gpu_estimate_ms +=
+                warm_or_cold(CAUSTICS_FIXED_MS) + caustics_ms / CAUSTICS_GPU_SPEEDUP;
+        }
+    }
     let pilot_ms = started.elapsed().as_secs_f64() * 1e3;
-    let gpu_estimate_ms = fixed_ms + cpu_estimate_ms / speedup;
     let backend = if cpu_estimate_ms < gpu_estimate_ms {
         Backend::Cpu
     } else {
@@ -191,6 +207,26 @@ fn ray_trace_pilot(scene: &Scene, rt: &RtScene, enough_ms: f64) -> f64 {
     }
     // An image smaller than the stride traces no pixel: its work is nil.
     estimate
+}
+
+/// The CPU twin's photon map for `scene`, estimated where it asks for
+/// caustics and has some: its photons, `CAUSTIC_PILOT_PHOTONS` of them
+/// timed on this thread and scaled to all of them over the cores; and
+/// each pass's eye paths, counted as a ray trace of the image
+/// (`trace_ms`, the pilot's estimate), which they cost no more than.
+fn caustics_pilot(scene: &Scene, trace_ms: f64) -> Option<f64> {
+    let settings = scene.render.caustics;
+    if !settings.on() || !crate::caustics::has_caustics(scene) {
+        return None;
+    }
+    let rt = RtScene::new(scene);
+    let count = CAUSTIC_PILOT_PHOTONS.min(settings.photons_per_pass);
+    let started = Instant::now();
+    cpu::caustics::caustic_photons(&rt, 0..count, settings.photons_per_pass)?;
+    let per_photon_ms = started.elapsed().as_secs_f64() * 1e3 / f64::from(count.max(1));
+    let threads = rayon::current_num_threads().max(1) as f64;
+    let photons = f64::from(settings.total_photons()?);
+    Some(per_photon_ms * photons / threads + trace_ms * f64::from(settings.passes))
 }
 
 /// The CPU raster render, estimated from two small ones, at an eighth and
@@ -285,6 +321,21 @@ mod tests {
         assert_eq!(choice.backend, Backend::Gpu);
         assert!(choice.pilot_ms.is_none());
         assert!(choice.why.contains("query"));
+    }
+
+    /// The photon map's passes count: 16 passes of 262144 photons on the
+    /// caustic asset take the CPU twin seconds (1.8 s measured on two
+    /// cores), far past the small image's Whitted trace alone.
+    #[test]
+    fn caustics_count_in_the_estimates() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/caustics.toml");
+        let mut scene = crate::scene::load(std::path::Path::new(path)).unwrap();
+        let with = choose(&scene, Shading::Raytrace);
+        scene.render.caustics.photons_per_pass = 0;
+        let without = choose(&scene, Shading::Raytrace);
+        let (a, b) = (with.cpu_estimate_ms.unwrap(), without.cpu_estimate_ms.unwrap());
+        assert!(a > b + 200.0, "{a} against {b}");
+        assert!(with.gpu_estimate_ms.unwrap() > without.gpu_estimate_ms.unwrap());
     }
 
     #[test]
