@@ -151,8 +151,7 @@ pub fn choose(scene: &Scene, shading: Shading) -> Choice {
     if shading == Shading::Raytrace {
         if let Some(caustics_ms) = caustics_pilot(scene, cpu_estimate_ms) {
             cpu_estimate_ms += caustics_ms;
-            gpu_estimate_ms +=
-                warm_or_cold(CAUSTICS_FIXED_MS) + caustics_ms / CAUSTICS_GPU_SPEEDUP;
+            gpu_estimate_ms += warm_or_cold(CAUSTICS_FIXED_MS) + caustics_ms / CAUSTICS_GPU_SPEEDUP;
         }
     }
     let pilot_ms = started.elapsed().as_secs_f64() * 1e3;
@@ -333,7 +332,10 @@ mod tests {
         let with = choose(&scene, Shading::Raytrace);
         scene.render.caustics.photons_per_pass = 0;
         let without = choose(&scene, Shading::Raytrace);
-        let (a, b) = (with.cpu_estimate_ms.unwrap(), without.cpu_estimate_ms.unwrap());
+        let (a, b) = (
+            with.cpu_estimate_ms.unwrap(),
+            without.cpu_estimate_ms.unwrap(),
+        );
         assert!(a > b + 200.0, "{a} against {b}");
         assert!(with.gpu_estimate_ms.unwrap() > without.gpu_estimate_ms.unwrap());
     }
