@@ -128,7 +128,7 @@ pub fn choose(scene: &Scene, shading: Shading) -> Choice {
     }
     let started = Instant::now();
     let warm_or_cold = |(warm, cold): (f64, f64)| if driver_cache_filled { warm } else { cold };
-    let (cpu_estimate_ms, fixed_ms, speedup) = if shading == Shading::Raytrace {
+    let (cpu_estimate_ms, fixed_ms, speedup, caustics) = if shading == Shading::Raytrace {
         let rt = RtScene::new(scene);
         let walks_bvh = !rt.triangles.is_empty() || BvhKinds::of(&rt) != BvhKinds::default();
         let fixed_ms = warm_or_cold(if walks_bvh {
@@ -141,18 +141,22 @@ pub fn choose(scene: &Scene, shading: Shading) -> Choice {
         let break_even_ms = fixed_ms / (1.0 - 1.0 / RAY_TRACE_GPU_SPEEDUP);
         let build_ms = started.elapsed().as_secs_f64() * 1e3;
         let cpu_ms = build_ms + ray_trace_pilot(scene, &rt, break_even_ms - build_ms);
-        (cpu_ms, fixed_ms, RAY_TRACE_GPU_SPEEDUP)
+        let caustics = caustics_pilot(scene, &rt, cpu_ms);
+        (cpu_ms, fixed_ms, RAY_TRACE_GPU_SPEEDUP, caustics)
     } else {
         let fixed_ms = warm_or_cold(RASTER_FIXED_MS);
-        (raster_pilot(scene, shading), fixed_ms, RASTER_GPU_SPEEDUP)
+        (
+            raster_pilot(scene, shading),
+            fixed_ms,
+            RASTER_GPU_SPEEDUP,
+            None,
+        )
     };
     let mut gpu_estimate_ms = fixed_ms + cpu_estimate_ms / speedup;
     let mut cpu_estimate_ms = cpu_estimate_ms;
-    if shading == Shading::Raytrace {
-        if let Some(caustics_ms) = caustics_pilot(scene, cpu_estimate_ms) {
-            cpu_estimate_ms += caustics_ms;
-            gpu_estimate_ms += warm_or_cold(CAUSTICS_FIXED_MS) + caustics_ms / CAUSTICS_GPU_SPEEDUP;
-        }
+    if let Some(caustics_ms) = caustics {
+        cpu_estimate_ms += caustics_ms;
+        gpu_estimate_ms += warm_or_cold(CAUSTICS_FIXED_MS) + caustics_ms / CAUSTICS_GPU_SPEEDUP;
     }
     let pilot_ms = started.elapsed().as_secs_f64() * 1e3;
     let backend = if cpu_estimate_ms < gpu_estimate_ms {
@@ -208,20 +212,19 @@ fn ray_trace_pilot(scene: &Scene, rt: &RtScene, enough_ms: f64) -> f64 {
     estimate
 }
 
-/// The CPU twin's photon map for `scene`, estimated where it asks for
+/// The CPU twin's photon map for `scene` (whose `rt` is built), estimated where it asks for
 /// caustics and has some: its photons, `CAUSTIC_PILOT_PHOTONS` of them
 /// timed on this thread and scaled to all of them over the cores; and
 /// each pass's eye paths, counted as a ray trace of the image
 /// (`trace_ms`, the pilot's estimate), which they cost no more than.
-fn caustics_pilot(scene: &Scene, trace_ms: f64) -> Option<f64> {
+fn caustics_pilot(scene: &Scene, rt: &RtScene, trace_ms: f64) -> Option<f64> {
     let settings = scene.render.caustics;
     if !settings.on() || !crate::caustics::has_caustics(scene) {
         return None;
     }
-    let rt = RtScene::new(scene);
     let count = CAUSTIC_PILOT_PHOTONS.min(settings.photons_per_pass);
     let started = Instant::now();
-    cpu::caustics::caustic_photons(&rt, 0..count, settings.photons_per_pass)?;
+    cpu::caustics::caustic_photons(rt, 0..count, settings.photons_per_pass)?;
     let per_photon_ms = started.elapsed().as_secs_f64() * 1e3 / f64::from(count.max(1));
     let threads = rayon::current_num_threads().max(1) as f64;
     let photons = f64::from(settings.total_photons()?);

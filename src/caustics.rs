@@ -74,14 +74,14 @@ fn why_none(scene: &Scene) -> Option<&'static str> {
 /// Adds `scene`'s caustic image to `image` (the backward tracer's), on the
 /// GPU where `context` is given, else with the f64 twin, passes counted
 /// into `counter`; on the GPU the passes that start before `deadline`
-/// (one at least). What it took, or `None` where the scene asks for none
-/// or has none (`pointless`).
+/// (one at least). What it took and the caustic image it added, or `None`
+/// where the scene asks for none or has none (`pointless`).
 pub fn add(
     context: Option<&Arc<GpuContext>>,
     scene: &Scene,
     image: &mut LinearImage,
     (counter, deadline): (&WorkCounter, Option<Instant>),
-) -> Result<Option<CausticReport>, Error> {
+) -> Result<Option<(CausticReport, LinearImage)>, Error> {
     let settings = scene.render.caustics;
     if !settings.on() || pointless(scene).is_some() {
         return Ok(None);
@@ -114,7 +114,7 @@ pub fn add(
             pixel[c] += add[c];
         }
     }
-    Ok(Some(CausticReport {
+    let report = CausticReport {
         photons_per_pass: settings.photons_per_pass,
         passes: done,
         asked_passes: settings.passes,
@@ -122,5 +122,6 @@ pub fn add(
         gpu_ms: gpu.map(|g| g.0),
         submit_ms: gpu.map(|g| g.1),
         photons,
-    }))
+    };
+    Ok(Some((report, caustic)))
 }

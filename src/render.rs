@@ -263,22 +263,26 @@ pub fn render_film_part(
 
 /// Adds the caustic image where the scene asks for caustics (and has
 /// some: `caustics::pointless`), its passes stopped at `deadline` where
-/// given, its time to the render's.
+/// given, its time to the render's; the caustic image, where one was
+/// added.
 fn with_caustics(
     context: Option<&Arc<GpuContext>>,
     scene: &Scene,
     rendered: &mut Rendered,
     budget: (&WorkCounter, Option<Instant>),
-) -> Result<(), Error> {
-    rendered.caustics = crate::caustics::add(context, scene, &mut rendered.image, budget)?;
-    if let Some(report) = &rendered.caustics {
-        let t = &mut rendered.timings;
-        t.total_ms += report.ms;
-        let add = |a: Option<f64>, b: Option<f64>| a.map(|a| a + b.unwrap_or(0.0));
-        t.gpu_ms = add(t.gpu_ms, report.gpu_ms);
-        t.submit_ms = add(t.submit_ms, report.submit_ms);
-    }
-    Ok(())
+) -> Result<Option<LinearImage>, Error> {
+    let Some((report, caustic)) =
+        crate::caustics::add(context, scene, &mut rendered.image, budget)?
+    else {
+        return Ok(None);
+    };
+    let t = &mut rendered.timings;
+    t.total_ms += report.ms;
+    let add = |a: Option<f64>, b: Option<f64>| a.map(|a| a + b.unwrap_or(0.0));
+    t.gpu_ms = add(t.gpu_ms, report.gpu_ms);
+    t.submit_ms = add(t.submit_ms, report.submit_ms);
+    rendered.caustics = Some(report);
+    Ok(Some(caustic))
 }
 
 /// Forward tracing starts from the lights: a scene with none that emits
@@ -401,22 +405,23 @@ pub fn render_cpu_counted(
     let Some(mode) = shading.raster_mode() else {
         let part = RenderPart::all(part_total(scene, shading));
         let (mut rendered, mut coverage) = raytrace_cpu(scene, &part, counter);
-        let backward = rendered.image.pixels.clone();
-        with_caustics(None, scene, &mut rendered, (counter, None))?;
-        // The GPU gathers the same photons, but f32 rounding can put one
-        // on the other side of a pixel's radius: a caustic's pixels and
-        // their neighbours (a photon at a caustic's rim) are judged as
-        // edge pixels, by the share that differ (docs/check.md).
-        let lit: Vec<u64> = (backward.iter().zip(&rendered.image.pixels))
-            .map(|(a, b)| u64::from(a != b))
-            .collect();
-        let (width, height) = (scene.image.width as usize, scene.image.height as usize);
-        for (near, rim) in coverage
-            .near_edge
-            .iter_mut()
-            .zip(neighbourhoods(width, height, &lit))
-        {
-            *near |= rim;
+        if let Some(caustic) = with_caustics(None, scene, &mut rendered, (counter, None))? {
+            // The GPU gathers the same photons, but f32 rounding can put
+            // one on the other side of a pixel's radius: a caustic's
+            // pixels and their neighbours (a photon at a caustic's rim)
+            // are judged as edge pixels, by the share that differ
+            // (docs/check.md).
+            let lit: Vec<u64> = (caustic.pixels.iter())
+                .map(|p| u64::from(p.iter().any(|&c| c != 0.0)))
+                .collect();
+            let (width, height) = (scene.image.width as usize, scene.image.height as usize);
+            for (near, rim) in coverage
+                .near_edge
+                .iter_mut()
+                .zip(neighbourhoods(width, height, &lit))
+            {
+                *near |= rim;
+            }
         }
         return Ok((rendered, coverage));
     };

@@ -124,10 +124,13 @@ fn reference_caustics(scene: &Scene, variants: &[Variant]) -> Option<CausticSett
         .iter()
         .filter(|v| v.shading == Shading::Raytrace)
         .map(|v| {
-            let c = v
-                .apply(scene)
-                .map_or(scene.render.caustics, |s| s.render.caustics);
-            (c.photons_per_pass, c.passes)
+            // The variant's own settings over the scene's (`Variant::apply`
+            // without cloning the scene for each).
+            let c = scene.render.caustics;
+            (
+                v.caustics.unwrap_or(c.photons_per_pass),
+                v.caustic_passes.unwrap_or(c.passes),
+            )
         })
         .filter(|&(photons, passes)| photons > 0 && passes > 0)
         .collect();

@@ -90,6 +90,12 @@ pub struct RenderArgs {
 }
 
 impl RenderArgs {
+    /// When `--time` runs out, counted from now: the render's start.
+    pub(in crate::cli) fn deadline(&self) -> Option<std::time::Instant> {
+        self.time
+            .map(|s| std::time::Instant::now() + std::time::Duration::from_secs_f64(s))
+    }
+
     /// The modes asked for, each once, in the order first given.
     pub(in crate::cli) fn modes(&self) -> Vec<Shading> {
         let mut modes = Vec::new();

@@ -242,15 +242,12 @@ fn render(
     }
     Ok(if let Some(context) = context {
         // A time budget stops the caustics' passes (`check_budgets`).
-        let deadline = args
-            .time
-            .map(|s| Instant::now() + std::time::Duration::from_secs_f64(s));
         let rendered = shadelab::render::render_gpu_until(
             &context,
             scene,
             shading,
             (args.stats, target),
-            deadline,
+            args.deadline(),
         )?;
         let info = &context.info;
         (rendered, info.name.clone(), Some(info.driver.clone()))
@@ -274,9 +271,7 @@ fn render_film(
 ) -> Result<(Rendered, String, Option<String>), Failure> {
     let total = shadelab::render::part_total(scene, shading);
     let mut part = shadelab::film_sums::RenderPart::all(total);
-    part.deadline = args
-        .time
-        .map(|s| Instant::now() + std::time::Duration::from_secs_f64(s));
+    part.deadline = args.deadline();
     part.error = args.error_budget;
     let on = if context.is_some() {
         "GPU"

@@ -48,7 +48,23 @@ pub fn caustic_photons(
     if !scene.materials.iter().any(|m| m.kr > 0.0 || m.kt > 0.0) {
         return Some(Vec::new());
     }
-    let accel = Accel::new(scene);
+    Some(trace_caustic_photons(
+        &Accel::new(scene),
+        &lights,
+        range,
+        total,
+    ))
+}
+
+/// Traces photons `range` of `total` through `accel`'s scene from
+/// `lights`, and keeps the caustic ones, in photon order: the same list
+/// at any thread count.
+pub(crate) fn trace_caustic_photons(
+    accel: &Accel,
+    lights: &LightChoice,
+    range: std::ops::Range<u32>,
+    total: u32,
+) -> Vec<CausticPhoton> {
     let tasks = range
         .end
         .saturating_sub(range.start)
@@ -60,12 +76,12 @@ pub fn caustic_photons(
             let end = first.saturating_add(PHOTONS_PER_TASK).min(range.end);
             let mut kept = Vec::new();
             for i in first..end {
-                trace_caustic_photon(&accel, &lights, (i, total), &mut kept);
+                trace_caustic_photon(accel, lights, (i, total), &mut kept);
             }
             kept
         })
         .collect();
-    Some(parts.concat())
+    parts.concat()
 }
 
 /// Traces photon `i` of `total`: from its first surface by a mirror or

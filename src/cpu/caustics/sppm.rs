@@ -16,8 +16,9 @@ use std::collections::HashMap;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::photons::{caustic_photons, CausticPhoton};
+use super::photons::{trace_caustic_photons, CausticPhoton};
 use crate::camera::View;
+use crate::cpu::forward::LightChoice;
 use crate::cpu::intersect::{Accel, Ray};
 use crate::cpu::raytrace::{children, facing_normal, offset_origin, pcg4d};
 use crate::cpu::surface::hit_tint;
@@ -27,13 +28,13 @@ use crate::scene::{CausticSettings, Scene};
 
 /// A pixel's eye path where it stops on a diffuse surface.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct VisiblePoint {
-    pub position: DVec3,
-    pub normal: DVec3,
+struct VisiblePoint {
+    position: DVec3,
+    normal: DVec3,
     /// The path's mirror and glass weights times the surface's `kd C`.
-    pub weight: DVec3,
+    weight: DVec3,
     /// The path's length from the eye.
-    pub length: f64,
+    length: f64,
 }
 
 /// What a pixel has gathered so far.
@@ -52,11 +53,13 @@ struct PixelState {
 /// no light that has power, or more photons than have numbers (2^32).
 pub fn render_caustics(scene: &Scene, settings: &CausticSettings) -> Option<LinearImage> {
     let (width, height) = (scene.image.width, scene.image.height);
+    settings.total_photons()?;
     let rt = RtScene::new(scene);
+    let lights = LightChoice::new(&rt)?;
+    // Built once for every pass, the photons' and the eye's.
     let accel = Accel::new(&rt);
     let view = View::new(scene, width, height);
     let per_pass = settings.photons_per_pass;
-    u32::try_from(u64::from(per_pass) * u64::from(settings.passes)).ok()?;
     let pixel_angle = 2.0 / (view.focal * f64::from(height));
     let fresh = PixelState {
         radius: 0.0,
@@ -66,7 +69,7 @@ pub fn render_caustics(scene: &Scene, settings: &CausticSettings) -> Option<Line
     let mut states = vec![fresh; width as usize * height as usize];
     for pass in 0..settings.passes {
         let first = pass * per_pass;
-        let photons = caustic_photons(&rt, first..first + per_pass, per_pass)?;
+        let photons = trace_caustic_photons(&accel, &lights, first..first + per_pass, per_pass);
         let points: Vec<Option<VisiblePoint>> = (0..states.len() as u32)
             .into_par_iter()
             .map(|pixel| visible_point(&rt, &accel, &view, (pixel, pass)))
@@ -119,7 +122,7 @@ pub fn render_caustics(scene: &Scene, settings: &CausticSettings) -> Option<Line
 /// (docs/lighting-model.md, "Caustics": stop on the surface's `kd C`, or go
 /// on by `kr` or `kt`), to the surface it stops on. `None` where the path
 /// leaves the scene, is absorbed, or runs past `depth`.
-pub(crate) fn visible_point(
+fn visible_point(
     rt: &RtScene,
     accel: &Accel,
     view: &View,

@@ -205,7 +205,7 @@ impl PassRun<'_> {
         // SAFETY: every handle lives until the submission completes (this
         // function waits for it); the stage takes no item.
         unsafe {
-            self.record_stage(context, commands.cmd, push, QUEUE_EXHAUSTED, (1, 1));
+            self.record_stage(context, commands.cmd, push, Some(QUEUE_EXHAUSTED), (1, 1));
         }
         commands.submit_and_wait()?;
         context.check_validation()
@@ -234,10 +234,13 @@ impl PassRun<'_> {
                 stage: stage as u32,
                 ..push
             };
+            // The traced stages take work from the queue, set afresh; the
+            // others run one invocation a pixel on what is bound already.
+            let queue_head = matches!(stage, Stage::VisiblePoints | Stage::Photons).then_some(0);
             // SAFETY: every handle lives until the submission completes
             // (`submit_and_measure` waits for it).
             unsafe {
-                self.record_stage(context, cmd, push, 0, groups);
+                self.record_stage(context, cmd, push, queue_head, groups);
                 record_stage_done(&context.device, cmd);
             }
         }
@@ -247,8 +250,10 @@ impl PassRun<'_> {
         timestamps.submit_and_measure(&commands)
     }
 
-    /// Records one stage: the work queue set to `queue_head`, both sets
-    /// bound, `push` pushed, `groups` dispatched.
+    /// Records one stage: where `queue_head` is given, the work queue set
+    /// to it and the pipeline and both sets bound (else they are bound
+    /// already, by an earlier stage in `cmd`); `push` pushed, `groups`
+    /// dispatched.
     ///
     /// # Safety
     /// `cmd` is recording, and every handle in `self` lives until the
@@ -258,17 +263,24 @@ impl PassRun<'_> {
         context: &Arc<GpuContext>,
         cmd: vk::CommandBuffer,
         push: CausticPass,
-        queue_head: u32,
+        queue_head: Option<u32>,
         (groups_x, groups_y): (u32, u32),
     ) {
         let device = &context.device;
         let layout = self.bound.pipeline.layout;
-        self.bound.record(device, cmd, queue_head, |cmd| {
-            let bind = vk::PipelineBindPoint::COMPUTE;
-            device.cmd_bind_descriptor_sets(cmd, bind, layout, 1, &[self.map_set], &[]);
+        let dispatch = |cmd| {
             let stage = vk::ShaderStageFlags::COMPUTE;
             device.cmd_push_constants(cmd, layout, stage, 0, bytemuck::bytes_of(&push));
             device.cmd_dispatch(cmd, groups_x, groups_y, 1);
+        };
+        let Some(head) = queue_head else {
+            dispatch(cmd);
+            return;
+        };
+        self.bound.record(device, cmd, head, |cmd| {
+            let bind = vk::PipelineBindPoint::COMPUTE;
+            device.cmd_bind_descriptor_sets(cmd, bind, layout, 1, &[self.map_set], &[]);
+            dispatch(cmd);
         });
     }
 }
