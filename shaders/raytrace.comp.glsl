@@ -72,6 +72,7 @@ const int UNROLLED_MATERIALS = 8;
 #include "rt_shading.glsl"     // materials, offsets, direct light with shadow rays
 #ifdef PATHS
 #include "rt_bounce.glsl"      // diffuse bounces: random numbers, directions
+#include "rt_pixel_samples.glsl" // where a pixel's samples look: a progressive sequence
 #include "rt_sample_sums.glsl" // samples summed in fixed point, as films are
 #endif
 #include "rt_children.glsl"    // a hit's reflected and refracted rays
@@ -145,21 +146,26 @@ void main() {
             // lavapipe (24 to 50 alternated runs), the images the same.
 #ifdef PATHS
             for (uint i = sample_range.first;;) {
+                // Sample i's point of the progressive sequence: any prefix
+                // of a pixel's samples covers the pixel.
+                uint pixel_index = pixel.y * width + pixel.x;
+                vec2 cell = pixel_sample(pixel_index, i);
 #else
             for (uint i = 0u;;) {
-#endif
                 // Sample i's cell: row i / kx and column i % kx, in floats
                 // (exact: (i + 0.5) / kx is 0.5 / kx from an integer or more).
                 float row = floor((float(i) + 0.5) * inv_kx);
                 float column = float(i) - row * kx;
                 vec2 cell = vec2(column + 0.5, row + 0.5) * vec2(inv_kx, inv_ky);
+#endif
                 vec2 ndc = (vec2(pixel) + cell) * ndc_per_pixel - 1.0;
                 vec3 dir = frame.forward_cutoff.xyz + right_per_ndc * ndc.x - up_per_ndc * ndc.y;
 #ifdef PATHS
-                uvec2 key = uvec2(pixel.y * width + pixel.x, i);
+                uvec2 key = uvec2(pixel_index, i);
                 vec3 value = trace_sample(dir * inversesqrt(dot(dir, dir)), on_image, key);
                 add_sample(sums, value / float(samples));
-                if (++i >= sample_range.end) {
+                i += max(sample_range.step, 1u);
+                if (i >= sample_range.end) {
                     break;
                 }
             }

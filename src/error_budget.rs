@@ -2,17 +2,22 @@
 //! in batches (forward, or ray tracing with bounces) stops once its own
 //! estimate of its error is within the budget, with no reference image.
 //!
-//! The batches are dealt into two halves, each an independent estimate of
-//! the image (different photons, or different samples of every pixel).
+//! The work is dealt into two halves, each an independent estimate of the
+//! image: the forward tracer's batches of photons alternately (every photon
+//! is drawn from its own hash), and the ray tracer's even and odd samples of
+//! every pixel (two streams of the progressive sequence, scrambled apart:
+//! `cpu::raytrace::pixel_sample`; samples of one stream are stratified
+//! together, so batches of them would not be independent).
 //! For a pixel channel whose terms have variance `s^2` per photon or
 //! sample, halves of `n_a` and `n_b` of them differ by
 //! `Var(a - b) = s^2 (1/n_a + 1/n_b)`, and the whole render's error is
 //! `s^2 / (n_a + n_b)`; so the mean square of `a - b` over the image,
 //! divided by `(n_a + n_b)(1/n_a + 1/n_b)`, estimates the render's mean
 //! square error against the converged image (its RMSE as `compare` and
-//! `diff` measure it: over the channels of every pixel). The halves of the
-//! ray tracer's samples sit in different cells of each pixel's grid, which
-//! can only add to their difference: the estimate errs high.
+//! `diff` measure it: over the channels of every pixel). Its expectation
+//! is that error exactly when the halves are independent and unbiased; in
+//! one run it scatters about it (measured on sub-pixel edges and bounces,
+//! docs/estimators.md, "How honest --error is").
 
 use crate::film_sums::FILM_ONE;
 
@@ -53,12 +58,18 @@ impl ErrorBudget {
         }
     }
 
-    /// After a batch of `count` photons or samples per pixel, with the
-    /// film's sums so far: deals the batch's part to the half that has
-    /// fewer, updates the estimate, and says whether it is within the
-    /// budget.
-    pub fn after_batch(&mut self, sums: &[u64], count: u32) -> bool {
+    /// After a batch of `count` photons or samples per pixel, each of its
+    /// own, with the film's sums so far: deals the batch's part to the
+    /// half that has fewer and updates the estimate.
+    pub fn add_to_smaller(&mut self, sums: &[u64], count: u32) {
         let half = usize::from(self.counts[1] < self.counts[0]);
+        self.add(half, sums, count);
+    }
+
+    /// After `count` photons or samples per pixel that belong to `half`
+    /// (0 or 1), with the film's sums so far: deals their part of the film
+    /// to that half and updates the estimate.
+    pub fn add(&mut self, half: usize, sums: &[u64], count: u32) {
         for ((last, sum), into) in self.last.iter_mut().zip(sums).zip(&mut self.halves[half]) {
             *into = into.wrapping_add(sum.wrapping_sub(*last));
             *last = *sum;
@@ -66,6 +77,10 @@ impl ErrorBudget {
         self.counts[half] += u64::from(count);
         self.batches += 1;
         self.estimate = self.estimate_now();
+    }
+
+    /// Whether the estimate is within the budget.
+    pub fn reached(&self) -> bool {
         self.estimate.is_some_and(|e| e <= self.target)
     }
 
@@ -118,7 +133,8 @@ mod tests {
                 }
             }
             traced += 10;
-            let reached = budget.after_batch(&film, 10);
+            budget.add_to_smaller(&film, 10);
+            let reached = budget.reached();
             if traced < 40 {
                 assert!(budget.estimate.is_none() && !reached);
                 continue;

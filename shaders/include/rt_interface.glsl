@@ -174,12 +174,14 @@ layout(std430, set = 0, binding = 10) buffer PhotonCountBuffer { uint64_t photon
 // by each dispatch of a range of samples.
 layout(std430, set = 0, binding = 9) buffer SampleSumBuffer { uvec2 sample_sums[]; };
 // The samples this dispatch traces, of the frame.image.z each pixel has
-// (gpu::raytrace::sample_batches::SampleRange); first < end.
+// (gpu::raytrace::layout::SampleRange): first, first + step, ... below end;
+// first < end. A step of 2 traces one of the two streams of samples
+// (rt_pixel_samples.glsl), as --error's halves need.
 layout(push_constant) uniform SampleRange {
     uint first;
     uint end;
-    uint unused0;
-    uint unused1;
+    uint step;
+    uint unused;
 } sample_range;
 #else
 // Not `writeonly`: naga does not accept write-only storage buffers.

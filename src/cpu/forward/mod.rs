@@ -68,7 +68,9 @@ pub fn render_job(scene: &Scene, job: &RenderPart, counter: &WorkCounter) -> Opt
     let (film, stats) = (0..tasks)
         .into_par_iter()
         .fold(fresh, |(mut film, mut stats), task| {
-            if job.past_deadline() {
+            // The first task runs whatever the budget: an image of no
+            // photon would be black, not an estimate.
+            if task > 0 && job.past_deadline() {
                 return (film, stats);
             }
             let first = range.start + task * PHOTONS_PER_TASK;

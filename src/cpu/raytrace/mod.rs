@@ -4,19 +4,22 @@
 //! counting), so that the two images can be compared pixel by pixel.
 //!
 //! Geometry is `cpu::intersect`, the formula `cpu::lighting`; this folder
-//! owns the ray tree (`tracer.rs`), its diffuse bounces (`bounce.rs`), where secondary rays start and go
+//! owns the ray tree (`tracer.rs`), its diffuse bounces (`bounce.rs`), where a
+//! path-traced pixel's samples look (`pixel_samples.rs`), where secondary rays start and go
 //! (`secondary_rays.rs`), the per-pixel path signature
 //! (`path_signature.rs`) and the parallel loop over rows (`render.rs`). It
 //! shares nothing with the shaders but the scene (`rt_scene`) and the camera.
 
 mod bounce;
 mod path_signature;
+mod pixel_samples;
 mod render;
 mod secondary_rays;
 mod tracer;
 
 pub use bounce::{bounce_numbers, cosine_direction, pcg4d, photon_numbers};
 pub use path_signature::{PathSignature, RayKind};
+pub use pixel_samples::{owen_scramble, pixel_sample, sobol_second};
 pub use render::{render, render_counted, render_part, RayTraced};
 pub(crate) use secondary_rays::children;
 pub use secondary_rays::{facing_normal, offset_epsilon, offset_origin};

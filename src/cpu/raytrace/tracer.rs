@@ -8,6 +8,7 @@ use glam::DVec3;
 
 use super::bounce::{bounce_numbers, cosine_direction, roulette, ROULETTE_AFTER};
 use super::path_signature::{PathSignature, RayKind};
+use super::pixel_samples::pixel_sample;
 use super::secondary_rays::{children, facing_normal, offset_epsilon, offset_origin};
 use crate::camera::View;
 use crate::cpu::intersect::{Accel, Hit, Ray};
@@ -125,7 +126,13 @@ impl<'a> Tracer<'a> {
         let with_bounces = !self.diffuse_materials.is_empty();
         let first = samples.start;
         for i in samples {
-            let (sx, sy) = self.offsets[i as usize];
+            // Paths take the progressive sequence, so that any prefix of
+            // the samples is an honest image; Whitted keeps its grid.
+            let (sx, sy) = if with_bounces {
+                pixel_sample(pixel, i)
+            } else {
+                self.offsets[i as usize]
+            };
             let ray = self.primary_ray(f64::from(x) + sx, f64::from(y) + sy);
             stats.primary += 1;
             let (value, hit) = self.trace(ray, (pixel, i), stats, &mut signature);

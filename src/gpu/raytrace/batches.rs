@@ -33,13 +33,29 @@ pub(super) struct BatchesRun {
 }
 
 /// A render's film and how it is cut: the buffers whose output is the
-/// film of a `width x height` image, what a unit of work is called, and
-/// how many units a batch takes without a budget.
+/// film of a `width x height` image, what a unit of work is called, how
+/// many units a batch takes without a budget, and how the units fall into
+/// an error budget's two independent halves.
 pub(super) struct FilmWork<'a> {
     pub buffers: &'a TraceBuffers,
     pub size: (u32, u32),
     pub unit: &'static str,
     pub batch: u32,
+    pub halves: Halves,
+}
+
+/// Which units of a render are independent of which: what `--error`'s
+/// estimate needs of its two halves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Halves {
+    /// Every unit of its own (the forward tracer's photons, each drawn
+    /// from its own hash): a batch goes to either half whole.
+    ByBatch,
+    /// Two interleaved streams, the even units and the odd ones (the ray
+    /// tracer's samples of a pixel, `cpu::raytrace::pixel_sample`): units
+    /// of one stream are stratified together, so each half is a stream,
+    /// and a batch under an error budget is traced a stream at a time.
+    ByStream,
 }
 
 /// Samples per pixel in one batch of an image of `pixels` pixels whose
@@ -64,21 +80,27 @@ fn batch_size(part: &RenderPart, batch: u32) -> u32 {
     size.max(1)
 }
 
-/// Runs `part` a batch at a time, `submit(timestamps, first, end)` tracing
-/// units `first..end` in one submission (its submit and GPU milliseconds),
-/// counting units into `counter` as batches finish: until the part is
-/// done, a time budget is spent or an error budget reached.
+/// Traces units `first, first + step, ...` below `end` in one submission:
+/// its submit and GPU milliseconds.
+pub(super) type Submit<'s> =
+    dyn FnMut(&Timestamps, u32, u32, u32) -> Result<(f64, f64), GpuError> + 's;
+
+/// Runs `part` a batch at a time through `submit`, counting units into
+/// `counter` as batches finish: until the part is done, a time budget is
+/// spent or an error budget reached. The first batch always runs, however
+/// short the time budget: an image of no work would be black, not an
+/// estimate.
 pub(super) fn run(
     context: &Arc<GpuContext>,
     work: &FilmWork,
     part: &RenderPart,
     counter: &WorkCounter,
-    mut submit: impl FnMut(&Timestamps, u32, u32) -> Result<(f64, f64), GpuError>,
+    submit: &mut Submit,
 ) -> Result<BatchesRun, GpuError> {
     counter.begin(work.unit, u64::from(part.count()));
     let timestamps = Timestamps::new(context)?;
-    let (width, height) = work.size;
     let size = batch_size(part, work.batch);
+    let (width, height) = work.size;
     let sums = 3 * width as usize * height as usize;
     let mut budget = part
         .error
@@ -90,29 +112,83 @@ pub(super) fn run(
         estimate: None,
     };
     let mut first = part.range.start;
-    while first < part.range.end && !part.past_deadline() {
+    while first < part.range.end && (first == part.range.start || !part.past_deadline()) {
+        // Under a time budget the first batch is one unit of work for the
+        // samples (a sample per pixel), so that a budget shorter than a
+        // batch overshoots it least.
+        let size = if first == part.range.start && part.deadline.is_some() {
+            first_batch_under_deadline(work, size)
+        } else {
+            size
+        };
         let end = first.saturating_add(size).min(part.range.end);
         let count = end - first;
-        let (submit_ms, gpu_ms) = submit(&timestamps, first, end)?;
+        let times = match (&mut budget, work.halves) {
+            (Some(budget), Halves::ByStream) => {
+                by_stream(&timestamps, work, budget, (first, end), submit)?
+            }
+            _ => submit(&timestamps, first, end, 1)?,
+        };
         if first == part.range.start {
-            part.refuse_if_too_long(count, submit_ms / 1e3, work.unit)
+            part.refuse_if_too_long(count, times.0 / 1e3, work.unit)
                 .map_err(GpuError::TooLong)?;
         }
-        run.submit_ms += submit_ms;
-        run.gpu_ms += gpu_ms;
+        run.submit_ms += times.0;
+        run.gpu_ms += times.1;
         run.traced += count;
         counter.add(u64::from(count));
         first = end;
         if let Some(budget) = &mut budget {
-            let film = FilmSums::from_ne_bytes(width, height, work.buffers.output());
-            let reached = budget.after_batch(&film.sums, count);
+            if work.halves == Halves::ByBatch {
+                budget.add_to_smaller(&film_now(work).sums, count);
+            }
             run.estimate = budget.estimate;
-            if reached {
+            if budget.reached() {
                 break;
             }
         }
     }
     Ok(run)
+}
+
+/// The size of a time budget's first batch.
+fn first_batch_under_deadline(work: &FilmWork, size: u32) -> u32 {
+    match work.halves {
+        Halves::ByStream => 1,
+        Halves::ByBatch => size,
+    }
+}
+
+/// Batch `first..end` a stream at a time, each stream's part of the film
+/// dealt to its half of `budget`: the summed times.
+fn by_stream(
+    timestamps: &Timestamps,
+    work: &FilmWork,
+    budget: &mut ErrorBudget,
+    (first, end): (u32, u32),
+    submit: &mut Submit,
+) -> Result<(f64, f64), GpuError> {
+    let mut times = (0.0, 0.0);
+    for stream in 0..2u32 {
+        let start = first + ((first ^ stream) & 1);
+        if start >= end {
+            continue;
+        }
+        let (submit_ms, gpu_ms) = submit(timestamps, start, end, 2)?;
+        times = (times.0 + submit_ms, times.1 + gpu_ms);
+        budget.add(
+            stream as usize,
+            &film_now(work).sums,
+            (end - start).div_ceil(2),
+        );
+    }
+    Ok(times)
+}
+
+/// The film as the GPU has summed it so far.
+fn film_now(work: &FilmWork) -> FilmSums {
+    let (width, height) = work.size;
+    FilmSums::from_ne_bytes(width, height, work.buffers.output())
 }
 
 #[cfg(test)]

@@ -439,7 +439,10 @@ pub struct SampleRange {
     pub first: u32,
     /// One past the last; more than `first`.
     pub end: u32,
-    pub unused: [u32; 2],
+    /// 1 for every sample of the range, 2 for one of its two streams
+    /// (`cpu::raytrace::pixel_sample`'s even or odd samples).
+    pub step: u32,
+    pub unused: u32,
 }
 
 #[cfg(test)]

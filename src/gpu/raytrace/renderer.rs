@@ -312,6 +312,7 @@ pub fn render_part(
             size: (width, height),
             unit: "samples per pixel",
             batch: batches::batch_samples(pixels, plan.rt.render.bounces),
+            halves: batches::Halves::ByStream,
         };
         let run = trace_samples(context, (&bound, groups), &work, part, counter)?;
         (run.submit_ms, run.gpu_ms, run.traced, run.estimate)
@@ -358,15 +359,22 @@ fn trace_samples(
     part: &RenderPart,
     counter: &WorkCounter,
 ) -> Result<batches::BatchesRun, GpuError> {
-    batches::run(context, work, part, counter, |timestamps, first, end| {
-        let range = SampleRange {
-            first,
-            end,
-            unused: [0; 2],
-        };
-        let push = bytemuck::bytes_of(&range);
-        submit_batch(context, bound, Some(timestamps), push, (0, groups))
-    })
+    batches::run(
+        context,
+        work,
+        part,
+        counter,
+        &mut |timestamps, first, end, step| {
+            let range = SampleRange {
+                first,
+                end,
+                step,
+                unused: 0,
+            };
+            let push = bytemuck::bytes_of(&range);
+            submit_batch(context, bound, Some(timestamps), push, (0, groups))
+        },
+    )
 }
 
 /// The whole image in one dispatch of `groups` workgroups (the Whitted

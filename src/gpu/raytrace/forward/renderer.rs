@@ -90,16 +90,23 @@ pub fn render(
         size: (width, height),
         unit: "photons",
         batch: BATCH,
+        halves: batches::Halves::ByBatch,
     };
-    let batches = batches::run(context, &work, job, counter, |timestamps, first, end| {
-        let batch = PhotonBatch {
-            first,
-            count: end - first,
-            total: job.total,
-            unused: 0,
-        };
-        run_batch(context, &bound, Some(timestamps), batch)
-    })?;
+    let batches = batches::run(
+        context,
+        &work,
+        job,
+        counter,
+        &mut |timestamps, first, end, _| {
+            let batch = PhotonBatch {
+                first,
+                count: end - first,
+                total: job.total,
+                unused: 0,
+            };
+            run_batch(context, &bound, Some(timestamps), batch)
+        },
+    )?;
     let (submit_ms, gpu_ms) = (batches.submit_ms, batches.gpu_ms);
 
     let readback_started = Instant::now();
