@@ -762,17 +762,21 @@ fn compare_shards_merge_from_the_command_line() {
     assert!(run.stderr.contains("../phong.png"), "{}", run.stderr);
     assert!(!dir.path().join("evil/flat.png").exists(), "nothing copied");
 
-    // A shard of the same variants at another width is of another run:
-    // refused in one line that names the setting.
+    // A shard of another variant list is of another run (once merged
+    // silently into a report of neither): refused in one line that names
+    // the setting.
     let mut args = vec!["compare", "--shard", "2/2", "--out", "c"];
     args.extend_from_slice(&common);
-    let width = args.len() - 3;
-    args[width] = "40";
+    args[6] = "flat;phong";
     let run = shadelab(dir.path(), &args);
     assert_eq!(run.code, 0, "{}", run.stderr);
     let args = ["compare", "--merge", "a", "c", "--out", "mixed"];
     let run = shadelab(dir.path(), &args);
-    assert_one_line_refusal(&run, &args, "width is 48 against 40");
+    assert_one_line_refusal(
+        &run,
+        &args,
+        "variants is [\"flat\", \"gouraud\", \"phong\"] against",
+    );
 }
 
 /// The size, depth and run-count checks are shared by every command that
