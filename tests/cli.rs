@@ -775,7 +775,7 @@ fn compare_shards_merge_from_the_command_line() {
     assert_one_line_refusal(
         &run,
         &args,
-        "variants is [\"flat\", \"gouraud\", \"phong\"] against",
+        "variants is [\"flat\",\"gouraud\",\"phong\"] against",
     );
 }
 
