@@ -8,10 +8,14 @@
 # Safe to run again: it installs nothing that is already there, and runs no
 # apt-get update when nothing is missing.
 #
-# Usage: ci/install-deps.sh [--with-chromium]
+# Usage: ci/install-deps.sh [--with-chromium] [--with-slurm]
 #   --with-chromium  also Chromium, which tests/compare_present.rs renders
 #                    report.html in (ci/test.sh asks for it; building and
-#                    rendering do not need it). Any other argument is an error.
+#                    rendering do not need it).
+#   --with-slurm     also Slurm and MUNGE (slurm-wlm, munge), which
+#                    tests/shards.rs runs a one-node cluster of, to shard
+#                    with --shard auto under a real scheduler (ci/test.sh
+#                    asks for it). Any other argument is an error.
 #
 # Lavapipe: the ray tracer runs about twice as fast on Mesa 24 or newer.
 # Debian 12 (bookworm) ships Mesa 22.3, so on bookworm, where lavapipe is
@@ -35,10 +39,12 @@ bpo_pin="25.0.7-2~bpo12+1"
 bpo_sources=/etc/apt/sources.list.d/bookworm-backports.sources
 
 with_chromium=0
+with_slurm=0
 for arg in "$@"; do
     case "$arg" in
         --with-chromium) with_chromium=1 ;;
-        *) echo "ci/install-deps.sh: unknown argument '$arg' (usage: ci/install-deps.sh [--with-chromium])" >&2; exit 2 ;;
+        --with-slurm) with_slurm=1 ;;
+        *) echo "ci/install-deps.sh: unknown argument '$arg' (usage: ci/install-deps.sh [--with-chromium] [--with-slurm])" >&2; exit 2 ;;
     esac
 done
 
@@ -66,6 +72,10 @@ command -v c++ >/dev/null || missing+=(g++)
 command -v cc >/dev/null || missing+=(gcc)
 if [ "$with_chromium" = 1 ]; then
     command -v chromium >/dev/null || missing+=(chromium)
+fi
+if [ "$with_slurm" = 1 ]; then
+    command -v slurmctld >/dev/null || missing+=(slurm-wlm)
+    command -v munged >/dev/null || missing+=(munge)
 fi
 
 # Version of the installed mesa-vulkan-drivers (native architecture), empty if none.

@@ -3,10 +3,11 @@
 # warnings are errors), then every test in release mode with the Khronos
 # validation layer on (a validation message fails the test that caused it).
 # Chromium is installed too: tests/compare_present.rs renders report.html in
-# it, and fails (does not skip) where it is missing.
+# it, and fails (does not skip) where it is missing; so are Slurm and MUNGE,
+# which tests/shards.rs runs a one-node cluster of (--shard auto).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash ci/install-deps.sh --with-chromium
+bash ci/install-deps.sh --with-chromium --with-slurm
 rustup component list --installed 2>/dev/null | grep -q rustfmt || rustup component add rustfmt clippy 2>/dev/null || true
 cargo fmt --all -- --check
 # The code as a map (docs/architecture.md): no file over 800 lines, no

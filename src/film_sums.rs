@@ -107,28 +107,51 @@ pub fn scaled_image(film: &FilmSums, traced: u64, asked: u32) -> LinearImage {
 }
 
 /// The first line of a film file: what it is, and its format's version.
-pub const FILM_FILE_MAGIC: &[u8] = b"shadelab film 1\n";
+/// Version 2 added the sums' checksum to the header; a film of version 1
+/// is refused with a word to render its shard again.
+pub const FILM_FILE_MAGIC: &[u8] = b"shadelab film 2\n";
+
+/// The first line of the films shadelab wrote before their sums had a
+/// checksum.
+const FILM_FILE_MAGIC_1: &[u8] = b"shadelab film 1\n";
+
+/// The header key of the sums' checksum.
+const SUMS_CHECKSUM: &str = "sums_fnv1a64";
+
+/// FNV-1a (64 bits) over the sums' bytes, as 16 hex digits: any bytes
+/// overwritten, swapped or cut change it, so that a damaged film is
+/// refused rather than merged into pixels of 4e9. (A check against
+/// accidents, not against someone forging a film.)
+fn sums_checksum(words: &[u8]) -> String {
+    let hash = words.iter().fold(0xcbf2_9ce4_8422_2325_u64, |hash, byte| {
+        (hash ^ u64::from(*byte)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    format!("{hash:016x}")
+}
 
 impl FilmSums {
     /// A film file: the magic line, `header` (what made the film: a JSON
-    /// object, to which the film's size is added) on one line, then the
-    /// sums as little-endian 64-bit words.
+    /// object, to which the film's size and its sums' checksum are added)
+    /// on one line, then the sums as little-endian 64-bit words.
     pub fn to_file_bytes(&self, header: &serde_json::Value) -> Vec<u8> {
+        let words: Vec<u8> = self.sums.iter().flat_map(|s| s.to_le_bytes()).collect();
         let mut header = header.clone();
         header["width"] = self.width.into();
         header["height"] = self.height.into();
+        header[SUMS_CHECKSUM] = sums_checksum(&words).into();
         let mut bytes = FILM_FILE_MAGIC.to_vec();
         bytes.extend_from_slice(header.to_string().as_bytes());
         bytes.push(b'\n');
-        for s in &self.sums {
-            bytes.extend_from_slice(&s.to_le_bytes());
-        }
+        bytes.extend_from_slice(&words);
         bytes
     }
 
     /// The header and the film of a film file's bytes; `Err` says what is
     /// wrong with them.
     pub fn from_file_bytes(bytes: &[u8]) -> Result<(serde_json::Value, FilmSums), String> {
+        if bytes.starts_with(FILM_FILE_MAGIC_1) {
+            return Err("it is a film of an older shadelab (format 1, without a checksum of its sums): render its shard again".into());
+        }
         let rest = bytes
             .strip_prefix(FILM_FILE_MAGIC)
             .ok_or("it is not a shadelab film (render --shard writes them)")?;
@@ -153,6 +176,15 @@ impl FilmSums {
                 "it holds {} bytes of sums where a {width}x{height} film has {}",
                 words.len(),
                 count * 8
+            ));
+        }
+        let recorded = header[SUMS_CHECKSUM]
+            .as_str()
+            .ok_or(format!("its header has no {SUMS_CHECKSUM}"))?;
+        let actual = sums_checksum(words);
+        if recorded != actual {
+            return Err(format!(
+                "its sums are damaged (checksum {actual} where its header says {recorded}): copy or render this shard again"
             ));
         }
         let sums = words
@@ -360,6 +392,15 @@ mod tests {
         assert!(cut.contains("bytes of sums"), "{cut}");
         let png = FilmSums::from_file_bytes(b"\x89PNG").unwrap_err();
         assert!(png.contains("not a shadelab film"), "{png}");
+        let mut damaged = bytes.clone();
+        let at = damaged.len() - 20;
+        damaged[at..at + 4].copy_from_slice(&[0x5a; 4]);
+        let why = FilmSums::from_file_bytes(&damaged).unwrap_err();
+        assert!(why.contains("damaged"), "{why}");
+        let mut old = b"shadelab film 1\n".to_vec();
+        old.extend_from_slice(&bytes[FILM_FILE_MAGIC.len()..]);
+        let why = FilmSums::from_file_bytes(&old).unwrap_err();
+        assert!(why.contains("render its shard again"), "{why}");
     }
 
     /// A part whose first batch says it would run past the limit is

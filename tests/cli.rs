@@ -6,7 +6,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::cli::shadelab;
+use common::cli::{assert_one_line_refusal, shadelab};
 
 fn fixture(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -702,6 +702,11 @@ fn compare_rejects_bad_variants_and_shards() {
         assert_eq!(run.code, 2, "{args:?}: {}", run.stderr);
         assert!(!run.stderr.contains("panicked"), "{}", run.stderr);
     }
+    // `--shard $CI_NODE_INDEX/$CI_NODE_TOTAL` with the variables unset.
+    let args = ["compare", "--shard", "/", "--out", "x"];
+    let run = shadelab(dir.path(), &args);
+    assert_one_line_refusal(&run, &args, "variables empty");
+    assert!(run.stderr.contains("--shard auto"), "{}", run.stderr);
     assert_eq!(
         shadelab(dir.path(), &["compare"]).code,
         2,
@@ -756,6 +761,22 @@ fn compare_shards_merge_from_the_command_line() {
     assert_eq!(run.code, 2, "{}", run.stderr);
     assert!(run.stderr.contains("../phong.png"), "{}", run.stderr);
     assert!(!dir.path().join("evil/flat.png").exists(), "nothing copied");
+
+    // A shard of another variant list is of another run (once merged
+    // silently into a report of neither): refused in one line that names
+    // the setting.
+    let mut args = vec!["compare", "--shard", "2/2", "--out", "c"];
+    args.extend_from_slice(&common);
+    args[6] = "flat;phong";
+    let run = shadelab(dir.path(), &args);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let args = ["compare", "--merge", "a", "c", "--out", "mixed"];
+    let run = shadelab(dir.path(), &args);
+    assert_one_line_refusal(
+        &run,
+        &args,
+        "variants is [\"flat\",\"gouraud\",\"phong\"] against",
+    );
 }
 
 /// The size, depth and run-count checks are shared by every command that

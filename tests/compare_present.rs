@@ -126,6 +126,7 @@ fn fixture(dir: &Path) -> Report {
         variants,
         budget: None,
         not_run: Vec::new(),
+        run: None,
     }
 }
 

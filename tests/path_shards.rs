@@ -218,3 +218,64 @@ fn a_render_projected_past_the_limit_is_refused_with_the_figure() {
         }
     }
 }
+
+/// Films name what they are a part of by content: a shard of `../box.toml`
+/// and one of the same file by its absolute path merge. Films that cannot
+/// be added are refused in one line, exit 2, and nothing is written: one
+/// with 4 bytes of its sums overwritten (named, as damaged), and a shard
+/// of another sample count (the setting named, with both values).
+#[test]
+fn films_merge_by_scene_content_and_a_damaged_or_foreign_one_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let sub = dir.path().join("sub");
+    std::fs::create_dir(&sub).unwrap();
+    std::fs::copy(BOX, dir.path().join("box.toml")).unwrap();
+    let absolute = dir.path().join("box.toml");
+    let absolute = absolute.to_str().unwrap();
+    let shard = |scene: &str, i: u32, samples: &str, out: &str| {
+        let args = [
+            "render",
+            scene,
+            "--backend",
+            "cpu",
+            "--shading",
+            "raytrace",
+            "--samples",
+            samples,
+            "--width",
+            "16",
+            "--height",
+            "12",
+            "--shard",
+            &format!("{i}/2"),
+            "--out",
+            out,
+        ];
+        let run = shadelab(&sub, &args);
+        assert_eq!(run.code, 0, "{args:?}: {}", run.stderr);
+    };
+    shard("../box.toml", 1, "6", "1.film");
+    shard(absolute, 2, "6", "2.film");
+    shard(absolute, 2, "8", "2-of-8.film");
+    let merge = |films: &[&'static str]| {
+        let mut args = vec!["render", "--merge"];
+        args.extend_from_slice(films);
+        args.extend(["--out", "merged.exr"]);
+        (shadelab(&sub, &args), args)
+    };
+    let (run, _) = merge(&["1.film", "2.film"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    std::fs::remove_file(sub.join("merged.exr")).unwrap();
+
+    let (run, args) = merge(&["1.film", "2-of-8.film"]);
+    assert_one_line_refusal(&run, &args, "settings.samples is 6 against 8");
+    assert!(run.stderr.contains("2-of-8.film"), "{}", run.stderr);
+
+    let mut bytes = std::fs::read(sub.join("2.film")).unwrap();
+    let at = bytes.len() - 8 * 40;
+    bytes[at..at + 4].copy_from_slice(&[0xde, 0xad, 0xbe, 0xef]);
+    std::fs::write(sub.join("damaged.film"), &bytes).unwrap();
+    let (run, args) = merge(&["1.film", "damaged.film"]);
+    assert_one_line_refusal(&run, &args, "damaged.film: its sums are damaged");
+    assert!(!sub.join("merged.exr").exists());
+}

@@ -11,7 +11,7 @@ use super::failure::Failure;
 
 /// The flags that override a scene's settings in every command that renders
 /// it whole (render, bench, warm, golden), applied in this order.
-#[derive(Args, Clone)]
+#[derive(Args, Clone, Debug)]
 pub struct SceneFlags {
     #[command(flatten)]
     pub lighting: LightingArg,
@@ -72,7 +72,7 @@ impl ImageSize {
 
 /// `--lighting FILE`: the user's lighting hook, compiled into the GPU
 /// modes in place of the built-in formula.
-#[derive(Args, Clone)]
+#[derive(Args, Clone, Debug)]
 pub struct LightingArg {
     /// GLSL file defining `vec3 shade_light(vec3 N, vec3 V, vec3 L, float d,
     /// vec3 intensity, Surface m, float k)`, one light's contribution, used
@@ -152,7 +152,7 @@ impl ModeList {
 
 /// `--msaa`: the raster modes' samples per pixel, overriding the scene's
 /// `render.msaa`.
-#[derive(Args, Clone, Default)]
+#[derive(Args, Clone, Debug, Default)]
 pub struct MsaaArg {
     /// The raster modes' samples per pixel, N or N,per-sample (shade every
     /// sample); the counts the device renders are in `shadelab info`.
@@ -176,7 +176,7 @@ impl MsaaArg {
 
 /// `--depth`, `--bounces` and `--photons`: how far the ray tracers go,
 /// overriding the scene's.
-#[derive(Args, Clone, Default)]
+#[derive(Args, Clone, Debug, Default)]
 pub struct DepthArg {
     /// Ray tracing: maximum recursion depth (overrides the scene's
     /// render.depth).
@@ -307,7 +307,7 @@ pub fn check_runs(runs: usize) -> Result<usize, Failure> {
 
 /// `--traversal`: the GPU ray tracer's engine, overriding the scene's
 /// `render.traversal`.
-#[derive(Args, Clone, Default)]
+#[derive(Args, Clone, Debug, Default)]
 pub struct TraversalArg {
     /// The GPU ray tracer's engine: `bvh` (the compute shader's own BVH
     /// walk), `query` (VK_KHR_ray_query through an acceleration structure

@@ -20,6 +20,7 @@ use super::check_merge::{merge, RECORD};
 use super::check_report::{CaseReport, KeepImages};
 use super::failure::Failure;
 use super::render::load_scene;
+use super::run_digest::content_digest;
 
 #[derive(Args)]
 pub struct CheckArgs {
@@ -64,7 +65,8 @@ pub struct CheckArgs {
     flip_mean: Option<f64>,
     /// Run only the cases of shard I of N (1 <= I <= N), dealt out by each
     /// scene's path and mode so that a case stays on its shard when others
-    /// are added; the shard's record (check.json) goes into --out.
+    /// are added; the shard's record (check.json) goes into --out. `auto`
+    /// reads I and N from the CI's own variables (docs/golden.md).
     #[arg(long, value_name = "I/N", value_parser = super::shards::parse_shard)]
     shard: Option<(usize, usize)>,
     /// Join the records of these shard folders (each a shard's --out) into
@@ -242,13 +244,43 @@ fn write_shard_record(
         .collect();
     let record = serde_json::json!({
         "shard": [i, n],
-        "run": {"modes": modes},
+        "run": run_identity(args, modes)?,
         "out": args.out,
         "cases": cases,
     });
     shadelab::output::prepare_output_folder(&args.out)?;
     write_atomically(&args.out.join(RECORD), record.to_string().as_bytes())?;
     Ok(())
+}
+
+/// What the whole run is, for its shards' records (`run_digest.rs`): every
+/// case, each scene's and the hook's contents, the flags and limits; not
+/// where it wrote (`--out`, `--junit`), which differ between shards.
+fn run_identity(args: &CheckArgs, modes: &[Shading]) -> Result<serde_json::Value, Failure> {
+    let keys = super::golden_keys::scene_keys(&args.scenes, None)?;
+    let cases: Vec<String> = keys
+        .iter()
+        .flat_map(|k| modes.iter().map(move |m| format!("{k}/{m}")))
+        .collect();
+    let scenes: serde_json::Map<String, serde_json::Value> = keys
+        .iter()
+        .zip(&args.scenes)
+        .map(|(k, p)| (k.clone(), content_digest(p).into()))
+        .collect();
+    Ok(super::run_digest::run_identity(serde_json::json!({
+        "cases": cases,
+        "scenes": scenes,
+        "width": args.size.width,
+        "height": args.size.height,
+        "lighting": args.lighting.lighting.as_deref().map(content_digest),
+        "traversal": format!("{:?}", args.traversal),
+        "msaa": format!("{:?}", args.msaa),
+        "depth": format!("{:?}", args.depth),
+        "interior_max_abs": args.interior_max_abs,
+        "edge_fraction": args.edge_fraction,
+        "flip_mean": args.flip_mean,
+        "images": format!("{:?}", args.images),
+    })))
 }
 
 /// The run in one JSON object (`--json`), or the count of cases that passed.

@@ -20,6 +20,7 @@ use super::compare_table::{budget_line, print_table};
 use super::compare_variants::{modes_of, over_the_limit, rendered_by, variants_of};
 use super::failure::Failure;
 use super::render::load_scene;
+use super::run_digest::content_digest;
 
 #[derive(Args)]
 pub struct CompareArgs {
@@ -36,7 +37,8 @@ pub struct CompareArgs {
     /// Timed GPU runs per variant, after one warm-up.
     #[arg(long, default_value_t = 3)]
     runs: usize,
-    /// Render only part I of N of the variant list, e.g. 2/4.
+    /// Render only part I of N of the variant list, e.g. 2/4; `auto` reads
+    /// I and N from the CI's own variables (docs/golden.md).
     #[arg(long, value_name = "I/N", value_parser = super::shards::parse_shard)]
     shard: Option<(usize, usize)>,
     /// Join the reports in these shard folders into one report in --out.
@@ -260,6 +262,10 @@ fn render_variants(
     )?;
     progress.finish();
     drop(progress);
+    let mut report = report;
+    if args.shard.is_some() {
+        report.run = Some(run_identity(args, &variants));
+    }
     if report.variants.is_empty() {
         let reasons: Vec<String> = report
             .not_run
@@ -272,4 +278,23 @@ fn render_variants(
         });
     }
     Ok(report)
+}
+
+/// What the whole comparison is, for its shards' reports
+/// (`run_digest.rs`): the scene's contents, every variant of every shard,
+/// the runs, size and samples. Not the plot's reference, metric or budget,
+/// which a merge may choose afresh.
+fn run_identity(args: &CompareArgs, variants: &[shadelab::compare::Variant]) -> serde_json::Value {
+    let scene = args
+        .scene
+        .as_deref()
+        .map_or_else(|| "built-in default scene".to_string(), content_digest);
+    super::run_digest::run_identity(serde_json::json!({
+        "scene": scene,
+        "variants": variants.iter().map(ToString::to_string).collect::<Vec<_>>(),
+        "runs": args.runs,
+        "width": args.size.width,
+        "height": args.size.height,
+        "msaa": format!("{:?}", args.msaa),
+    }))
 }

@@ -7,6 +7,7 @@ use shadelab::compare::run::merge;
 use shadelab::compare::Report;
 
 use super::failure::Failure;
+use super::run_digest::run_difference;
 
 /// Whether two paths name one folder.
 pub(super) fn same_folder(a: &Path, b: &Path) -> bool {
@@ -64,6 +65,19 @@ pub(super) fn merge_folders(dirs: &[PathBuf], out: &Path) -> Result<Report, Fail
             Failure::usage(format!("{} is not a shadelab report: {e}", path.display()))
         })?;
         shards.push((dir, report));
+    }
+    if let Some((first_dir, first)) = shards.first() {
+        for (dir, report) in &shards[1..] {
+            let null = serde_json::Value::Null;
+            let run_of = |r: &Report| r.run.clone().unwrap_or(null.clone());
+            if let Some(why) = run_difference(&run_of(first), &run_of(report)) {
+                return Err(Failure::usage(format!(
+                    "cannot merge: {} is of another run than {}: {why}",
+                    dir.display(),
+                    first_dir.display()
+                )));
+            }
+        }
     }
     // Merge (which checks that the shards belong together) before copying
     // anything, so a refused merge leaves --out as it was.

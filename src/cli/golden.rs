@@ -28,6 +28,7 @@ use super::golden_report::{
     case_figure_html, case_json, case_row_html, junit_cases, junit_json, print_case, ReportCase,
 };
 use super::render::{file_name, Batch, CaseView, Made, RenderArgs};
+use super::run_digest::content_digest;
 
 /// Plan the batch, judge each case as it is rendered, then write the
 /// record and reports (`golden_record.rs`); `--merge` joins shards instead.
@@ -73,10 +74,14 @@ pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
 
     let limits = describe_limits(args.preset, &plan.judging.thresholds);
     let records = case_records(&cases);
+    // A shard with no cases opens no device, so has no driver key of its
+    // own unless --key gives one: it records none, and merges with any.
+    let key_known = args.key.is_some() || batch.len() > 0;
     let run = RunRecord {
         shard: args.shard,
+        identity: run_identity(&args, &render_args, &plan.judging.thresholds, bless),
         references: args.references().to_path_buf(),
-        key: plan.key.clone(),
+        key: key_known.then(|| plan.key.clone()),
         device,
         driver,
         preset: args.preset,
@@ -87,6 +92,47 @@ pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
     };
     let first_error = cases.iter().find_map(|(_, c)| c.judged.error.clone());
     conclude(&args, &run, records, first_error)
+}
+
+/// What the whole run is, for its shards' records (`run_digest.rs`): every
+/// case of every shard, each scene's and the hook's contents, the flags,
+/// the references and limits. Not where it ran or wrote (the device,
+/// `--out`, `--junit`), which differ between the shards of one run.
+fn run_identity(
+    args: &GoldenArgs,
+    render_args: &RenderArgs,
+    thresholds: &Thresholds,
+    bless: bool,
+) -> serde_json::Value {
+    let keys = render_args.scene_names.as_deref().unwrap_or_default();
+    let modes = args.modes.modes();
+    let cases: Vec<String> = keys
+        .iter()
+        .flat_map(|k| modes.iter().map(move |m| format!("{k}/{m}")))
+        .collect();
+    let scenes: serde_json::Map<String, serde_json::Value> = keys
+        .iter()
+        .zip(&args.scenes)
+        .map(|(k, p)| (k.clone(), content_digest(p).into()))
+        .collect();
+    let flags = &args.settings;
+    super::run_digest::run_identity(serde_json::json!({
+        "cases": cases,
+        "scenes": scenes,
+        "name": args.name,
+        "references": args.references(),
+        "preset": args.preset,
+        "thresholds": thresholds,
+        "create": args.create,
+        "bless": bless,
+        "per_driver": args.per_driver,
+        "width": args.size.width,
+        "height": args.size.height,
+        "lighting": flags.lighting.lighting.as_deref().map(content_digest),
+        "traversal": format!("{:?}", flags.traversal),
+        "msaa": format!("{:?}", flags.msaa),
+        "depth": format!("{:?}", flags.depth),
+    }))
 }
 
 /// The limits: the preset's, with `--threshold` on top.

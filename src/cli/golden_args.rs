@@ -27,6 +27,7 @@ pub struct GoldenArgs {
     /// Run only the cases of shard I of N (1 <= I <= N): cases are dealt out
     /// by their scene's path and mode, so a case stays on its shard when
     /// others are added. Each shard's --out holds its record for --merge.
+    /// `auto` reads I and N from the CI's own variables (docs/golden.md).
     #[arg(long, value_name = "I/N", value_parser = shards::parse_shard)]
     pub(super) shard: Option<(usize, usize)>,
     /// Join the records of these shard folders (each a shard's --out) into

@@ -21,8 +21,12 @@ use super::shards;
 /// record's head in `golden.json`, and the page's.
 pub(super) struct RunRecord {
     pub(super) shard: Option<(usize, usize)>,
+    /// The whole run's settings and their digest (`run_digest.rs`).
+    pub(super) identity: serde_json::Value,
     pub(super) references: PathBuf,
-    pub(super) key: String,
+    /// The driver's folder of references; `None` for a shard that had no
+    /// case to open a device for.
+    pub(super) key: Option<String>,
     pub(super) device: String,
     pub(super) driver: String,
     pub(super) preset: Preset,
@@ -98,7 +102,7 @@ fn write_report_page(
         .collect();
     let head = PageHead {
         references: &run.references,
-        key: &run.key,
+        key: run.key.as_deref().unwrap_or_default(),
         device: &run.device,
         driver: &run.driver,
         limits: &run.limits,
@@ -108,16 +112,15 @@ fn write_report_page(
 
 /// `golden.json` in `out`: the run's head and every case's record.
 fn write_record(out: &Path, run: &RunRecord, records: &[serde_json::Value]) -> Result<(), Failure> {
-    // What a run of these cases was, for `--merge` to check that shards
-    // belong together: the same references, limits and driver's key.
-    let identity = serde_json::json!({
+    // What run the cases are of, for `--merge` to check that shards
+    // belong together (`run`); the driver's key apart, as an empty shard
+    // has none.
+    let record = serde_json::json!({
+        "shard": run.shard.map(|(i, n)| [i, n]),
+        "run": run.identity,
         "references": run.references,
         "key": run.key,
         "thresholds": run.thresholds,
-    });
-    let record = serde_json::json!({
-        "shard": run.shard.map(|(i, n)| [i, n]),
-        "run": identity,
         "device": run.device,
         "driver": run.driver,
         "limits": run.limits,
@@ -207,34 +210,40 @@ pub(super) fn merge(args: &GoldenArgs) -> Result<(), Failure> {
     if let Some(path) = &args.junit {
         output::prepare_output_path(path)?;
     }
-    let shards = shards::read_shards(&args.merge, RECORD)?;
-    let records = shards::merged_cases(&shards);
-    for (dir, shard) in &shards {
-        for case in shard["cases"].as_array().into_iter().flatten() {
-            for written in case["written"].as_array().into_iter().flatten() {
-                let Some(path) = written.as_str().map(Path::new) else {
+    let mut shards = shards::read_shards(&args.merge, RECORD)?;
+    for (dir, shard) in &mut shards {
+        for case in shard["cases"].as_array_mut().into_iter().flatten() {
+            for written in case["written"].as_array_mut().into_iter().flatten() {
+                let Some(path) = written.as_str().map(PathBuf::from) else {
                     continue;
                 };
                 // Recorded as the shard wrote it: under its --out.
                 let name = path
-                    .strip_prefix(dir)
+                    .strip_prefix(&*dir)
                     .ok()
                     .or_else(|| path.file_name().map(Path::new))
-                    .unwrap_or(path);
+                    .unwrap_or(&path);
                 shards::copy_into(dir, &args.out, name)?;
+                // The merged record names the copy, as a whole run names
+                // its own files under its --out.
+                *written = args.out.join(name).to_string_lossy().into_owned().into();
             }
         }
     }
+    let records = shards::merged_cases(&shards);
     let first = &shards[0].1;
-    let text = |k: &str| first[k].as_str().unwrap_or_default().to_string();
+    // The device and key of a shard that ran cases: an empty one has none.
+    let ran = one_driver_key(&shards)?.unwrap_or(first);
+    let text = |k: &str| ran[k].as_str().unwrap_or_default().to_string();
     let run = RunRecord {
         shard: None,
-        references: PathBuf::from(first["run"]["references"].as_str().unwrap_or_default()),
-        key: first["run"]["key"].as_str().unwrap_or_default().to_string(),
+        identity: first["run"].clone(),
+        references: PathBuf::from(first["references"].as_str().unwrap_or_default()),
+        key: ran["key"].as_str().map(str::to_string),
         device: text("device"),
         driver: text("driver"),
         preset: serde_json::from_value(first["preset"].clone()).unwrap_or(Preset::StoredReference),
-        thresholds: first["run"]["thresholds"].clone(),
+        thresholds: first["thresholds"].clone(),
         limits: text("limits"),
         bless: false,
         wall_ms: shadelab::gpu::ms_since(started),
@@ -243,4 +252,28 @@ pub(super) fn merge(args: &GoldenArgs) -> Result<(), Failure> {
         .iter()
         .find_map(|v| v["error"].as_str().map(|m| Failure::usage(m.to_string())));
     conclude(args, &run, records, first_error)
+}
+
+/// The record of the first shard that has a driver's key, after checking
+/// that every shard that has one has the same: shards judged against
+/// different drivers' references are not one run.
+fn one_driver_key(
+    shards: &[(PathBuf, serde_json::Value)],
+) -> Result<Option<&serde_json::Value>, Failure> {
+    let mut keyed = shards.iter().filter(|(_, r)| r["key"].is_string());
+    let Some((first_dir, first)) = keyed.next() else {
+        return Ok(None);
+    };
+    for (dir, record) in keyed {
+        if record["key"] != first["key"] {
+            return Err(Failure::usage(format!(
+                "{} is of another run than {}: its driver's key is {} against {} (shards of one run render on one driver, or give --key)",
+                dir.display(),
+                first_dir.display(),
+                record["key"],
+                first["key"]
+            )));
+        }
+    }
+    Ok(Some(first))
 }

@@ -27,6 +27,8 @@ mod ignored;
 mod info;
 mod progress;
 mod render;
+mod run_digest;
+mod shard_env;
 mod shards;
 mod time_to_image;
 mod warm;

@@ -9,11 +9,28 @@ use std::path::{Path, PathBuf};
 
 use super::failure::Failure;
 use super::golden_keys::fnv1a;
+use super::run_digest::run_difference;
 
-/// `I/N` with `1 <= I <= N`.
+/// `I/N` with `1 <= I <= N`, or `auto`: the shard the CI's own variables
+/// give (`shard_env.rs`).
 pub fn parse_shard(text: &str) -> Result<(usize, usize), String> {
+    if text.trim() == "auto" {
+        let (shard, from) = super::shard_env::shard_from_vars(&|k| std::env::var(k).ok())?;
+        eprintln!(
+            "shadelab: note: --shard auto is {}/{} ({from})",
+            shard.0, shard.1
+        );
+        return Ok(shard);
+    }
     let bad = || format!("--shard {text} is invalid; expected I/N with 1 <= I <= N, e.g. 2/4");
     let (i, n) = text.split_once('/').ok_or_else(bad)?;
+    if i.trim().is_empty() || n.trim().is_empty() {
+        // What `--shard $CI_NODE_INDEX/$CI_NODE_TOTAL` becomes where the
+        // variables are not set: never a whole suite passed off as a shard.
+        return Err(format!(
+            "--shard {text} is invalid: it looks like --shard $INDEX/$TOTAL with the variables empty (not set in this job?); give --shard auto to read the CI's own variables, or I/N"
+        ));
+    }
     let i: usize = i.trim().parse().map_err(|_| bad())?;
     let n: usize = n.trim().parse().map_err(|_| bad())?;
     if i == 0 || n == 0 || i > n {
@@ -83,13 +100,13 @@ pub fn read_shards(
             )));
         }
         *slot = true;
-        if record.get("run") != records[0].2.get("run") {
+        let null = serde_json::Value::Null;
+        let run_of = |r: &'_ serde_json::Value| r.get("run").unwrap_or(&null).clone();
+        if let Some(why) = run_difference(&run_of(&records[0].2), &run_of(record)) {
             return Err(Failure::usage(format!(
-                "{} is of another run than {}: {} against {}",
+                "{} is of another run than {}: {why}",
                 path.display(),
                 records[0].1.display(),
-                record.get("run").unwrap_or(&serde_json::Value::Null),
-                records[0].2.get("run").unwrap_or(&serde_json::Value::Null)
             )));
         }
     }
@@ -163,6 +180,13 @@ mod tests {
         assert!(on_shard("anything", None));
         assert_eq!(parse_shard("2/3"), Ok((2, 3)));
         assert!(parse_shard("0/3").is_err() && parse_shard("4/3").is_err());
+        for empty in ["/", " / ", "/4", "2/"] {
+            let why = parse_shard(empty).unwrap_err();
+            assert!(
+                why.contains("variables empty") && why.contains("--shard auto"),
+                "{why}"
+            );
+        }
     }
 
     #[test]

@@ -208,6 +208,11 @@ pub struct Report {
     /// failed), each with why; empty in reports written before.
     #[serde(default)]
     pub not_run: Vec<NotRun>,
+    /// A shard's: what the whole run is (its scene's contents, the full
+    /// variant list, the settings) and their digest, for `--merge` to
+    /// refuse shards of different runs; absent from a whole run's report.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub run: Option<serde_json::Value>,
 }
 
 /// A variant the run left out, and why.
@@ -358,6 +363,7 @@ mod tests {
             ],
             budget: None,
             not_run: Vec::new(),
+            run: None,
         }
     }
 

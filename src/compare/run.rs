@@ -314,6 +314,7 @@ pub fn run(
         variants: results,
         budget: None,
         not_run,
+        run: None,
     };
     mark_pareto(&mut report);
     set_budget(&mut report, options.budget);

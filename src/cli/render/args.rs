@@ -70,6 +70,7 @@ pub struct RenderArgs {
     /// Forward ray tracing, or ray tracing with --bounces, split over
     /// machines: trace only the I-th of N runs of the photons or of each
     /// pixel's samples, and write its film to --out FILE.film for --merge.
+    /// `auto` reads I and N from the CI's own variables (docs/golden.md).
     #[arg(long = "shard", value_name = "I/N", value_parser = crate::cli::shards::parse_shard)]
     pub(in crate::cli) render_shard: Option<(usize, usize)>,
     /// Add the films of shards 1 to N of one render (each a --shard's

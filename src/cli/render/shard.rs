@@ -20,11 +20,14 @@ use super::image::{effective_settings, image_metadata};
 use super::scene::{apply_overrides, load_scene};
 use super::stats::print_photons;
 use crate::cli::failure::Failure;
-use crate::cli::golden_keys::fnv1a_hex;
+use crate::cli::run_digest::{first_difference, fnv1a_hex_bytes};
 
-/// The settings a film's header records that say which render it is a
-/// part of; the rest (the backend, the device) say where it ran.
-const MACHINE_KEYS: [&str; 4] = ["backend", "device", "driver", "shadelab"];
+/// The settings a film's header records that say where it ran or by what
+/// path its files were named, not which render it is a part of: the scene
+/// and the lighting hook are known by their contents (`scene_digest`,
+/// `lighting_digest`), so that `../box.toml` and its absolute path are one
+/// render.
+const NOT_IDENTITY_KEYS: [&str; 5] = ["backend", "device", "driver", "scene", "lighting"];
 
 /// `render --shard I/N --out FILE.film`: shard `(i, n)` of a forward
 /// render's photons or a ray trace's samples, its film written with what
@@ -92,14 +95,16 @@ pub(super) fn run_shard(
         .film
         .as_ref()
         .expect("a render that sums into a film");
-    let header = serde_json::json!({
+    let mut header = serde_json::json!({
         "stem": stem,
         "scene_digest": scene_digest(path)?,
+        "lighting_digest": scene.lighting_hook.as_ref().map(|h| fnv1a_hex_bytes(h.source.as_bytes())),
         "settings": settings,
         "shard": [i, n],
         "range": [job.range.start, job.range.end],
         "stats": film.photons,
     });
+    header["run_digest"] = fnv1a_hex_bytes(render_identity(&header).to_string().as_bytes()).into();
     let bytes = film.film.to_file_bytes(&header);
     shadelab::output::write_atomically(&out, &bytes)?;
     let what = if shading == Shading::Forward {
@@ -151,7 +156,7 @@ fn scene_digest(path: Option<&Path>) -> Result<String, Failure> {
         Some(p) => {
             let bytes = std::fs::read(p)
                 .map_err(|e| Failure::usage(format!("cannot read {}: {e}", p.display())))?;
-            Ok(fnv1a_hex(&String::from_utf8_lossy(&bytes)))
+            Ok(fnv1a_hex_bytes(&bytes))
         }
     }
 }
@@ -224,15 +229,20 @@ fn read_part(path: &Path) -> Result<Part, Failure> {
     })
 }
 
-/// The settings of a part that say which render it belongs to.
+/// The settings of a part that say which render it belongs to (the
+/// binary's version among them: another version may trace other samples).
 fn render_identity(header: &serde_json::Value) -> serde_json::Value {
     let mut settings = header["settings"].clone();
     if let Some(map) = settings.as_object_mut() {
-        for key in MACHINE_KEYS {
+        for key in NOT_IDENTITY_KEYS {
             map.remove(key);
         }
     }
-    serde_json::json!({ "settings": settings, "scene_digest": header["scene_digest"] })
+    serde_json::json!({
+        "settings": settings,
+        "scene_digest": header["scene_digest"],
+        "lighting_digest": header["lighting_digest"],
+    })
 }
 
 /// Refuses parts of different renders, and a set that is not shards 1 to
@@ -241,9 +251,9 @@ fn check_parts(parts: &[Part]) -> Result<(), Failure> {
     let first = &parts[0];
     let identity = render_identity(&first.header);
     for part in &parts[1..] {
-        if render_identity(&part.header) != identity {
+        if let Some(why) = first_difference(&identity, &render_identity(&part.header), "") {
             return Err(Failure::usage(format!(
-                "{} and {} are parts of different renders (their scenes or settings differ): merge only the shards of one render",
+                "{} and {} are parts of different renders ({why}): merge only the shards of one render",
                 first.path.display(),
                 part.path.display()
             )));
