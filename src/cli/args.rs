@@ -4,7 +4,7 @@
 //! other bad input.
 
 use clap::Args;
-use shadelab::scene::{LightingHook, Scene, Traversal, MAX_DEPTH, MAX_RESOLUTION};
+use shadelab::scene::{watchdog_limit, LightingHook, Scene, Traversal, MAX_DEPTH, MAX_RESOLUTION};
 use shadelab::shading::Shading;
 
 use super::failure::Failure;
@@ -80,13 +80,39 @@ pub struct LightingArg {
     /// The CPU reference keeps the built-in formula.
     #[arg(long, value_name = "FILE")]
     pub lighting: Option<std::path::PathBuf>,
+    // With the hook: the watchdog is there for shader code that never ends.
+    #[command(flatten)]
+    pub watchdog: WatchdogArg,
 }
 
 impl LightingArg {
-    /// Reads the hook's file into `scene`.
+    /// Reads the hook's file into `scene`, and sets the watchdog.
     pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
         if let Some(path) = &self.lighting {
             scene.lighting_hook = Some(std::sync::Arc::new(LightingHook::load(path)?));
+        }
+        self.watchdog.apply(scene)
+    }
+}
+
+/// `--watchdog SECONDS`: how long one GPU submission may run, overriding
+/// the scene's `render.watchdog`.
+#[derive(Args, Clone, Default)]
+pub struct WatchdogArg {
+    /// The longest one GPU submission may run, 0 (no limit) to 86400
+    /// seconds: past it the command stops with exit status 3, naming the
+    /// likely cause (the --lighting hook), and writes nothing (overrides
+    /// the scene's render.watchdog; default 120).
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub watchdog: Option<f64>,
+}
+
+impl WatchdogArg {
+    /// Sets the limit on `scene`, refusing one out of range.
+    pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
+        if let Some(seconds) = self.watchdog {
+            scene.render.watchdog =
+                watchdog_limit(seconds).map_err(|e| Failure::usage(format!("--watchdog {e}")))?;
         }
         Ok(())
     }

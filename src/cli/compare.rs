@@ -14,7 +14,7 @@ use shadelab::memory::MemoryLimit;
 use shadelab::output::write_atomically;
 use shadelab::shading::Shading;
 
-use super::args::{check_runs, DepthArg, ImageSize, MsaaArg};
+use super::args::{check_runs, DepthArg, ImageSize, MsaaArg, WatchdogArg};
 use super::compare_folders::{clear_earlier_run, merge_folders, same_folder};
 use super::compare_table::{budget_line, print_table};
 use super::compare_variants::{modes_of, over_the_limit, rendered_by, variants_of};
@@ -48,6 +48,8 @@ pub struct CompareArgs {
     // (`msaa=N`).
     #[command(flatten)]
     msaa: MsaaArg,
+    #[command(flatten)]
+    watchdog: WatchdogArg,
     /// The one reference the plot, the Pareto front and the budget measure
     /// every variant against: `global` (the ray-traced reference, the
     /// scene as it should look) or `local` (the formula per pixel on exact
@@ -222,6 +224,7 @@ fn render_variants(
     let (mut scene, name) = load_scene(args.scene.as_deref(), memory)?;
     args.size.apply(&mut scene)?;
     args.msaa.apply(&mut scene)?;
+    args.watchdog.apply(&mut scene)?;
     let variants = variants_of(&args.variants, &scene)?;
     let given =
         super::ignored::scene_flags_given(&Default::default(), &args.msaa, &DepthArg::default());

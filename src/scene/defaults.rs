@@ -74,6 +74,9 @@ impl Default for RenderSettings {
             caustics: CausticSettings::default(),
             traversal: Traversal::Auto,
             msaa: crate::msaa::Msaa::default(),
+            watchdog: Some(std::time::Duration::from_secs_f64(
+                crate::scene::model::DEFAULT_WATCHDOG_S,
+            )),
         }
     }
 }

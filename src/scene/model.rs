@@ -339,6 +339,26 @@ impl TriangleMesh {
 /// The deepest ray tree a scene or `--depth` may ask for.
 pub const MAX_DEPTH: u32 = 64;
 
+/// How long one GPU submission may run where a scene or `--watchdog` does
+/// not say: no honest submission comes near it (long work is batched into
+/// short submissions), while an endless lighting hook ends in minutes.
+pub const DEFAULT_WATCHDOG_S: f64 = 120.0;
+
+/// The longest watchdog a scene or `--watchdog` may ask for: a day. (0 is
+/// none.)
+pub const MAX_WATCHDOG_S: f64 = 86_400.0;
+
+/// `render.watchdog` or `--watchdog` in seconds as the renderers take it:
+/// `None` (0 s) waits for ever; the range error's text where out of range.
+pub fn watchdog_limit(seconds: f64) -> Result<Option<std::time::Duration>, String> {
+    if !(0.0..=MAX_WATCHDOG_S).contains(&seconds) {
+        return Err(format!(
+            "{seconds} is out of range; expected 0 (no limit) to {MAX_WATCHDOG_S} seconds"
+        ));
+    }
+    Ok((seconds > 0.0).then(|| std::time::Duration::from_secs_f64(seconds)))
+}
+
 /// The largest image width or height a scene or `--width`/`--height` may ask
 /// for.
 pub const MAX_RESOLUTION: i64 = 16384;
@@ -404,6 +424,9 @@ pub struct RenderSettings {
     pub traversal: Traversal,
     /// The raster modes: samples per pixel and where they are shaded.
     pub msaa: crate::msaa::Msaa,
+    /// The GPU: how long one submission may run before the render is
+    /// given up as stuck (`None`: for ever).
+    pub watchdog: Option<std::time::Duration>,
 }
 
 /// How the ray tracer's caustics are gathered from a progressive photon

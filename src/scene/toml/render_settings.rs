@@ -5,7 +5,9 @@
 use super::checks::{spanned_map, Ctx};
 use super::schema::{v3, ImageRaw, MsaaRaw, RenderRaw};
 use crate::scene::error::SceneError;
-use crate::scene::model::{ImageSettings, RenderSettings, MAX_DEPTH, MAX_RESOLUTION};
+use crate::scene::model::{
+    watchdog_limit, ImageSettings, RenderSettings, MAX_DEPTH, MAX_RESOLUTION,
+};
 
 /// `[image]`, the defaults where it or a key is absent.
 pub(super) fn image(cx: &Ctx, raw: Option<&ImageRaw>) -> Result<ImageSettings, SceneError> {
@@ -60,6 +62,10 @@ pub(super) fn render(cx: &Ctx, raw: Option<&RenderRaw>) -> Result<RenderSettings
             render.msaa = text
                 .parse()
                 .map_err(|e: String| cx.err(m, format!("render.msaa {e}")))?;
+        }
+        if let Some(w) = &r.watchdog {
+            render.watchdog = watchdog_limit(w.get_ref().0)
+                .map_err(|e| cx.err(w, format!("render.watchdog {e}")))?;
         }
     }
     Ok(render)
@@ -133,6 +139,10 @@ mod tests {
                 &["line 5", "render.msaa", "per-sample"],
             ),
             ("[render]\ncutoff = -0.1\n", &["line 5", "render.cutoff"]),
+            (
+                "[render]\nwatchdog = -1\n",
+                &["line 5", "render.watchdog", "86400"],
+            ),
             (
                 "[render]\nphotons = 0\n",
                 &["line 5", "render.photons", "4294967295"],
