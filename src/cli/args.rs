@@ -237,10 +237,12 @@ pub struct DepthArg {
 
 impl DepthArg {
     /// Sets the depth and the bounces on `scene`, refusing either out of
-    /// range.
+    /// range, or a depth asked for below the bounces (the scene's rule:
+    /// `RenderSettings::settle_depth`).
     pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
         if let Some(d) = self.depth {
             scene.render.depth = check_depth(d)?;
+            scene.render.depth_given = true;
         }
         if let Some(b) = self.bounces {
             if b > MAX_DEPTH {
@@ -250,6 +252,19 @@ impl DepthArg {
             }
             scene.render.bounces = b;
         }
+        scene.render.settle_depth().map_err(|(depth, bounces)| {
+            let bounces_from = match self.bounces {
+                Some(_) => format!("--bounces {bounces}"),
+                None => format!("the scene's render.bounces = {bounces}"),
+            };
+            let depth_from = match self.depth {
+                Some(_) => format!("--depth is {depth}"),
+                None => format!("the scene's render.depth is {depth}"),
+            };
+            Failure::usage(format!(
+                "{bounces_from} needs a depth of {bounces} or more (each bounce is a level of the ray tree, which the depth bounds), and {depth_from}; give --depth {bounces} or more, or leave the depth out (it then follows the bounces)"
+            ))
+        })?;
         if let Some(p) = self.photons {
             scene.render.photons = check_photons(p)?;
         }

@@ -65,7 +65,8 @@ impl Default for Lighting {
 impl Default for RenderSettings {
     fn default() -> Self {
         Self {
-            depth: 5,
+            depth: crate::scene::model::DEFAULT_DEPTH,
+            depth_given: false,
             cutoff: 0.001,
             shadows: true,
             samples: 1,

@@ -406,6 +406,10 @@ impl std::str::FromStr for Traversal {
 pub struct RenderSettings {
     /// Ray tracing: maximum recursion depth.
     pub depth: u32,
+    /// Whether `depth` was asked for (`render.depth`, `--depth`, a
+    /// variant's `depth=`); if not, it follows `bounces` up
+    /// ([`RenderSettings::settle_depth`]).
+    pub depth_given: bool,
     /// Ray tracing: adaptive depth cut-off on the ray weight.
     pub cutoff: f64,
     pub shadows: bool,
@@ -427,6 +431,27 @@ pub struct RenderSettings {
     /// The GPU: how long one submission may run before the render is
     /// given up as stuck (`None`: for ever).
     pub watchdog: Option<std::time::Duration>,
+}
+
+/// The ray tracer's depth where nothing asks for another (and the bounces
+/// need no more).
+pub const DEFAULT_DEPTH: u32 = 5;
+
+impl RenderSettings {
+    /// The one rule of depth and bounces (docs/lighting-model.md, "Depth
+    /// and bounces"): each diffuse bounce is a level of the ray tree, which
+    /// `depth` bounds, so `bounces` N needs a depth of N or more. A depth
+    /// nobody asked for is the default raised to the bounces; one asked
+    /// for below them is refused, with `(depth, bounces)`, rather than
+    /// rendering fewer bounces than asked.
+    pub fn settle_depth(&mut self) -> Result<(), (u32, u32)> {
+        if !self.depth_given {
+            self.depth = DEFAULT_DEPTH.max(self.bounces);
+        } else if self.depth < self.bounces {
+            return Err((self.depth, self.bounces));
+        }
+        Ok(())
+    }
 }
 
 /// How the ray tracer's caustics are gathered from a progressive photon

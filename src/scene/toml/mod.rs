@@ -24,7 +24,7 @@
 //! | `ior` | `1.0` | > 0 |
 //! | `pattern` | none | `{ kind = "checker", scale = 8, colors = [[0.9, 0.9, 0.9], [0.15, 0.15, 0.15]] }`: scale > 0, two colours each >= 0 |
 //! | `texture` | none | `{ file = "floor.png", scale = 1, rotation = 0, offset = [0, 0], wrap = "repeat", filter = "trilinear" }`: `file` required (PNG or JPEG, sRGB, relative to the scene file), scale > 0 (tiles across a face), rotation in degrees counter-clockwise as the face is seen, offset in image widths, wrap `"repeat"`, `"clamp"` or `"mirror"`, filter `"nearest"`, `"bilinear"` or `"trilinear"`; not with `pattern` |
-//! | `render.depth` | `5` | 0..=64 |
+//! | `render.depth` | `5` | 0..=64; left out, at least `render.bounces`; given, not below them |
 //! | `render.cutoff` | `0.001` | >= 0 |
 //! | `render.shadows` | `true` | |
 //! | `render.samples` | `1` | 1..=1024 |

@@ -33,6 +33,7 @@ pub(super) fn render(cx: &Ctx, raw: Option<&RenderRaw>) -> Result<RenderSettings
     if let Some(r) = raw {
         if let Some(d) = &r.depth {
             render.depth = cx.int_in(d, "render.depth", 0, i64::from(MAX_DEPTH), "")?;
+            render.depth_given = true;
         }
         if let Some(c) = &r.cutoff {
             render.cutoff = cx.non_negative(c, "render.cutoff")?;
@@ -45,6 +46,12 @@ pub(super) fn render(cx: &Ctx, raw: Option<&RenderRaw>) -> Result<RenderSettings
         }
         if let Some(b) = &r.bounces {
             render.bounces = cx.int_in(b, "render.bounces", 0, i64::from(MAX_DEPTH), "")?;
+            render.settle_depth().map_err(|(depth, bounces)| {
+                cx.err(
+                    b,
+                    format!("render.bounces = {bounces} needs render.depth = {bounces} or more (each bounce is a level of the ray tree, which depth bounds), and render.depth is {depth}; raise render.depth or leave it out (it then follows the bounces)"),
+                )
+            })?;
         }
         if let Some(p) = &r.photons {
             let why = " (photons are numbered in 32 bits)";
@@ -140,6 +147,10 @@ mod tests {
             ),
             ("[render]\ncutoff = -0.1\n", &["line 5", "render.cutoff"]),
             (
+                "[render]\ndepth = 3\nbounces = 4\n",
+                &["line 6", "render.bounces = 4", "render.depth is 3"],
+            ),
+            (
                 "[render]\nwatchdog = -1\n",
                 &["line 5", "render.watchdog", "86400"],
             ),
@@ -154,6 +165,21 @@ mod tests {
         ] {
             let e = parse_err(&with_camera(rest));
             assert_has(&e, parts);
+        }
+    }
+
+    /// `render.bounces` N reaches N bounces: the depth follows it up where
+    /// the scene gives none, and stays where it gives one.
+    #[test]
+    fn the_depth_follows_the_bounces_where_none_is_given() {
+        for (rest, depth) in [
+            ("[render]\nbounces = 10\n", 10),
+            ("[render]\nbounces = 2\n", 5),
+            ("[render]\nbounces = 2\ndepth = 3\n", 3),
+            ("[render]\ndepth = 12\nbounces = 10\n", 12),
+        ] {
+            let s = parse_ok(&with_camera(rest));
+            assert_eq!(s.render.depth, depth, "{rest}");
         }
     }
 }
