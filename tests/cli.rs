@@ -1543,3 +1543,104 @@ fn bounces_reach_their_count_and_a_depth_below_them_is_refused() {
     let run = shadelab(d, &args);
     common::cli::assert_one_line_refusal(&run, &args, "the scene's render.depth is 3");
 }
+
+/// A bad value of a numeric flag is one line, exit 2, as `--photons -5`
+/// always was (issue 55: `--bounces -1` gave clap's "unexpected argument"
+/// and the usage), in every command; so is a value that is no number, and
+/// an absurd caustic radius.
+#[test]
+fn a_bad_number_is_one_line_in_every_command() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases: [(&[&str], &str); 12] = [
+        (
+            &["render", "--bounces", "-1"],
+            "--bounces -1 is out of range",
+        ),
+        (&["render", "--depth", "-1"], "--depth -1 is out of range"),
+        (
+            &["render", "--samples", "-1"],
+            "--samples -1 is out of range",
+        ),
+        (&["render", "--cutoff", "-1"], "--cutoff -1"),
+        (&["render", "--bounces", "abc"], "'abc' for '--bounces"),
+        (&["bench", "--runs", "-1"], "--runs -1 is out of range"),
+        (
+            &["compare", "--out", "o", "--runs", "-2"],
+            "--runs -2 is out of range",
+        ),
+        (
+            &["check", "--flip-mean", "-1", "--out", "c"],
+            "--flip-mean -1",
+        ),
+        (&["warm", "--bounces", "-3"], "--bounces -3 is out of range"),
+        (
+            &["render", "--caustic-radius", "1e30"],
+            "--caustic-radius 1e30 is out of range",
+        ),
+        (
+            &["render", "--caustic-radius", "0"],
+            "--caustic-radius 0.0 is out of range",
+        ),
+        (
+            &["golden", "--references", "r", "--depth", "-1"],
+            "--depth -1 is out of range",
+        ),
+    ];
+    for (args, expect) in cases {
+        let mut args = args.to_vec();
+        if args[0] == "render" {
+            args.extend(["-o", "x.png"]);
+        }
+        let run = shadelab(dir.path(), &args);
+        common::cli::assert_one_line_refusal(&run, &args, expect);
+    }
+    assert!(!dir.path().join("x.png").exists());
+}
+
+/// The photon map's settings without caustics are said to be ignored
+/// (issue 55: silently), and not where caustics are on; a shard of a trace
+/// with caustics is refused for its caustics, not as a Whitted trace.
+#[test]
+fn caustic_settings_without_caustics_warn_and_a_caustic_shard_says_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let small = ["--shading", "raytrace", "--width", "8", "--height", "8"];
+    let warning = "--caustic-passes, --caustic-radius: --shading raytrace ignores them (they set the photon map's caustics, which only --caustics N or a scene's render.caustics turns on)";
+    for (caustics, warned) in [(None, true), (Some("64"), false)] {
+        let mut args = vec![
+            "render",
+            "--caustic-passes",
+            "2",
+            "--caustic-radius",
+            "3",
+            "-o",
+            "c.png",
+        ];
+        args.extend(small);
+        if let Some(n) = caustics {
+            args.extend(["--caustics", n]);
+        }
+        let run = shadelab(d, &args);
+        assert_eq!(run.code, 0, "{args:?}: {}", run.stderr);
+        assert_eq!(
+            run.stderr.contains(warning),
+            warned,
+            "{args:?}: {}",
+            run.stderr
+        );
+    }
+    let args = [
+        "render",
+        "--shading",
+        "raytrace",
+        "--caustics",
+        "100",
+        "--shard",
+        "1/2",
+        "--out",
+        "a.film",
+    ];
+    let run = shadelab(d, &args);
+    common::cli::assert_one_line_refusal(&run, &args, "its caustics do not split");
+    assert!(!d.join("a.film").exists());
+}

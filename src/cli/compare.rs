@@ -35,7 +35,7 @@ pub struct CompareArgs {
     variants: Vec<String>,
     /// Timed GPU runs per variant, after one warm-up.
     #[arg(long, default_value_t = 3)]
-    runs: usize,
+    runs: i64,
     /// Render only part I of N of the variant list, e.g. 2/4.
     #[arg(long, value_name = "I/N", value_parser = super::shards::parse_shard)]
     shard: Option<(usize, usize)>,
@@ -220,7 +220,7 @@ fn render_variants(
     options: &GpuOptions,
     memory: &MemoryLimit,
 ) -> Result<Report, Failure> {
-    check_runs(args.runs)?;
+    let runs = check_runs(args.runs)?;
     let (mut scene, name) = load_scene(args.scene.as_deref(), memory)?;
     args.size.apply(&mut scene)?;
     args.msaa.apply(&mut scene)?;
@@ -228,7 +228,12 @@ fn render_variants(
     let variants = variants_of(&args.variants, &scene)?;
     let given =
         super::ignored::scene_flags_given(&Default::default(), &args.msaa, &DepthArg::default());
-    super::ignored::warn(&given, &modes_of(&variants), super::ignored::Backends::Gpu);
+    let ignoring = super::ignored::Run {
+        modes: &modes_of(&variants),
+        backends: super::ignored::Backends::Gpu,
+        caustics: scene.render.caustics.on(),
+    };
+    super::ignored::warn(&given, ignoring);
     // The references alone must fit: without them no variant is measured.
     memory.check(&name, &scene, &[], &[Shading::Raytrace])?;
     let skip = over_the_limit(&scene, &name, &variants, memory)?;
@@ -242,7 +247,7 @@ fn render_variants(
     };
     let progress = super::progress::Progress::new("compare", 0);
     let compare_options = CompareOptions {
-        runs: args.runs,
+        runs,
         shard: args.shard,
         reference: reference_of(args),
         metric: metric_of(args),

@@ -359,6 +359,20 @@ pub fn watchdog_limit(seconds: f64) -> Result<Option<std::time::Duration>, Strin
     Ok((seconds > 0.0).then(|| std::time::Duration::from_secs_f64(seconds)))
 }
 
+/// `render.caustic_radius` or `--caustic-radius` (pixel footprints): above
+/// 0, and no wider than the largest image (`MAX_RESOLUTION` pixels), past
+/// which every pixel would gather every photon and the estimate is no
+/// longer local; the range error's text where out of range.
+pub fn check_caustic_radius(radius: f64) -> Result<f64, String> {
+    if radius.is_finite() && radius > 0.0 && radius <= MAX_RESOLUTION as f64 {
+        Ok(radius)
+    } else {
+        Err(format!(
+            "{radius:?} is out of range; expected a number above 0 and at most {MAX_RESOLUTION} (pixel footprints: a wider disc than the largest image gathers every photon into every pixel)"
+        ))
+    }
+}
+
 /// The largest image width or height a scene or `--width`/`--height` may ask
 /// for.
 pub const MAX_RESOLUTION: i64 = 16384;

@@ -32,7 +32,7 @@
 //! | `render.photons` | `4194304` | 1..=4294967295: photons forward ray tracing traces from the lights |
 //! | `render.caustics` | `0` | 0..=4294967295: photons per pass of the ray tracer's photon map (caustics) |
 //! | `render.caustic_passes` | `16` | 1..=1048576: the photon map's passes |
-//! | `render.caustic_radius` | `2` | > 0: its first radius, in pixel footprints |
+//! | `render.caustic_radius` | `2` | > 0 and <= 16384: its first radius, in pixel footprints |
 //! | `render.traversal` | `"auto"` | or `"bvh"`, `"query"`: the GPU ray tracer's engine |
 //! | `render.watchdog` | `120` | 0..=86400 seconds one GPU submission may run before the render is given up as stuck (exit 3); 0 is no limit |
 //! | `render.msaa` | `1` | the raster modes' samples per pixel, 1..=64 (the device's counts: `shadelab info`), or `"4,per-sample"` to shade every sample |

@@ -6,7 +6,7 @@ use super::checks::{spanned_map, Ctx};
 use super::schema::{v3, ImageRaw, MsaaRaw, RenderRaw};
 use crate::scene::error::SceneError;
 use crate::scene::model::{
-    watchdog_limit, ImageSettings, RenderSettings, MAX_DEPTH, MAX_RESOLUTION,
+    check_caustic_radius, watchdog_limit, ImageSettings, RenderSettings, MAX_DEPTH, MAX_RESOLUTION,
 };
 
 /// `[image]`, the defaults where it or a key is absent.
@@ -95,14 +95,8 @@ fn caustics(
         caustics.passes = cx.int_in(p, "render.caustic_passes", 1, 1 << 20, "")?;
     }
     if let Some(radius) = &r.caustic_radius {
-        let value = cx.non_negative(radius, "render.caustic_radius")?;
-        if value <= 0.0 {
-            return Err(cx.err(
-                radius,
-                "render.caustic_radius must be above 0 (pixel footprints)",
-            ));
-        }
-        caustics.initial_radius = value;
+        caustics.initial_radius = check_caustic_radius(radius.get_ref().0)
+            .map_err(|e| cx.err(radius, format!("render.caustic_radius {e}")))?;
     }
     if let (Some(p), None) = (&r.caustics, caustics.total_photons()) {
         return Err(cx.err(
@@ -149,6 +143,14 @@ mod tests {
             (
                 "[render]\ndepth = 3\nbounces = 4\n",
                 &["line 6", "render.bounces = 4", "render.depth is 3"],
+            ),
+            (
+                "[render]\ncaustic_radius = 1e30\n",
+                &["line 5", "render.caustic_radius", "16384"],
+            ),
+            (
+                "[render]\ncaustic_radius = 0\n",
+                &["line 5", "render.caustic_radius", "above 0"],
             ),
             (
                 "[render]\nwatchdog = -1\n",
