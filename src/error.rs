@@ -24,6 +24,12 @@ pub enum Error {
 }
 
 impl Error {
+    /// The GPU watchdog's error (`GpuError::Stuck`): the process must end
+    /// without waiting for the device.
+    pub fn leaves_device_stuck(&self) -> bool {
+        matches!(self, Error::Gpu(e) if e.leaves_device_stuck())
+    }
+
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Scene(_) | Error::Output(_) | Error::Metrics(_) | Error::Usage(_) => 2,

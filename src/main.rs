@@ -23,5 +23,14 @@ fn main() -> ExitCode {
         shadelab::output::remove_temporary_files();
         std::process::exit(130);
     });
-    cli::run()
+    let status = cli::run();
+    // A stuck device whose error a report took as text (a case that could
+    // not run) still must not be waited for at exit.
+    if shadelab::gpu::any_device_stuck() {
+        let _ = std::io::Write::flush(&mut std::io::stdout());
+        // SAFETY: _exit(2) skips the driver's exit handlers, which would
+        // wait for the stuck shader's threads.
+        unsafe { libc::_exit(3) };
+    }
+    status
 }

@@ -1491,3 +1491,177 @@ fn the_ray_tracer_renders_the_same_image_without_spirv_opt() {
     let without = render("without.exr", Some("/nonexistent"));
     assert!(with == without, "the EXRs differ");
 }
+
+/// The light inside a closed diffuse sphere (tests/common/closed_sphere.rs)
+/// as a scene file, which gives no depth.
+const CLOSED_SPHERE: &str =
+    "[camera]\nposition = [0, 0, 0]\nlook_at = [0.3, 0.1, -1]\nfov_y = 60\n\
+    [image]\nwidth = 32\nheight = 24\n\
+    [lighting]\nambient = 0.2\nfalloff = \"inverse-square\"\n\
+    [[lights]]\nposition = [0, 0, 0]\nintensity = 3\n\
+    [materials.inside]\ncolor = [1, 1, 1]\nka = 0.5\nkd = 0.6\nks = 0.25\np = 20\n\
+    [[objects]]\nshape = \"sphere\"\ncenter = [0, 0, 0]\nradius = 2\nmaterial = \"inside\"\n";
+
+/// `--bounces N` renders N bounces (issue 55: `--bounces 10` at the default
+/// depth rendered 5): the depth follows the bounces up where nobody gave
+/// one, and a depth given below them is one line, exit 2, not fewer bounces.
+#[test]
+fn bounces_reach_their_count_and_a_depth_below_them_is_refused() {
+    use common::closed_sphere::expected;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("sphere.toml"), CLOSED_SPHERE).unwrap();
+    let base = [
+        "render",
+        "sphere.toml",
+        "--shading",
+        "raytrace",
+        "--backend",
+        "cpu",
+        "--samples",
+        "16",
+    ];
+    let mut args = base.to_vec();
+    args.extend(["--bounces", "10", "-o", "ten.exr"]);
+    let (mean, _) = common::cli::render_mean(d, &args, "ten.exr");
+    // The 10-bounce answer, well away from the 5-bounce one (3.7% below).
+    assert!(
+        (mean / expected(10) - 1.0).abs() < 0.01,
+        "mean {mean}, 10 bounces {}, 5 bounces {}",
+        expected(10),
+        expected(5)
+    );
+    for (flags, expect) in [
+        (
+            &["--bounces", "10", "--depth", "5"][..],
+            "--bounces 10 needs a depth of 10 or more",
+        ),
+        (&["--bounces", "6", "--depth", "0"][..], "and --depth is 0"),
+    ] {
+        let mut args = base.to_vec();
+        args.extend(flags);
+        args.extend(["-o", "no.png"]);
+        let run = shadelab(d, &args);
+        common::cli::assert_one_line_refusal(&run, &args, expect);
+        assert!(!d.join("no.png").exists());
+    }
+    // A scene's own depth is as binding as --depth.
+    std::fs::write(
+        d.join("deep.toml"),
+        format!("{CLOSED_SPHERE}[render]\ndepth = 3\n"),
+    )
+    .unwrap();
+    let args = [
+        "render",
+        "deep.toml",
+        "--shading",
+        "raytrace",
+        "--bounces",
+        "4",
+        "-o",
+        "no.png",
+    ];
+    let run = shadelab(d, &args);
+    common::cli::assert_one_line_refusal(&run, &args, "the scene's render.depth is 3");
+}
+
+/// A bad value of a numeric flag is one line, exit 2, as `--photons -5`
+/// always was (issue 55: `--bounces -1` gave clap's "unexpected argument"
+/// and the usage), in every command; so is a value that is no number, and
+/// an absurd caustic radius.
+#[test]
+fn a_bad_number_is_one_line_in_every_command() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases: [(&[&str], &str); 12] = [
+        (
+            &["render", "--bounces", "-1"],
+            "--bounces -1 is out of range",
+        ),
+        (&["render", "--depth", "-1"], "--depth -1 is out of range"),
+        (
+            &["render", "--samples", "-1"],
+            "--samples -1 is out of range",
+        ),
+        (&["render", "--cutoff", "-1"], "--cutoff -1"),
+        (&["render", "--bounces", "abc"], "'abc' for '--bounces"),
+        (&["bench", "--runs", "-1"], "--runs -1 is out of range"),
+        (
+            &["compare", "--out", "o", "--runs", "-2"],
+            "--runs -2 is out of range",
+        ),
+        (
+            &["check", "--flip-mean", "-1", "--out", "c"],
+            "--flip-mean -1",
+        ),
+        (&["warm", "--bounces", "-3"], "--bounces -3 is out of range"),
+        (
+            &["render", "--caustic-radius", "1e30"],
+            "--caustic-radius 1e30 is out of range",
+        ),
+        (
+            &["render", "--caustic-radius", "0"],
+            "--caustic-radius 0.0 is out of range",
+        ),
+        (
+            &["golden", "--references", "r", "--depth", "-1"],
+            "--depth -1 is out of range",
+        ),
+    ];
+    for (args, expect) in cases {
+        let mut args = args.to_vec();
+        if args[0] == "render" {
+            args.extend(["-o", "x.png"]);
+        }
+        let run = shadelab(dir.path(), &args);
+        common::cli::assert_one_line_refusal(&run, &args, expect);
+    }
+    assert!(!dir.path().join("x.png").exists());
+}
+
+/// The photon map's settings without caustics are said to be ignored
+/// (issue 55: silently), and not where caustics are on; a shard of a trace
+/// with caustics is refused for its caustics, not as a Whitted trace.
+#[test]
+fn caustic_settings_without_caustics_warn_and_a_caustic_shard_says_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let small = ["--shading", "raytrace", "--width", "8", "--height", "8"];
+    let warning = "--caustic-passes, --caustic-radius: --shading raytrace ignores them (they set the photon map's caustics, which only --caustics N or a scene's render.caustics turns on)";
+    for (caustics, warned) in [(None, true), (Some("64"), false)] {
+        let mut args = vec![
+            "render",
+            "--caustic-passes",
+            "2",
+            "--caustic-radius",
+            "3",
+            "-o",
+            "c.png",
+        ];
+        args.extend(small);
+        if let Some(n) = caustics {
+            args.extend(["--caustics", n]);
+        }
+        let run = shadelab(d, &args);
+        assert_eq!(run.code, 0, "{args:?}: {}", run.stderr);
+        assert_eq!(
+            run.stderr.contains(warning),
+            warned,
+            "{args:?}: {}",
+            run.stderr
+        );
+    }
+    let args = [
+        "render",
+        "--shading",
+        "raytrace",
+        "--caustics",
+        "100",
+        "--shard",
+        "1/2",
+        "--out",
+        "a.film",
+    ];
+    let run = shadelab(d, &args);
+    common::cli::assert_one_line_refusal(&run, &args, "its caustics do not split");
+    assert!(!d.join("a.film").exists());
+}

@@ -386,3 +386,89 @@ fn a_hook_that_returns_nan_fails_the_render_and_is_counted() {
     assert!(report["variants"][0]["non_finite_pixels"].as_u64().unwrap() > 0);
     assert_eq!(report["variants"][1]["non_finite_pixels"], 0);
 }
+
+/// The endless loop, summing so that no compiler drops it.
+const ENDLESS: &str = "vec3 shade_light(vec3 N, vec3 V, vec3 L, float d, vec3 intensity, Surface m, float k) {\n    float sum = 0.0;\n    for (int i = 0; i >= 0; i++) { sum += d; }\n    return intensity * sum;\n}\n";
+
+/// A hook that never returns cannot be interrupted on the device: the
+/// watchdog gives its submission up at `--watchdog`, and the command ends
+/// with one line that names the hook, exit status 3 and no image, in a
+/// single render and in a run of cases (check), where nothing else can run
+/// on the stuck device.
+#[test]
+fn an_endless_hook_is_stopped_by_the_watchdog_with_exit_3_and_no_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("endless.glsl"), ENDLESS).unwrap();
+    let size = ["--width", "24", "--height", "16"];
+    for (command, out) in [("render", "e.png"), ("check", "checked")] {
+        let mut args = vec![command, "--lighting", "endless.glsl", "--watchdog", "2"];
+        args.extend(size);
+        match command {
+            "render" => args.extend(["-o", out]),
+            _ => args.extend(["--shading", "phong,gouraud", "--out", out]),
+        }
+        let started = std::time::Instant::now();
+        let run = common::cli::shadelab_within(d, &args, std::time::Duration::from_secs(90))
+            .unwrap_or_else(|| panic!("{args:?} still ran after 90 s: no watchdog"));
+        let took = started.elapsed().as_secs_f64();
+        assert_eq!(run.code, 3, "{args:?}: {}", run.stderr);
+        let lines: Vec<&str> = run
+            .stderr
+            .lines()
+            .filter(|l| l.starts_with("shadelab: error"))
+            .collect();
+        assert_eq!(lines.len(), 1, "{}", run.stderr);
+        assert!(
+            lines[0].contains("watchdog's 2 s") && lines[0].contains("lighting hook endless.glsl"),
+            "{}",
+            run.stderr
+        );
+        // Pipelines are built before the first submission; the rest is
+        // the limit itself.
+        assert!(took < 60.0, "{args:?} took {took:.1} s");
+        if command == "render" {
+            assert!(!d.join(out).exists(), "an image was written");
+        }
+    }
+}
+
+/// The watchdog changes nothing in a render that ends: the limit off (0)
+/// or the default gives the same image, and a limit out of range is one
+/// line, exit 2.
+#[test]
+fn the_watchdog_leaves_a_render_that_ends_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let hook = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/lighting/phong.glsl");
+    let hook = hook.to_str().unwrap();
+    let base = [
+        "render",
+        "--lighting",
+        hook,
+        "--shading",
+        "raytrace",
+        "--width",
+        "32",
+        "--height",
+        "24",
+    ];
+    let mut images = Vec::new();
+    for (watchdog, out) in [(None, "default.png"), (Some("0"), "off.png")] {
+        let mut args = base.to_vec();
+        if let Some(seconds) = watchdog {
+            args.extend(["--watchdog", seconds]);
+        }
+        args.extend(["-o", out]);
+        let run = shadelab(d, &args);
+        assert_eq!(run.code, 0, "{args:?}: {}", run.stderr);
+        images.push(shadelab::output::read_image(&d.join(out)).unwrap());
+    }
+    assert_eq!(images[0].pixels, images[1].pixels);
+    assert!(mean(&images[0]) > 0.01, "a lit image");
+    for bad in ["-1", "1e9", "nan"] {
+        let args = ["render", "--watchdog", bad, "-o", "bad.png"];
+        let run = shadelab(d, &args);
+        common::cli::assert_one_line_refusal(&run, &args, "--watchdog");
+    }
+}

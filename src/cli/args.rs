@@ -4,7 +4,9 @@
 //! other bad input.
 
 use clap::Args;
-use shadelab::scene::{LightingHook, Scene, Traversal, MAX_DEPTH, MAX_RESOLUTION};
+use shadelab::scene::{
+    check_caustic_radius, watchdog_limit, LightingHook, Scene, Traversal, MAX_DEPTH, MAX_RESOLUTION,
+};
 use shadelab::shading::Shading;
 
 use super::failure::Failure;
@@ -80,13 +82,39 @@ pub struct LightingArg {
     /// The CPU reference keeps the built-in formula.
     #[arg(long, value_name = "FILE")]
     pub lighting: Option<std::path::PathBuf>,
+    // With the hook: the watchdog is there for shader code that never ends.
+    #[command(flatten)]
+    pub watchdog: WatchdogArg,
 }
 
 impl LightingArg {
-    /// Reads the hook's file into `scene`.
+    /// Reads the hook's file into `scene`, and sets the watchdog.
     pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
         if let Some(path) = &self.lighting {
             scene.lighting_hook = Some(std::sync::Arc::new(LightingHook::load(path)?));
+        }
+        self.watchdog.apply(scene)
+    }
+}
+
+/// `--watchdog SECONDS`: how long one GPU submission may run, overriding
+/// the scene's `render.watchdog`.
+#[derive(Args, Clone, Debug, Default)]
+pub struct WatchdogArg {
+    /// The longest one GPU submission may run, 0 (no limit) to 86400
+    /// seconds: past it the command stops with exit status 3, naming the
+    /// likely cause (the --lighting hook), and writes nothing (overrides
+    /// the scene's render.watchdog; default 120).
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub watchdog: Option<f64>,
+}
+
+impl WatchdogArg {
+    /// Sets the limit on `scene`, refusing one out of range.
+    pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
+        if let Some(seconds) = self.watchdog {
+            scene.render.watchdog =
+                watchdog_limit(seconds).map_err(|e| Failure::usage(format!("--watchdog {e}")))?;
         }
         Ok(())
     }
@@ -181,11 +209,11 @@ pub struct DepthArg {
     /// Ray tracing: maximum recursion depth (overrides the scene's
     /// render.depth).
     #[arg(long)]
-    pub depth: Option<u32>,
+    pub depth: Option<i64>,
     /// Ray tracing: diffuse bounces, secondary illumination (overrides the
     /// scene's render.bounces; 0, the default, is the Whitted tracer).
     #[arg(long)]
-    pub bounces: Option<u32>,
+    pub bounces: Option<i64>,
     /// Forward ray tracing (--shading forward): photons traced from the
     /// lights, 1 to 4294967295 (overrides the scene's render.photons;
     /// default 4194304). The noise falls as one over their square root.
@@ -211,19 +239,36 @@ pub struct DepthArg {
 
 impl DepthArg {
     /// Sets the depth and the bounces on `scene`, refusing either out of
-    /// range.
+    /// range, or a depth asked for below the bounces (the scene's rule:
+    /// `RenderSettings::settle_depth`).
     pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
         if let Some(d) = self.depth {
             scene.render.depth = check_depth(d)?;
+            scene.render.depth_given = true;
         }
         if let Some(b) = self.bounces {
-            if b > MAX_DEPTH {
-                return Err(Failure::usage(format!(
-                    "--bounces {b} is out of range; expected 0 to {MAX_DEPTH} (a bounce is a level of the ray tree, which --depth bounds)"
-                )));
-            }
-            scene.render.bounces = b;
+            scene.render.bounces = u32::try_from(b)
+                .ok()
+                .filter(|&b| b <= MAX_DEPTH)
+                .ok_or_else(|| {
+                    Failure::usage(format!(
+                        "--bounces {b} is out of range; expected 0 to {MAX_DEPTH} (a bounce is a level of the ray tree, which --depth bounds)"
+                    ))
+                })?;
         }
+        scene.render.settle_depth().map_err(|(depth, bounces)| {
+            let bounces_from = match self.bounces {
+                Some(_) => format!("--bounces {bounces}"),
+                None => format!("the scene's render.bounces = {bounces}"),
+            };
+            let depth_from = match self.depth {
+                Some(_) => format!("--depth is {depth}"),
+                None => format!("the scene's render.depth is {depth}"),
+            };
+            Failure::usage(format!(
+                "{bounces_from} needs a depth of {bounces} or more (each bounce is a level of the ray tree, which the depth bounds), and {depth_from}; give --depth {bounces} or more, or leave the depth out (it then follows the bounces)"
+            ))
+        })?;
         if let Some(p) = self.photons {
             scene.render.photons = check_photons(p)?;
         }
@@ -255,12 +300,8 @@ impl DepthArg {
                 })?;
         }
         if let Some(r) = self.caustic_radius {
-            if !(r.is_finite() && r > 0.0) {
-                return Err(Failure::usage(format!(
-                    "--caustic-radius {r} is out of range; expected a number above 0 (pixel footprints)"
-                )));
-            }
-            caustics.initial_radius = r;
+            caustics.initial_radius = check_caustic_radius(r)
+                .map_err(|e| Failure::usage(format!("--caustic-radius {e}")))?;
         }
         if caustics.total_photons().is_none() {
             return Err(Failure::usage(format!(
@@ -286,23 +327,23 @@ pub fn check_photons(photons: i64) -> Result<u32, Failure> {
 }
 
 /// `--depth`: the ray tracer's maximum depth, 0 to `MAX_DEPTH`.
-pub fn check_depth(depth: u32) -> Result<u32, Failure> {
-    if depth > MAX_DEPTH {
-        return Err(Failure::usage(format!(
-            "--depth {depth} is out of range; expected 0 to {MAX_DEPTH}"
-        )));
-    }
-    Ok(depth)
+pub fn check_depth(depth: i64) -> Result<u32, Failure> {
+    u32::try_from(depth)
+        .ok()
+        .filter(|&d| d <= MAX_DEPTH)
+        .ok_or_else(|| {
+            Failure::usage(format!(
+                "--depth {depth} is out of range; expected 0 to {MAX_DEPTH}"
+            ))
+        })
 }
 
 /// `--runs`: timed runs, 1 to 1000.
-pub fn check_runs(runs: usize) -> Result<usize, Failure> {
-    if runs == 0 || runs > 1000 {
-        return Err(Failure::usage(format!(
-            "--runs {runs} is out of range; expected 1 to 1000"
-        )));
-    }
-    Ok(runs)
+pub fn check_runs(runs: i64) -> Result<usize, Failure> {
+    usize::try_from(runs)
+        .ok()
+        .filter(|r| (1..=1000).contains(r))
+        .ok_or_else(|| Failure::usage(format!("--runs {runs} is out of range; expected 1 to 1000")))
 }
 
 /// `--traversal`: the GPU ray tracer's engine, overriding the scene's

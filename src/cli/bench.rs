@@ -30,7 +30,7 @@ pub struct BenchArgs {
     modes: ModeList,
     /// Timed runs per mode (after one warm-up run).
     #[arg(long, default_value_t = 5)]
-    runs: usize,
+    runs: i64,
     #[command(flatten)]
     size: ImageSize,
     #[command(flatten)]
@@ -110,7 +110,7 @@ impl TargetFor {
 }
 
 pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
-    check_runs(args.runs)?;
+    let runs = check_runs(args.runs)?;
     let modes = args.modes.modes();
     let (scene, name) = load(&args, &modes, memory)?;
     let context = GpuContext::new(options)?;
@@ -120,7 +120,7 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     let timing = Timing {
         context: &context,
         scene: &scene,
-        runs: args.runs,
+        runs,
         raster_target,
         cpu: args.cpu,
         every_feature: args.every_feature,
@@ -159,7 +159,12 @@ fn load(
     args.size.apply(&mut scene)?;
     args.settings.apply(&mut scene)?;
     // Said once the flags are known to be valid: a bad one is the answer.
-    ignored::warn(&given, modes, ignored::Backends::Gpu);
+    let ignoring = ignored::Run {
+        modes,
+        backends: ignored::Backends::Gpu,
+        caustics: scene.render.caustics.on(),
+    };
+    ignored::warn(&given, ignoring);
     let twins = [Shading::Raytrace, Shading::Forward];
     let cpu_modes: &[Shading] = if args.cpu { &twins } else { &[] };
     let mut gpu_modes = modes.to_vec();

@@ -83,13 +83,19 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
         return merge(&args.merge, &args.out, args.junit.as_deref(), args.json);
     }
     let modes = args.modes.modes();
-    super::ignored::warn(
-        &super::ignored::scene_flags_given(&args.traversal, &args.msaa, &args.depth),
-        &modes,
-        super::ignored::Backends::Both,
-    );
     check_flags(&args)?;
     let (scenes, largest_estimate) = load_scenes(&args, &modes, memory);
+    let ignoring = super::ignored::Run {
+        modes: &modes,
+        backends: super::ignored::Backends::Both,
+        caustics: scenes
+            .iter()
+            .any(|(scene, _)| scene.as_ref().is_ok_and(|s| s.render.caustics.on())),
+    };
+    super::ignored::warn(
+        &super::ignored::scene_flags_given(&args.traversal, &args.msaa, &args.depth),
+        ignoring,
+    );
     let (orders, jobs) = plan_cases(&args, scenes.len(), &modes)?;
     let device = GpuContext::new(options).map_err(Failure::from);
     if args.images != KeepImages::None && scenes.iter().any(|(scene, _)| scene.is_ok()) {

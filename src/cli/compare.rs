@@ -14,7 +14,7 @@ use shadelab::memory::MemoryLimit;
 use shadelab::output::write_atomically;
 use shadelab::shading::Shading;
 
-use super::args::{check_runs, DepthArg, ImageSize, MsaaArg};
+use super::args::{check_runs, DepthArg, ImageSize, MsaaArg, WatchdogArg};
 use super::compare_folders::{clear_earlier_run, merge_folders, same_folder};
 use super::compare_table::{budget_line, print_table};
 use super::compare_variants::{modes_of, over_the_limit, rendered_by, variants_of};
@@ -36,7 +36,7 @@ pub struct CompareArgs {
     variants: Vec<String>,
     /// Timed GPU runs per variant, after one warm-up.
     #[arg(long, default_value_t = 3)]
-    runs: usize,
+    runs: i64,
     /// Render only part I of N of the variant list, e.g. 2/4; `auto` reads
     /// I and N from the CI's own variables (docs/golden.md).
     #[arg(long, value_name = "I/N", value_parser = super::shards::parse_shard)]
@@ -50,6 +50,8 @@ pub struct CompareArgs {
     // (`msaa=N`).
     #[command(flatten)]
     msaa: MsaaArg,
+    #[command(flatten)]
+    watchdog: WatchdogArg,
     /// The one reference the plot, the Pareto front and the budget measure
     /// every variant against: `global` (the ray-traced reference, the
     /// scene as it should look) or `local` (the formula per pixel on exact
@@ -220,14 +222,20 @@ fn render_variants(
     options: &GpuOptions,
     memory: &MemoryLimit,
 ) -> Result<Report, Failure> {
-    check_runs(args.runs)?;
+    let runs = check_runs(args.runs)?;
     let (mut scene, name) = load_scene(args.scene.as_deref(), memory)?;
     args.size.apply(&mut scene)?;
     args.msaa.apply(&mut scene)?;
+    args.watchdog.apply(&mut scene)?;
     let variants = variants_of(&args.variants, &scene)?;
     let given =
         super::ignored::scene_flags_given(&Default::default(), &args.msaa, &DepthArg::default());
-    super::ignored::warn(&given, &modes_of(&variants), super::ignored::Backends::Gpu);
+    let ignoring = super::ignored::Run {
+        modes: &modes_of(&variants),
+        backends: super::ignored::Backends::Gpu,
+        caustics: scene.render.caustics.on(),
+    };
+    super::ignored::warn(&given, ignoring);
     // The references alone must fit: without them no variant is measured.
     memory.check(&name, &scene, &[], &[Shading::Raytrace])?;
     let skip = over_the_limit(&scene, &name, &variants, memory)?;
@@ -241,7 +249,7 @@ fn render_variants(
     };
     let progress = super::progress::Progress::new("compare", 0);
     let compare_options = CompareOptions {
-        runs: args.runs,
+        runs,
         shard: args.shard,
         reference: reference_of(args),
         metric: metric_of(args),

@@ -15,8 +15,28 @@ impl Failure {
     }
 }
 
+/// Ends the process at once with the watchdog's line and exit status 3.
+/// A stuck device's submission is still running: waiting for it, tearing
+/// it down or running the driver's exit handlers (`std::process::exit`)
+/// would hang, and no other case can run on it, so nothing else the
+/// command could do is worth doing.
+pub fn end_stuck(message: &str) -> ! {
+    eprintln!("shadelab: error: {message}");
+    shadelab::output::remove_temporary_files();
+    let _ = std::io::Write::flush(&mut std::io::stdout());
+    // SAFETY: _exit(2) ends the process without running exit handlers or
+    // destructors, which is the point; stdout is flushed above.
+    unsafe { libc::_exit(3) }
+}
+
 impl From<shadelab::Error> for Failure {
+    // Every error of the library reaches the CLI through here: the one
+    // place a stuck device ends the command, wherever it happened (a
+    // worker of golden or check included).
     fn from(e: shadelab::Error) -> Self {
+        if e.leaves_device_stuck() {
+            end_stuck(&e.to_string());
+        }
         Failure {
             code: e.exit_code() as u8,
             message: e.to_string(),

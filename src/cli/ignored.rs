@@ -19,9 +19,12 @@ pub enum Backends {
     Both,
 }
 
-/// Which cases use a flag.
-fn used_by(flag: &str, shading: Shading, cpu: bool) -> bool {
+/// Which cases use a flag, where the run's scenes gather caustics or not.
+fn used_by(flag: &str, shading: Shading, cpu: bool, caustics: bool) -> bool {
     match flag {
+        // The photon map's settings, which only `--caustics N` (or a
+        // scene's `render.caustics`) turns on.
+        "--caustic-passes" | "--caustic-radius" => shading == Shading::Raytrace && caustics,
         "--msaa" => shading.raster_mode().is_some(),
         // The CPU reference has one way of finding hits.
         "--traversal" => shading == Shading::Raytrace && !cpu,
@@ -36,8 +39,12 @@ fn used_by(flag: &str, shading: Shading, cpu: bool) -> bool {
 
 /// Why a flag changes nothing in the cases that ignore it: said of one
 /// flag, and of several.
-fn why(flag: &str, cpu_alone: bool) -> (&'static str, &'static str) {
+fn why(flag: &str, cpu_alone: bool, caustics: bool) -> (&'static str, &'static str) {
     match flag {
+        "--caustic-passes" | "--caustic-radius" if !caustics => (
+            "it sets the photon map's caustics, which only --caustics N or a scene's render.caustics turns on",
+            "they set the photon map's caustics, which only --caustics N or a scene's render.caustics turns on",
+        ),
         "--msaa" => (
             "it is for the raster modes; the ray tracer's anti-aliasing is --samples",
             "they are for the raster modes; the ray tracer's anti-aliasing is --samples",
@@ -65,11 +72,24 @@ fn why(flag: &str, cpu_alone: bool) -> (&'static str, &'static str) {
     }
 }
 
-/// The warnings for `given` (flags on the command line) over a run of
-/// `modes` on `backends`: one line for the flags that the same cases
-/// ignore for the same reason, naming those cases (every mode it runs, or
-/// the ones that ignore them).
-pub fn warnings(given: &[&str], modes: &[Shading], backends: Backends) -> Vec<String> {
+/// What a run renders, as far as the flags it ignores go: its modes, where,
+/// and whether any of its scenes gathers caustics (after the flags).
+#[derive(Debug, Clone, Copy)]
+pub struct Run<'a> {
+    pub modes: &'a [Shading],
+    pub backends: Backends,
+    pub caustics: bool,
+}
+
+/// The warnings for `given` (flags on the command line) over `run`: one
+/// line for the flags that the same cases ignore for the same reason,
+/// naming those cases (every mode it runs, or the ones that ignore them).
+pub fn warnings(given: &[&str], run: Run) -> Vec<String> {
+    let Run {
+        modes,
+        backends,
+        caustics,
+    } = run;
     // (the modes that ignore them, why) -> the flags.
     type Ignoring = (Vec<Shading>, (&'static str, &'static str));
     let mut groups: Vec<(Ignoring, Vec<&str>)> = Vec::new();
@@ -79,15 +99,17 @@ pub fn warnings(given: &[&str], modes: &[Shading], backends: Backends) -> Vec<St
             .iter()
             .copied()
             .filter(|&m| match backends {
-                Backends::Gpu => !used_by(flag, m, false),
-                Backends::Cpu => !used_by(flag, m, true),
-                Backends::Both => !used_by(flag, m, false) && !used_by(flag, m, true),
+                Backends::Gpu => !used_by(flag, m, false, caustics),
+                Backends::Cpu => !used_by(flag, m, true, caustics),
+                Backends::Both => {
+                    !used_by(flag, m, false, caustics) && !used_by(flag, m, true, caustics)
+                }
             })
             .collect();
         if ignoring.is_empty() {
             continue;
         }
-        let key = (ignoring, why(flag, backends == Backends::Cpu));
+        let key = (ignoring, why(flag, backends == Backends::Cpu, caustics));
         match groups.iter_mut().find(|(k, _)| *k == key) {
             Some((_, flags)) => flags.push(flag),
             None => groups.push((key, vec![flag])),
@@ -115,8 +137,8 @@ pub fn warnings(given: &[&str], modes: &[Shading], backends: Backends) -> Vec<St
 }
 
 /// Prints [`warnings`] on stderr.
-pub fn warn(given: &[&str], modes: &[Shading], backends: Backends) {
-    for line in warnings(given, modes, backends) {
+pub fn warn(given: &[&str], run: Run) {
+    for line in warnings(given, run) {
         eprintln!("{line}");
     }
 }
@@ -148,6 +170,32 @@ pub fn scene_flags_given(
 mod tests {
     use super::*;
 
+    fn run(modes: &[Shading], backends: Backends) -> Run<'_> {
+        Run {
+            modes,
+            backends,
+            caustics: false,
+        }
+    }
+
+    /// `--caustic-passes` and `--caustic-radius` set a photon map that
+    /// nothing turned on (issue 55: they were ignored without a word);
+    /// with caustics on, the ray tracer uses them.
+    #[test]
+    fn the_photon_maps_settings_without_caustics_are_ignored() {
+        let given = ["--caustic-passes", "--caustic-radius"];
+        let modes = [Shading::Raytrace];
+        assert_eq!(
+            warnings(&given, run(&modes, Backends::Gpu)),
+            ["shadelab: warning: --caustic-passes, --caustic-radius: --shading raytrace ignores them (they set the photon map's caustics, which only --caustics N or a scene's render.caustics turns on)"]
+        );
+        let on = Run {
+            caustics: true,
+            ..run(&modes, Backends::Both)
+        };
+        assert!(warnings(&given, on).is_empty());
+    }
+
     const ALL: [Shading; 4] = [
         Shading::Flat,
         Shading::Gouraud,
@@ -157,15 +205,14 @@ mod tests {
 
     #[test]
     fn a_flag_some_modes_ignore_is_named_with_them() {
-        let lines = warnings(&["--msaa"], &ALL, Backends::Gpu);
+        let lines = warnings(&["--msaa"], run(&ALL, Backends::Gpu));
         assert_eq!(
             lines,
             ["shadelab: warning: --msaa: the raytrace images ignore it (it is for the raster modes; the ray tracer's anti-aliasing is --samples)"]
         );
         let lines = warnings(
             &["--depth"],
-            &[Shading::Flat, Shading::Phong],
-            Backends::Gpu,
+            run(&[Shading::Flat, Shading::Phong], Backends::Gpu),
         );
         assert_eq!(
             lines,
@@ -173,8 +220,7 @@ mod tests {
         );
         let lines = warnings(
             &["--depth", "--samples", "--msaa"],
-            &[Shading::Phong],
-            Backends::Gpu,
+            run(&[Shading::Phong], Backends::Gpu),
         );
         assert_eq!(
             lines,
@@ -183,21 +229,20 @@ mod tests {
         // Used by every case: nothing to say.
         assert!(warnings(
             &["--depth", "--traversal"],
-            &[Shading::Raytrace],
-            Backends::Gpu
+            run(&[Shading::Raytrace], Backends::Gpu)
         )
         .is_empty());
-        assert!(warnings(&["--msaa"], &[Shading::Flat], Backends::Both).is_empty());
+        assert!(warnings(&["--msaa"], run(&[Shading::Flat], Backends::Both)).is_empty());
     }
 
     #[test]
     fn the_cpu_reference_ignores_the_engine() {
-        let lines = warnings(&["--traversal"], &[Shading::Raytrace], Backends::Cpu);
+        let lines = warnings(&["--traversal"], run(&[Shading::Raytrace], Backends::Cpu));
         assert_eq!(
             lines,
             ["shadelab: warning: --traversal: --shading raytrace on the CPU reference ignores it (it chooses the GPU ray tracer's engine; the CPU reference has one)"]
         );
         // check renders on both: the GPU side uses it.
-        assert!(warnings(&["--traversal"], &[Shading::Raytrace], Backends::Both).is_empty());
+        assert!(warnings(&["--traversal"], run(&[Shading::Raytrace], Backends::Both)).is_empty());
     }
 }

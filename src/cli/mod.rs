@@ -35,7 +35,9 @@ mod warm;
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use std::any::TypeId;
+
+use clap::{ArgMatches, CommandFactory, FromArgMatches, Parser, Subcommand};
 
 #[derive(Parser)]
 #[command(
@@ -128,18 +130,55 @@ fn parser_error_in_house_style(rendered: &str) -> String {
     text
 }
 
-pub fn run() -> ExitCode {
-    let cli = match Cli::try_parse() {
-        Ok(cli) => cli,
-        Err(e) => {
-            // --help and --version are not errors.
-            if !e.use_stderr() {
-                let _ = e.print();
-                return ExitCode::SUCCESS;
-            }
-            eprintln!("{}", parser_error_in_house_style(&e.render().to_string()));
-            return ExitCode::from(2);
+/// The command line with every numeric flag taking a negative number as
+/// its value (`--bounces -1`), so that it reaches the flag's range check and
+/// its one line, as `--photons -5` does, rather than clap's "unexpected
+/// argument" and the usage. Numeric flags are signed (`i64`, `f64`) for
+/// the same reason. Here, for every command at once, so that no new flag
+/// can miss it.
+fn command() -> clap::Command {
+    let numeric = [TypeId::of::<i64>(), TypeId::of::<f64>()];
+    let negatives = |arg: clap::Arg| {
+        let id = arg.get_value_parser().type_id();
+        if numeric.iter().any(|t| id == *t) {
+            arg.allow_negative_numbers(true)
+        } else {
+            arg
         }
+    };
+    Cli::command().mut_subcommands(move |sub| sub.mut_args(negatives))
+}
+
+/// Parses the command line; a bad value of a flag (not a number, or not
+/// one of its names) is one line, as every other bad value: its usage
+/// would say nothing about the value.
+fn parse() -> Result<Cli, ExitCode> {
+    let parsed = command()
+        .try_get_matches()
+        .and_then(|matches: ArgMatches| Cli::from_arg_matches(&matches));
+    parsed.map_err(|e| {
+        // --help and --version are not errors.
+        if !e.use_stderr() {
+            let _ = e.print();
+            return ExitCode::SUCCESS;
+        }
+        let text = parser_error_in_house_style(&e.render().to_string());
+        let bad_value = matches!(
+            e.kind(),
+            clap::error::ErrorKind::ValueValidation | clap::error::ErrorKind::InvalidValue
+        );
+        match text.lines().next() {
+            Some(first) if bad_value => eprintln!("{first}"),
+            _ => eprintln!("{text}"),
+        }
+        ExitCode::from(2)
+    })
+}
+
+pub fn run() -> ExitCode {
+    let cli = match parse() {
+        Ok(cli) => cli,
+        Err(code) => return code,
     };
     let own = match &cli.command {
         Command::Render(a) => a.machine.clone(),
@@ -186,6 +225,43 @@ pub fn run() -> ExitCode {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every numeric flag of every command is signed and takes `-1` as its
+    /// value, for its own range check (issue 55: `--bounces -1` was clap's
+    /// two lines): no unsigned flag, whose `-1` clap refuses by itself.
+    #[test]
+    fn every_numeric_flag_takes_a_negative_value_to_range_check() {
+        let unsigned = [
+            TypeId::of::<u8>(),
+            TypeId::of::<u16>(),
+            TypeId::of::<u32>(),
+            TypeId::of::<u64>(),
+            TypeId::of::<usize>(),
+        ];
+        let mut checked = 0;
+        for sub in command().get_subcommands() {
+            for arg in sub.get_arguments() {
+                let id = arg.get_value_parser().type_id();
+                let name = format!("{} --{}", sub.get_name(), arg.get_id());
+                assert!(!unsigned.iter().any(|t| id == *t), "{name} is unsigned");
+                if id == TypeId::of::<i64>() || id == TypeId::of::<f64>() {
+                    assert!(arg.is_allow_negative_numbers_set(), "{name}");
+                    let flag = format!("--{}", arg.get_long().unwrap());
+                    let parsed =
+                        command().try_get_matches_from(["shadelab", sub.get_name(), &flag, "-1"]);
+                    if let Err(e) = parsed {
+                        assert_eq!(
+                            e.kind(),
+                            clap::error::ErrorKind::MissingRequiredArgument,
+                            "{name}: {e}"
+                        );
+                    }
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked >= 20, "{checked} numeric flags");
+    }
 
     #[test]
     fn parser_errors_read_as_one_line_then_the_usage() {

@@ -59,10 +59,14 @@ pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result
     }
     // Said once the flags are known to be valid: a bad one is the answer.
     let s = &args.settings;
+    let ignoring = super::ignored::Run {
+        modes: &modes,
+        backends: super::ignored::Backends::Gpu,
+        caustics: scenes.iter().any(|(scene, _)| scene.render.caustics.on()),
+    };
     super::ignored::warn(
         &super::ignored::scene_flags_given(&s.traversal, &s.msaa, &s.depth),
-        &modes,
-        super::ignored::Backends::Gpu,
+        ignoring,
     );
     let context = GpuContext::new(options)?;
     for (scene, _) in &scenes {

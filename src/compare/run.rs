@@ -381,6 +381,8 @@ fn run_variant(
     let (first, gpu, frame, image, traversal, cpu) =
         match measure(context, scene, variant.shading, options.runs) {
             Ok(m) => m,
+            // No later variant can run on a stuck device.
+            Err(e) if e.leaves_device_stuck() => return Err(e),
             Err(e) => {
                 return Ok(Outcome::NotRun(NotRun {
                     name,

@@ -77,8 +77,9 @@ impl Variant {
         }
     }
 
-    /// The scene with this variant's settings applied; fails only on a
-    /// lighting hook's file that cannot be read.
+    /// The scene with this variant's settings applied; fails on a lighting
+    /// hook's file that cannot be read, and on a depth below the bounces
+    /// (`RenderSettings::settle_depth`).
     pub fn apply(&self, scene: &Scene) -> Result<Scene, SceneError> {
         let mut s = scene.clone();
         if let Some(path) = &self.lighting {
@@ -96,6 +97,7 @@ impl Variant {
         }
         if let Some(d) = self.depth {
             s.render.depth = d;
+            s.render.depth_given = true;
         }
         if let Some(c) = self.cutoff {
             s.render.cutoff = c;
@@ -106,6 +108,12 @@ impl Variant {
         if let Some(n) = self.bounces {
             s.render.bounces = n;
         }
+        s.render
+            .settle_depth()
+            .map_err(|(depth, bounces)| SceneError::Toml {
+                file: format!("variant `{self}`"),
+                message: format!("bounces={bounces} needs depth={bounces} or more (each bounce is a level of the ray tree), and the depth is {depth}"),
+            })?;
         if let Some(n) = self.photons {
             s.render.photons = n;
         }

@@ -21,3 +21,4 @@ pub use raster::RasterOutput;
 pub use vk::context::{list_devices, DeviceInfo, GpuContext, GpuOptions};
 pub use vk::error::GpuError;
 pub use vk::timestamps::{ms_since, GpuTimings};
+pub use vk::watchdog::any_device_stuck;

@@ -65,7 +65,8 @@ impl Default for Lighting {
 impl Default for RenderSettings {
     fn default() -> Self {
         Self {
-            depth: 5,
+            depth: crate::scene::model::DEFAULT_DEPTH,
+            depth_given: false,
             cutoff: 0.001,
             shadows: true,
             samples: 1,
@@ -74,6 +75,9 @@ impl Default for RenderSettings {
             caustics: CausticSettings::default(),
             traversal: Traversal::Auto,
             msaa: crate::msaa::Msaa::default(),
+            watchdog: Some(std::time::Duration::from_secs_f64(
+                crate::scene::model::DEFAULT_WATCHDOG_S,
+            )),
         }
     }
 }

@@ -339,6 +339,40 @@ impl TriangleMesh {
 /// The deepest ray tree a scene or `--depth` may ask for.
 pub const MAX_DEPTH: u32 = 64;
 
+/// How long one GPU submission may run where a scene or `--watchdog` does
+/// not say: no honest submission comes near it (long work is batched into
+/// short submissions), while an endless lighting hook ends in minutes.
+pub const DEFAULT_WATCHDOG_S: f64 = 120.0;
+
+/// The longest watchdog a scene or `--watchdog` may ask for: a day. (0 is
+/// none.)
+pub const MAX_WATCHDOG_S: f64 = 86_400.0;
+
+/// `render.watchdog` or `--watchdog` in seconds as the renderers take it:
+/// `None` (0 s) waits for ever; the range error's text where out of range.
+pub fn watchdog_limit(seconds: f64) -> Result<Option<std::time::Duration>, String> {
+    if !(0.0..=MAX_WATCHDOG_S).contains(&seconds) {
+        return Err(format!(
+            "{seconds} is out of range; expected 0 (no limit) to {MAX_WATCHDOG_S} seconds"
+        ));
+    }
+    Ok((seconds > 0.0).then(|| std::time::Duration::from_secs_f64(seconds)))
+}
+
+/// `render.caustic_radius` or `--caustic-radius` (pixel footprints): above
+/// 0, and no wider than the largest image (`MAX_RESOLUTION` pixels), past
+/// which every pixel would gather every photon and the estimate is no
+/// longer local; the range error's text where out of range.
+pub fn check_caustic_radius(radius: f64) -> Result<f64, String> {
+    if radius.is_finite() && radius > 0.0 && radius <= MAX_RESOLUTION as f64 {
+        Ok(radius)
+    } else {
+        Err(format!(
+            "{radius:?} is out of range; expected a number above 0 and at most {MAX_RESOLUTION} (pixel footprints: a wider disc than the largest image gathers every photon into every pixel)"
+        ))
+    }
+}
+
 /// The largest image width or height a scene or `--width`/`--height` may ask
 /// for.
 pub const MAX_RESOLUTION: i64 = 16384;
@@ -386,6 +420,10 @@ impl std::str::FromStr for Traversal {
 pub struct RenderSettings {
     /// Ray tracing: maximum recursion depth.
     pub depth: u32,
+    /// Whether `depth` was asked for (`render.depth`, `--depth`, a
+    /// variant's `depth=`); if not, it follows `bounces` up
+    /// ([`RenderSettings::settle_depth`]).
+    pub depth_given: bool,
     /// Ray tracing: adaptive depth cut-off on the ray weight.
     pub cutoff: f64,
     pub shadows: bool,
@@ -404,6 +442,30 @@ pub struct RenderSettings {
     pub traversal: Traversal,
     /// The raster modes: samples per pixel and where they are shaded.
     pub msaa: crate::msaa::Msaa,
+    /// The GPU: how long one submission may run before the render is
+    /// given up as stuck (`None`: for ever).
+    pub watchdog: Option<std::time::Duration>,
+}
+
+/// The ray tracer's depth where nothing asks for another (and the bounces
+/// need no more).
+pub const DEFAULT_DEPTH: u32 = 5;
+
+impl RenderSettings {
+    /// The one rule of depth and bounces (docs/lighting-model.md, "Depth
+    /// and bounces"): each diffuse bounce is a level of the ray tree, which
+    /// `depth` bounds, so `bounces` N needs a depth of N or more. A depth
+    /// nobody asked for is the default raised to the bounces; one asked
+    /// for below them is refused, with `(depth, bounces)`, rather than
+    /// rendering fewer bounces than asked.
+    pub fn settle_depth(&mut self) -> Result<(), (u32, u32)> {
+        if !self.depth_given {
+            self.depth = DEFAULT_DEPTH.max(self.bounces);
+        } else if self.depth < self.bounces {
+            return Err((self.depth, self.bounces));
+        }
+        Ok(())
+    }
 }
 
 /// How the ray tracer's caustics are gathered from a progressive photon

@@ -22,9 +22,10 @@ pub fn shadelab(dir: &Path, args: &[&str]) -> Run {
     shadelab_with(dir, args, &[])
 }
 
-/// As [`shadelab`], with the variables `env` set too.
-pub fn shadelab_with(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_shadelab"))
+/// The command [`shadelab_with`] runs.
+fn command(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_shadelab"));
+    command
         .args(args)
         .current_dir(dir)
         .env("SHADELAB_VALIDATION", "1")
@@ -32,9 +33,51 @@ pub fn shadelab_with(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Run {
         // One Mesa shader cache for the whole suite, as a user's runs share
         // one: a fresh one per test would compile every shader again.
         .env("MESA_SHADER_CACHE_DIR", mesa_cache())
-        .envs(env.iter().copied())
-        .output()
+        .envs(env.iter().copied());
+    command
+}
+
+/// As [`shadelab`], killed past `limit` (a run that may hang must fail its
+/// test, not stop the suite): `None` where it was.
+#[allow(dead_code)]
+pub fn shadelab_within(dir: &Path, args: &[&str], limit: std::time::Duration) -> Option<Run> {
+    let mut child = command(dir, args, &[])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
         .expect("the binary runs");
+    let read = |mut pipe: Box<dyn std::io::Read + Send>| {
+        std::thread::spawn(move || {
+            let mut text = String::new();
+            let _ = pipe.read_to_string(&mut text);
+            text
+        })
+    };
+    let stdout = read(Box::new(child.stdout.take().unwrap()));
+    let stderr = read(Box::new(child.stderr.take().unwrap()));
+    let started = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break Some(status);
+        }
+        if started.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    let (stdout, stderr) = (stdout.join().unwrap(), stderr.join().unwrap());
+    status.map(|status| Run {
+        code: status.code().unwrap_or(-1),
+        stdout,
+        stderr,
+    })
+}
+
+/// As [`shadelab`], with the variables `env` set too.
+pub fn shadelab_with(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Run {
+    let out = command(dir, args, env).output().expect("the binary runs");
     Run {
         code: out.status.code().unwrap_or(-1),
         stdout: String::from_utf8_lossy(&out.stdout).into_owned(),

@@ -31,7 +31,7 @@ pub struct RenderArgs {
     pub(in crate::cli) cutoff: Option<f64>,
     /// Ray tracing: samples per pixel.
     #[arg(long)]
-    pub(in crate::cli) samples: Option<u32>,
+    pub(in crate::cli) samples: Option<i64>,
     /// Ray tracing: no shadow rays.
     #[arg(long)]
     pub(in crate::cli) no_shadows: bool,

@@ -53,12 +53,12 @@ pub(super) fn apply_overrides(
         scene.render.cutoff = c;
     }
     if let Some(s) = args.samples {
-        if s == 0 || s > 1024 {
-            return Err(Failure::usage(format!(
-                "--samples {s} is out of range; expected 1 to 1024"
-            )));
-        }
-        scene.render.samples = s;
+        scene.render.samples = u32::try_from(s)
+            .ok()
+            .filter(|s| (1..=1024).contains(s))
+            .ok_or_else(|| {
+                Failure::usage(format!("--samples {s} is out of range; expected 1 to 1024"))
+            })?;
     }
     if args.no_shadows {
         scene.render.shadows = false;
@@ -71,7 +71,12 @@ pub(super) fn apply_overrides(
             "auto" => Backends::Both,
             _ => Backends::Gpu,
         };
-        ignored::warn(&options_given(args), modes, backends);
+        let ignoring = ignored::Run {
+            modes,
+            backends,
+            caustics: scene.render.caustics.on(),
+        };
+        ignored::warn(&options_given(args), ignoring);
     }
     Ok(())
 }

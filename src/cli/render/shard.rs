@@ -42,14 +42,16 @@ pub(super) fn run_shard(
     let path = args.scenes.first().map(PathBuf::as_path);
     let (mut scene, stem) = load_scene(path, memory)?;
     apply_overrides(&mut scene, args, &[shading], true)?;
-    if !shadelab::render::sums_in_film(&scene, shading) {
-        return Err(Failure::usage(
-            "--shard splits the samples of a ray trace with diffuse bounces (--bounces 1 or more); a Whitted trace is exact per sample, quick, and its f32 mean does not add up across machines: render it whole".into(),
-        ));
-    }
+    // Caustics first: with them a trace without bounces is no Whitted
+    // trace to render whole, and what stops the shard is the photon map.
     if shading == Shading::Raytrace && scene.render.caustics.on() {
         return Err(Failure::usage(
             "--shard splits the samples of a ray trace, and its caustics do not split: each pass of the photon map shrinks the radius the last one left; leave out --caustics (and render.caustics) for a shard".into(),
+        ));
+    }
+    if !shadelab::render::sums_in_film(&scene, shading) {
+        return Err(Failure::usage(
+            "--shard splits the samples of a ray trace with diffuse bounces (--bounces 1 or more); a Whitted trace is exact per sample, quick, and its f32 mean does not add up across machines: render it whole".into(),
         ));
     }
     shadelab::output::prepare_output_path(&out)?;

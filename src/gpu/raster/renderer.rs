@@ -44,6 +44,7 @@ pub fn render_to(
     mode: RasterMode,
     target: ColorTarget,
 ) -> Result<RasterOutput, GpuError> {
+    let _watch = crate::gpu::shared::watch::watch_render(scene);
     let started = Instant::now();
     let (width, height) = (scene.image.width, scene.image.height);
     check_image_size(context, width, height)?;

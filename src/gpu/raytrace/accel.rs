@@ -69,6 +69,10 @@ pub struct SceneStructure {
 
 impl Drop for SceneStructure {
     fn drop(&mut self) {
+        if crate::gpu::vk::watchdog::any_device_stuck() {
+            // A shader may still be running: leaked, never freed under it.
+            return;
+        }
         let Some(support) = &self.context.ray_query else {
             return;
         };

@@ -256,6 +256,7 @@ pub fn render_part(
     part: &RenderPart,
     counter: &WorkCounter,
 ) -> Result<TraceOutput, GpuError> {
+    let _watch = crate::gpu::shared::watch::watch_render(scene);
     let started = Instant::now();
     let (width, height) = (scene.image.width, scene.image.height);
     let traversal = check_and_choose_engine(context, scene)?;

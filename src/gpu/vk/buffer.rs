@@ -89,6 +89,10 @@ impl Buffer {
 
 impl Drop for Buffer {
     fn drop(&mut self) {
+        if crate::gpu::vk::watchdog::any_device_stuck() {
+            // A shader may still be running: leaked, never freed under it.
+            return;
+        }
         // SAFETY: the GPU work that used this buffer has completed (every
         // submission waits on its fence before resources are dropped).
         unsafe { self.context.device.destroy_buffer(self.raw, None) };

@@ -6,6 +6,15 @@ use ash::vk;
 
 use crate::gpu::vk::context::GpuContext;
 use crate::gpu::vk::error::{GpuError, VkContext};
+use crate::gpu::vk::watchdog::{self, Watch};
+
+/// The error of a submission that outlived `watch`'s limit.
+fn stuck(watch: &Watch) -> GpuError {
+    GpuError::Stuck {
+        limit_s: watch.limit.map_or(f64::INFINITY, |l| l.as_secs_f64()),
+        cause: watch.cause.as_deref().map(str::to_string),
+    }
+}
 
 /// A command pool with one primary command buffer and a fence.
 pub struct OneShot {
@@ -48,8 +57,11 @@ impl OneShot {
         Ok(this)
     }
 
-    /// Ends recording, submits, and blocks until the GPU has finished.
+    /// Ends recording, submits, and blocks until the GPU has finished, or
+    /// until this thread's watchdog limit has passed: then the device is
+    /// stuck (`GpuError::Stuck`) and no later submission is made on it.
     pub fn submit_and_wait(&self) -> Result<(), GpuError> {
+        let watch = watchdog::current();
         let device = &self.context.device;
         // SAFETY: the command buffer is recording and owned by this object.
         unsafe { device.end_command_buffer(self.cmd) }.during("vkEndCommandBuffer")?;
@@ -60,22 +72,38 @@ impl OneShot {
             .queue_lock
             .lock()
             .unwrap_or_else(|e| e.into_inner());
+        // Work queued behind a submission that never ends would never run.
+        if watchdog::any_device_stuck() {
+            return Err(stuck(&watch));
+        }
         // SAFETY: `_queue` serialises access to the queue, and the fence is
         // unsignalled (each OneShot submits once).
-        unsafe {
+        let waited = unsafe {
             device
                 .queue_submit2(self.context.queue, &submit, self.fence)
                 .during("vkQueueSubmit2")?;
-            device
-                .wait_for_fences(&[self.fence], true, u64::MAX)
-                .during("vkWaitForFences")?;
+            device.wait_for_fences(&[self.fence], true, watchdog::timeout_ns(watch.limit))
+        };
+        match waited {
+            Ok(()) => Ok(()),
+            Err(vk::Result::TIMEOUT) => {
+                watchdog::mark_stuck();
+                Err(stuck(&watch))
+            }
+            Err(result) => Err(GpuError::Vulkan {
+                call: "vkWaitForFences",
+                result,
+            }),
         }
-        Ok(())
     }
 }
 
 impl Drop for OneShot {
     fn drop(&mut self) {
+        if watchdog::any_device_stuck() {
+            // Idling a stuck device never returns; its pool is leaked.
+            return;
+        }
         // vkDeviceWaitIdle uses every queue: another thread's submission
         // on this device must wait (the validation layer's threading check
         // caught two batch cases idling and submitting at once).

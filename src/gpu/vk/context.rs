@@ -626,6 +626,11 @@ impl GpuContext {
 
 impl Drop for GpuContext {
     fn drop(&mut self) {
+        if crate::gpu::vk::watchdog::any_device_stuck() {
+            // A stuck device cannot be idled or torn down (both wait for
+            // the shader that never ends): it is left to the process's end.
+            return;
+        }
         // SAFETY: every resource made on this device holds an Arc to it, so
         // when this runs nothing else uses the device; destruction follows
         // creation in reverse.

@@ -143,6 +143,10 @@ impl Descriptors {
 
 impl Drop for Descriptors {
     fn drop(&mut self) {
+        if crate::gpu::vk::watchdog::any_device_stuck() {
+            // A shader may still be running: leaked, never freed under it.
+            return;
+        }
         // SAFETY: the GPU work using the set has completed.
         unsafe { self.context.device.destroy_descriptor_pool(self.pool, None) };
     }

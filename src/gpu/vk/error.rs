@@ -61,11 +61,22 @@ pub enum GpuError {
     /// (`RenderPart::refuse_if_too_long` says the figure).
     #[error("{0}")]
     TooLong(String),
+    /// A submission outlived the watchdog's limit (`vk::watchdog`): the
+    /// device is stuck for the rest of the process, which must end without
+    /// waiting for it.
+    #[error("a GPU submission ran past the watchdog's {limit_s} s (--watchdog or the scene's render.watchdog); the likely cause is {}; the device is stuck, so shadelab stops", cause.as_ref().map_or_else(|| "a shader that never ends or a driver fault".to_string(), |c| format!("the lighting hook {c}, which never returns (an endless loop?)")))]
+    Stuck { limit_s: f64, cause: Option<String> },
     #[error("the Khronos validation layer reported {} message(s):\n{}", .0.len(), .0.join("\n"))]
     Validation(Vec<String>),
 }
 
 impl GpuError {
+    /// The watchdog's error: nothing more can run on the device, and the
+    /// process must end without waiting for it.
+    pub fn leaves_device_stuck(&self) -> bool {
+        matches!(self, GpuError::Stuck { .. })
+    }
+
     /// Errors that the user's input caused (exit status 2, not 3).
     pub fn is_bad_input(&self) -> bool {
         matches!(

@@ -89,6 +89,10 @@ pub fn subresource_range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRa
 
 impl Drop for Image {
     fn drop(&mut self) {
+        if crate::gpu::vk::watchdog::any_device_stuck() {
+            // A shader may still be running: leaked, never freed under it.
+            return;
+        }
         // SAFETY: the GPU work that used this image has completed.
         unsafe {
             if self.view != vk::ImageView::null() {

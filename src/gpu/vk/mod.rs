@@ -3,8 +3,8 @@
 //! `image`s, one-shot `commands`, `descriptors`, `pipeline` objects
 //! and the cache of built ones, SPIR-V `specialise`d to a scene's
 //! constants, GPU `timestamps`, the validation layer's messages
-//! (`validation`), the device features ray queries need (`ray_query`)
-//! and the `error`s of it all.
+//! (`validation`), the device features ray queries need (`ray_query`),
+//! how long a submission may run (`watchdog`) and the `error`s of it all.
 
 pub mod buffer;
 pub mod commands;
@@ -17,3 +17,4 @@ pub mod ray_query;
 pub mod specialise;
 pub mod timestamps;
 pub mod validation;
+pub mod watchdog;

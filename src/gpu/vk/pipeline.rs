@@ -91,6 +91,10 @@ impl PipelineObjects {
 
 impl Drop for PipelineObjects {
     fn drop(&mut self) {
+        if crate::gpu::vk::watchdog::any_device_stuck() {
+            // A shader may still be running: leaked, never freed under it.
+            return;
+        }
         let device = &self.device;
         // SAFETY: the GPU work using these objects has completed (a render
         // waits for its submission, the context idles the device before

@@ -123,6 +123,10 @@ impl Timestamps {
 
 impl Drop for Timestamps {
     fn drop(&mut self) {
+        if crate::gpu::vk::watchdog::any_device_stuck() {
+            // A shader may still be running: leaked, never freed under it.
+            return;
+        }
         // SAFETY: the queries are no longer in use.
         unsafe { self.context.device.destroy_query_pool(self.pool, None) };
     }

@@ -24,7 +24,7 @@
 //! | `ior` | `1.0` | > 0 |
 //! | `pattern` | none | `{ kind = "checker", scale = 8, colors = [[0.9, 0.9, 0.9], [0.15, 0.15, 0.15]] }`: scale > 0, two colours each >= 0 |
 //! | `texture` | none | `{ file = "floor.png", scale = 1, rotation = 0, offset = [0, 0], wrap = "repeat", filter = "trilinear" }`: `file` required (PNG or JPEG, sRGB, relative to the scene file), scale > 0 (tiles across a face), rotation in degrees counter-clockwise as the face is seen, offset in image widths, wrap `"repeat"`, `"clamp"` or `"mirror"`, filter `"nearest"`, `"bilinear"` or `"trilinear"`; not with `pattern` |
-//! | `render.depth` | `5` | 0..=64 |
+//! | `render.depth` | `5` | 0..=64; left out, at least `render.bounces`; given, not below them |
 //! | `render.cutoff` | `0.001` | >= 0 |
 //! | `render.shadows` | `true` | |
 //! | `render.samples` | `1` | 1..=1024 |
@@ -32,8 +32,9 @@
 //! | `render.photons` | `4194304` | 1..=4294967295: photons forward ray tracing traces from the lights |
 //! | `render.caustics` | `0` | 0..=4294967295: photons per pass of the ray tracer's photon map (caustics) |
 //! | `render.caustic_passes` | `16` | 1..=1048576: the photon map's passes |
-//! | `render.caustic_radius` | `2` | > 0: its first radius, in pixel footprints |
+//! | `render.caustic_radius` | `2` | > 0 and <= 16384: its first radius, in pixel footprints |
 //! | `render.traversal` | `"auto"` | or `"bvh"`, `"query"`: the GPU ray tracer's engine |
+//! | `render.watchdog` | `120` | 0..=86400 seconds one GPU submission may run before the render is given up as stuck (exit 3); 0 is no limit |
 //! | `render.msaa` | `1` | the raster modes' samples per pixel, 1..=64 (the device's counts: `shadelab info`), or `"4,per-sample"` to shade every sample |
 //!
 //! Objects (`[[objects]]`, `shape` selects the kind; a key that belongs to

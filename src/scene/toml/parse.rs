@@ -226,6 +226,7 @@ msaa    = 1                       # raster modes: samples per pixel ("4,per-samp
             s.render,
             RenderSettings {
                 depth: 5,
+                depth_given: true,
                 cutoff: 0.001,
                 shadows: true,
                 samples: 1,
@@ -234,6 +235,7 @@ msaa    = 1                       # raster modes: samples per pixel ("4,per-samp
                 caustics: crate::scene::CausticSettings::default(),
                 traversal: Traversal::Auto,
                 msaa: crate::msaa::Msaa::default(),
+                watchdog: Some(std::time::Duration::from_secs(120)),
             }
         );
         assert!(s.warnings.is_empty());
@@ -343,7 +345,7 @@ msaa    = 1                       # raster modes: samples per pixel ("4,per-samp
             "[lighting]\nambient = [0.1, 0.2, 0.3]\nk = 0\ninterpolation = \"screen\"\nattenuation = false\n\
              [[lights]]\nposition = [1, 2, 3]\nintensity = [1, 0.5, 0]\n\
              [materials.m]\n[[objects]]\nshape = \"box\"\ncenter = [0, 0, 0]\nsize = [2, 4, 6]\nrotate_deg = [0, 90, 0]\nmaterial = \"m\"\n\
-             [render]\ndepth = 0\ncutoff = 0\nshadows = false\nsamples = 16\nbounces = 3\nphotons = 1000\ncaustics = 5000\ncaustic_passes = 7\ncaustic_radius = 1.5\ntraversal = \"query\"\nmsaa = \"4,per-sample\"\n",
+             [render]\ndepth = 3\ncutoff = 0\nshadows = false\nsamples = 16\nbounces = 3\nphotons = 1000\ncaustics = 5000\ncaustic_passes = 7\ncaustic_radius = 1.5\ntraversal = \"query\"\nmsaa = \"4,per-sample\"\nwatchdog = 2.5\n",
         ));
         assert_eq!(s.lighting.ambient, DVec3::new(0.1, 0.2, 0.3));
         assert_eq!(s.lighting.k, 0.0);
@@ -364,7 +366,8 @@ msaa    = 1                       # raster modes: samples per pixel ("4,per-samp
         assert_eq!(
             s.render,
             RenderSettings {
-                depth: 0,
+                depth: 3,
+                depth_given: true,
                 cutoff: 0.0,
                 shadows: false,
                 samples: 16,
@@ -381,6 +384,7 @@ msaa    = 1                       # raster modes: samples per pixel ("4,per-samp
                     samples: 4,
                     per_sample: true,
                 },
+                watchdog: Some(std::time::Duration::from_millis(2500)),
             }
         );
     }

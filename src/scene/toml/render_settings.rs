@@ -5,7 +5,9 @@
 use super::checks::{spanned_map, Ctx};
 use super::schema::{v3, ImageRaw, MsaaRaw, RenderRaw};
 use crate::scene::error::SceneError;
-use crate::scene::model::{ImageSettings, RenderSettings, MAX_DEPTH, MAX_RESOLUTION};
+use crate::scene::model::{
+    check_caustic_radius, watchdog_limit, ImageSettings, RenderSettings, MAX_DEPTH, MAX_RESOLUTION,
+};
 
 /// `[image]`, the defaults where it or a key is absent.
 pub(super) fn image(cx: &Ctx, raw: Option<&ImageRaw>) -> Result<ImageSettings, SceneError> {
@@ -31,6 +33,7 @@ pub(super) fn render(cx: &Ctx, raw: Option<&RenderRaw>) -> Result<RenderSettings
     if let Some(r) = raw {
         if let Some(d) = &r.depth {
             render.depth = cx.int_in(d, "render.depth", 0, i64::from(MAX_DEPTH), "")?;
+            render.depth_given = true;
         }
         if let Some(c) = &r.cutoff {
             render.cutoff = cx.non_negative(c, "render.cutoff")?;
@@ -43,6 +46,12 @@ pub(super) fn render(cx: &Ctx, raw: Option<&RenderRaw>) -> Result<RenderSettings
         }
         if let Some(b) = &r.bounces {
             render.bounces = cx.int_in(b, "render.bounces", 0, i64::from(MAX_DEPTH), "")?;
+            render.settle_depth().map_err(|(depth, bounces)| {
+                cx.err(
+                    b,
+                    format!("render.bounces = {bounces} needs render.depth = {bounces} or more (each bounce is a level of the ray tree, which depth bounds), and render.depth is {depth}; raise render.depth or leave it out (it then follows the bounces)"),
+                )
+            })?;
         }
         if let Some(p) = &r.photons {
             let why = " (photons are numbered in 32 bits)";
@@ -60,6 +69,10 @@ pub(super) fn render(cx: &Ctx, raw: Option<&RenderRaw>) -> Result<RenderSettings
             render.msaa = text
                 .parse()
                 .map_err(|e: String| cx.err(m, format!("render.msaa {e}")))?;
+        }
+        if let Some(w) = &r.watchdog {
+            render.watchdog = watchdog_limit(w.get_ref().0)
+                .map_err(|e| cx.err(w, format!("render.watchdog {e}")))?;
         }
     }
     Ok(render)
@@ -82,14 +95,8 @@ fn caustics(
         caustics.passes = cx.int_in(p, "render.caustic_passes", 1, 1 << 20, "")?;
     }
     if let Some(radius) = &r.caustic_radius {
-        let value = cx.non_negative(radius, "render.caustic_radius")?;
-        if value <= 0.0 {
-            return Err(cx.err(
-                radius,
-                "render.caustic_radius must be above 0 (pixel footprints)",
-            ));
-        }
-        caustics.initial_radius = value;
+        caustics.initial_radius = check_caustic_radius(radius.get_ref().0)
+            .map_err(|e| cx.err(radius, format!("render.caustic_radius {e}")))?;
     }
     if let (Some(p), None) = (&r.caustics, caustics.total_photons()) {
         return Err(cx.err(
@@ -134,6 +141,22 @@ mod tests {
             ),
             ("[render]\ncutoff = -0.1\n", &["line 5", "render.cutoff"]),
             (
+                "[render]\ndepth = 3\nbounces = 4\n",
+                &["line 6", "render.bounces = 4", "render.depth is 3"],
+            ),
+            (
+                "[render]\ncaustic_radius = 1e30\n",
+                &["line 5", "render.caustic_radius", "16384"],
+            ),
+            (
+                "[render]\ncaustic_radius = 0\n",
+                &["line 5", "render.caustic_radius", "above 0"],
+            ),
+            (
+                "[render]\nwatchdog = -1\n",
+                &["line 5", "render.watchdog", "86400"],
+            ),
+            (
                 "[render]\nphotons = 0\n",
                 &["line 5", "render.photons", "4294967295"],
             ),
@@ -144,6 +167,21 @@ mod tests {
         ] {
             let e = parse_err(&with_camera(rest));
             assert_has(&e, parts);
+        }
+    }
+
+    /// `render.bounces` N reaches N bounces: the depth follows it up where
+    /// the scene gives none, and stays where it gives one.
+    #[test]
+    fn the_depth_follows_the_bounces_where_none_is_given() {
+        for (rest, depth) in [
+            ("[render]\nbounces = 10\n", 10),
+            ("[render]\nbounces = 2\n", 5),
+            ("[render]\nbounces = 2\ndepth = 3\n", 3),
+            ("[render]\ndepth = 12\nbounces = 10\n", 12),
+        ] {
+            let s = parse_ok(&with_camera(rest));
+            assert_eq!(s.render.depth, depth, "{rest}");
         }
     }
 }

@@ -229,6 +229,7 @@ pub(super) struct RenderRaw {
     pub(super) caustic_radius: Option<Spanned<Finite>>,
     pub(super) traversal: Option<Traversal>,
     pub(super) msaa: Option<Spanned<MsaaRaw>>,
+    pub(super) watchdog: Option<Spanned<Finite>>,
 }
 
 /// `msaa = 4` or `msaa = "4,per-sample"`.

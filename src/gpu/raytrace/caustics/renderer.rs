@@ -65,6 +65,7 @@ pub fn render(
     passes: &RenderPart,
     counter: &WorkCounter,
 ) -> Result<CausticOutput, GpuError> {
+    let _watch = crate::gpu::shared::watch::watch_render(scene);
     let started = Instant::now();
     refuse_what_cannot_run(context, scene)?;
     let settings = scene.render.caustics;

@@ -53,6 +53,7 @@ pub fn render(
     job: &RenderPart,
     counter: &WorkCounter,
 ) -> Result<ForwardOutput, GpuError> {
+    let _watch = crate::gpu::shared::watch::watch_render(scene);
     let started = Instant::now();
     refuse_what_cannot_run(context, scene)?;
     let (width, height) = (scene.image.width, scene.image.height);
