@@ -236,3 +236,16 @@ fn the_scanners_find_what_they_should() {
         ["docs/a.md", "ci/b.sh", "assets/"]
     );
 }
+
+/// The README is the front page: the two commands, what it does, a tour,
+/// and links to the depth in `docs/`. Past 300 lines it had started to
+/// hold that depth itself (318 twice); what outgrows it goes to `docs/`.
+#[test]
+fn the_readme_stays_a_front_page() {
+    let text = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let lines = text.lines().count();
+    assert!(
+        lines <= 300,
+        "README.md has {lines} lines; move depth to docs/"
+    );
+}
