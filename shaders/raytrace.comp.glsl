@@ -78,6 +78,15 @@ const int UNROLLED_MATERIALS = 8;
 #include "rt_children.glsl"    // a hit's reflected and refracted rays
 #include "rt_ray_tree.glsl"    // one sample's reflection and refraction tree
 
+// Sample i's cell of the Whitted tracer's grid: row i / kx and column
+// i % kx, in floats (exact: (i + 0.5) / kx is 0.5 / kx from an integer or
+// more).
+vec2 grid_cell(uint i, float kx, float inv_kx, float inv_ky) {
+    float row = floor((float(i) + 0.5) * inv_kx);
+    float column = float(i) - row * kx;
+    return vec2(column + 0.5, row + 0.5) * vec2(inv_kx, inv_ky);
+}
+
 // Subgroups take work items from a queue (one atomic counter) until it
 // runs dry, so the image's pixels are shared out as the work goes, not
 // by workgroup id: lavapipe hands each of its threads a fixed share of
@@ -145,18 +154,13 @@ void main() {
             // first, the small scenes took 1.1x to 1.3x the time on
             // lavapipe (24 to 50 alternated runs), the images the same.
 #ifdef PATHS
+            uint pixel_index = pixel.y * width + pixel.x;
             for (uint i = sample_range.first;;) {
-                // Sample i's point of the progressive sequence: any prefix
-                // of a pixel's samples covers the pixel.
-                uint pixel_index = pixel.y * width + pixel.x;
+                // A point of the progressive sequence: any prefix covers the pixel.
                 vec2 cell = pixel_sample(pixel_index, i);
 #else
             for (uint i = 0u;;) {
-                // Sample i's cell: row i / kx and column i % kx, in floats
-                // (exact: (i + 0.5) / kx is 0.5 / kx from an integer or more).
-                float row = floor((float(i) + 0.5) * inv_kx);
-                float column = float(i) - row * kx;
-                vec2 cell = vec2(column + 0.5, row + 0.5) * vec2(inv_kx, inv_ky);
+                vec2 cell = grid_cell(i, kx, inv_kx, inv_ky);
 #endif
                 vec2 ndc = (vec2(pixel) + cell) * ndc_per_pixel - 1.0;
                 vec3 dir = frame.forward_cutoff.xyz + right_per_ndc * ndc.x - up_per_ndc * ndc.y;

@@ -206,6 +206,62 @@ pub fn scaled(image: &LinearImage, scale: f64) -> Cow<'_, LinearImage> {
     })
 }
 
+/// The FLIP mean of `actual` against `expected` with the edge pixels that
+/// differ by more than `tolerance` put back to `expected`'s, where they are
+/// no more than the floor allows (`MIN_EDGE_PIXELS`); `None` where there
+/// are none, or more. The floor lets those pixels differ whatever their
+/// colour, and FLIP spreads one pixel's difference over its neighbours by
+/// up to 25 pixels' worth (a saturated pixel on black or on another hue;
+/// 2.2 for a grey one on grey): two silhouette pixels of a bright green box
+/// on black put a random scene's FLIP mean (87 x 43) at 4.24e-3, over the
+/// 3 grey pixels' worth the floor allowed for them before. The rest of the
+/// image is held to the mode's own FLIP limit.
+fn flip_without_floor_pixels(
+    expected: &LinearImage,
+    actual: &LinearImage,
+    near_edge: &[bool],
+    tolerance: f64,
+) -> Option<f64> {
+    let differing: Vec<usize> = (0..expected.pixels.len())
+        .filter(|&i| near_edge[i])
+        .filter(|&i| {
+            let (e, a) = (expected.pixels[i], actual.pixels[i]);
+            (0..3).any(|c| !(f64::from((e[c] - a[c]).abs()) <= tolerance))
+        })
+        .collect();
+    if differing.is_empty() || differing.len() > MIN_EDGE_PIXELS as usize {
+        return None;
+    }
+    let mut rest = actual.clone();
+    for i in differing {
+        rest.pixels[i] = expected.pixels[i];
+    }
+    Some(flip(expected, &rest, PIXELS_PER_DEGREE).mean)
+}
+
+/// `image` with each pixel divided by the brightest channel of the same
+/// pixel of `expected` where that is over 1: interior errors are absolute
+/// up to 1 and relative above it, as f32's rounding is. A pixel of 99.7
+/// (a light close to a surface, with the inverse-square falloff) was off
+/// by 1.5e-3, two ulps, over the raster modes' absolute 1e-3 (found by the
+/// random scenes); the image's brightest value (`comparison_scale`) alone
+/// left it absolute, as the image stays inside `DISPLAY_RANGE`.
+fn relative_above_one(expected: &LinearImage, image: &LinearImage) -> LinearImage {
+    let pixels = expected
+        .pixels
+        .iter()
+        .zip(&image.pixels)
+        .map(|(e, p)| {
+            let magnitude = e.iter().fold(1.0f32, |m, v| m.max(v.abs()));
+            p.map(|v| v / magnitude)
+        })
+        .collect();
+    LinearImage {
+        pixels,
+        ..image.clone()
+    }
+}
+
 /// One scene in one mode, checked.
 pub struct CheckOutcome {
     pub shading: Shading,
@@ -268,7 +324,12 @@ pub fn judge(
         || flip(&e, &a, PIXELS_PER_DEGREE),
         || {
             (
-                ErrorStats::compute(&e, &a, Some(&interior_mask), pixel),
+                ErrorStats::compute(
+                    &relative_above_one(&e, &e),
+                    &relative_above_one(&e, &a),
+                    Some(&interior_mask),
+                    pixel,
+                ),
                 ErrorStats::compute(&e, &a, Some(near_edge), pixel),
             )
         },
@@ -284,10 +345,7 @@ pub fn judge(
     let differing_edges = edges.fraction_over * edges.pixels as f64;
     let image_pixels = (interior.pixels + edges.pixels).max(1) as f64;
     let edge_share = differing_edges / image_pixels;
-    // The floor (`MIN_EDGE_PIXELS`) as a share of this image. FLIP spreads
-    // a pixel's difference over its neighbours: a pixel off by 1.0 on mid
-    // grey sums to 2.1 pixels' worth (measured), so its floor is 3 times
-    // the same pixels' share.
+    // The floor (`MIN_EDGE_PIXELS`) as a share of this image.
     let floor = f64::from(MIN_EDGE_PIXELS) / image_pixels;
     let edge_limit = limits.edge_fraction.max(floor);
     if !within(edge_share, edge_limit) {
@@ -297,9 +355,12 @@ pub fn judge(
             edge_limit * 100.0
         ));
     }
-    let flip_limit = limits.flip_mean.max(3.0 * floor);
-    if !within(flip.mean, flip_limit) {
-        failures.push(format!("FLIP mean {:.2e} > {:.1e}", flip.mean, flip_limit));
+    let judged_flip = flip_without_floor_pixels(&e, &a, near_edge, pixel).unwrap_or(flip.mean);
+    if !within(judged_flip, limits.flip_mean) {
+        failures.push(format!(
+            "FLIP mean {judged_flip:.2e} > {:.1e}",
+            limits.flip_mean
+        ));
     }
     if let Some(limit) = limits.mean_relative {
         let apart = relative_mean_difference(&e, &a);

@@ -265,3 +265,79 @@ fn on_a_tiny_image_a_few_edge_pixels_may_differ_whatever_their_share() {
         );
     }
 }
+
+/// A `w` x `h` image of `background` whose first column is edge pixels,
+/// and a copy with `n` of them `pixel` instead.
+fn tiny_coloured(
+    (w, h): (u32, u32),
+    background: [f32; 3],
+    pixel: [f32; 3],
+    n: u32,
+) -> (LinearImage, LinearImage, Vec<bool>) {
+    let expected = LinearImage {
+        width: w,
+        height: h,
+        pixels: vec![background; (w * h) as usize],
+    };
+    let mut actual = expected.clone();
+    for k in 0..n {
+        actual.pixels[(2 * k * w) as usize] = pixel;
+    }
+    let edges = (0..w * h).map(|i| i % w == 0).collect();
+    (expected, actual, edges)
+}
+
+/// Found by the random scenes (seed 20016): at 87 x 43, two silhouette
+/// pixels of a bright green box that the GPU's rasterizer covers and the
+/// reference does not put flat's FLIP mean at 4.24e-3, over the floor of
+/// 3 grey pixels' worth it had (3.2e-3). The floor's pixels may be any
+/// colour, and FLIP judges the rest of the image: `MIN_EDGE_PIXELS` green
+/// pixels on black pass, one more fails, and the same pixels
+/// beside an interior change over the FLIP limit still fail on FLIP.
+#[test]
+fn a_few_saturated_edge_pixels_on_black_are_within_the_floor() {
+    use shadelab::check::MIN_EDGE_PIXELS;
+    for shading in [Shading::Flat, Shading::Raytrace] {
+        let limits = CheckThresholds::for_shading(shading);
+        let (e, a, edges) = tiny_coloured((87, 43), [0.0; 3], [0.0, 1.0, 0.0], MIN_EDGE_PIXELS);
+        let j = judge(&e, &a, &edges, &limits);
+        assert!(j.failures.is_empty(), "{shading}: {:?}", j.failures);
+        let (e, a, edges) = tiny_coloured((87, 43), [0.0; 3], [0.0, 1.0, 0.0], MIN_EDGE_PIXELS + 1);
+        let j = judge(&e, &a, &edges, &limits);
+        // Raster: on the share; ray tracing, whose share allows 18 pixels
+        // here: on FLIP, which the floor no longer spares them.
+        assert!(!j.failures.is_empty(), "{shading}: five pixels passed");
+        let (e, mut a, edges) = tiny_coloured((87, 43), [0.0; 3], [0.0, 1.0, 0.0], MIN_EDGE_PIXELS);
+        for y in 10..30 {
+            a.pixels[y * 87 + 40] = [0.05, 0.05, 0.05];
+        }
+        let limits = CheckThresholds {
+            interior_max_abs: f64::INFINITY,
+            ..limits
+        };
+        let j = judge(&e, &a, &edges, &limits);
+        assert!(failures_mention(&j, "FLIP"), "{shading}: {:?}", j.failures);
+    }
+}
+
+/// Found by the random scenes (seed 20019): a light close to a sphere
+/// with the inverse-square falloff lit a Phong pixel to 99.67, and f32
+/// put it 1.5e-3 (two ulps) from the reference, over the absolute 1e-3
+/// inside surfaces. Interior errors are absolute up to 1 and relative
+/// above: that pixel passes, the same error at 0.5 does not, nor 2e-3 of
+/// 100 relative.
+#[test]
+fn interior_errors_are_relative_above_one() {
+    let limits = CheckThresholds::for_shading(Shading::Phong);
+    let (expected, edges) = grey();
+    let judged = |value: f32, off: f32| {
+        let mut e = expected.clone();
+        e.pixels[interior_pixel(1)] = [value; 3];
+        let mut a = e.clone();
+        a.pixels[interior_pixel(1)][2] += off;
+        judge(&e, &a, &edges, &limits)
+    };
+    assert!(judged(99.67, 1.5e-3).failures.is_empty());
+    assert!(failures_mention(&judged(0.5, 1.5e-3), "interior"));
+    assert!(failures_mention(&judged(100.0, 0.2), "interior"));
+}

@@ -308,13 +308,7 @@ pub fn render_part(
 
     let codegen_ms = first_use(context, &bound)?;
     let (submit_ms, gpu_ms, traced, estimate) = if paths {
-        let work = batches::FilmWork {
-            buffers: &buffers,
-            size: (width, height),
-            unit: "samples per pixel",
-            batch: batches::batch_samples(pixels, plan.rt.render.bounces),
-            halves: batches::Halves::ByStream,
-        };
+        let work = sample_work(&buffers, (width, height), plan.rt.render.bounces);
         let run = trace_samples(context, (&bound, groups), &work, part, counter)?;
         (run.submit_ms, run.gpu_ms, run.traced, run.estimate)
     } else {
@@ -349,6 +343,23 @@ pub fn render_part(
         traversal,
         sums,
     })
+}
+
+/// The film of a ray trace with bounces: its samples per pixel in batches
+/// of about the same work, its halves the sequence's two streams.
+fn sample_work(
+    buffers: &TraceBuffers,
+    (width, height): (u32, u32),
+    bounces: u32,
+) -> batches::FilmWork<'_> {
+    let pixels = u64::from(width) * u64::from(height);
+    batches::FilmWork {
+        buffers,
+        size: (width, height),
+        unit: "samples per pixel",
+        batch: batches::batch_samples(pixels, bounces),
+        halves: batches::Halves::ByStream,
+    }
 }
 
 /// With bounces, `part`'s samples of every pixel, a range of them per
