@@ -264,15 +264,7 @@ fn write_shard_record(
 /// where it wrote (`--out`, `--junit`), which differ between shards.
 fn run_identity(args: &CheckArgs, modes: &[Shading]) -> Result<serde_json::Value, Failure> {
     let keys = super::golden_keys::scene_keys(&args.scenes, None)?;
-    let cases: Vec<String> = keys
-        .iter()
-        .flat_map(|k| modes.iter().map(move |m| format!("{k}/{m}")))
-        .collect();
-    let scenes: serde_json::Map<String, serde_json::Value> = keys
-        .iter()
-        .zip(&args.scenes)
-        .map(|(k, p)| (k.clone(), content_digest(p).into()))
-        .collect();
+    let (cases, scenes) = super::run_digest::cases_and_scenes(&keys, &args.scenes, modes);
     Ok(super::run_digest::run_identity(serde_json::json!({
         "cases": cases,
         "scenes": scenes,

@@ -106,15 +106,7 @@ fn run_identity(
 ) -> serde_json::Value {
     let keys = render_args.scene_names.as_deref().unwrap_or_default();
     let modes = args.modes.modes();
-    let cases: Vec<String> = keys
-        .iter()
-        .flat_map(|k| modes.iter().map(move |m| format!("{k}/{m}")))
-        .collect();
-    let scenes: serde_json::Map<String, serde_json::Value> = keys
-        .iter()
-        .zip(&args.scenes)
-        .map(|(k, p)| (k.clone(), content_digest(p).into()))
-        .collect();
+    let (cases, scenes) = super::run_digest::cases_and_scenes(keys, &args.scenes, &modes);
     let flags = &args.settings;
     super::run_digest::run_identity(serde_json::json!({
         "cases": cases,

@@ -19,6 +19,26 @@ pub fn run_identity(mut settings: serde_json::Value) -> serde_json::Value {
     })
 }
 
+/// A run's cases (`SCENE/MODE` for each scene key and mode, in order) and
+/// each scene's content digest by its key: what every command's run
+/// identity starts from.
+pub fn cases_and_scenes(
+    keys: &[String],
+    scenes: &[std::path::PathBuf],
+    modes: &[shadelab::shading::Shading],
+) -> (Vec<String>, serde_json::Map<String, serde_json::Value>) {
+    let cases = keys
+        .iter()
+        .flat_map(|k| modes.iter().map(move |m| format!("{k}/{m}")))
+        .collect();
+    let digests = keys
+        .iter()
+        .zip(scenes)
+        .map(|(k, p)| (k.clone(), content_digest(p).into()))
+        .collect();
+    (cases, digests)
+}
+
 /// A digest of a file's bytes, so that a scene is known by what it holds
 /// rather than by the path it was given as (`../box.toml` and its absolute
 /// path are one scene); `unreadable: WHY` where it cannot be read.
