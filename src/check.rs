@@ -226,7 +226,11 @@ fn flip_without_floor_pixels(
         .filter(|&i| near_edge[i])
         .filter(|&i| {
             let (e, a) = (expected.pixels[i], actual.pixels[i]);
-            (0..3).any(|c| !(f64::from((e[c] - a[c]).abs()) <= tolerance))
+            // NaN differs too.
+            (0..3).any(|c| {
+                let off = f64::from((e[c] - a[c]).abs());
+                off.is_nan() || off > tolerance
+            })
         })
         .collect();
     if differing.is_empty() || differing.len() > MIN_EDGE_PIXELS as usize {
