@@ -367,8 +367,14 @@ pub fn check_caustic_radius(radius: f64) -> Result<f64, String> {
     if radius.is_finite() && radius > 0.0 && radius <= MAX_RESOLUTION as f64 {
         Ok(radius)
     } else {
+        // As the number was written: `0`, `1e30`, `0.5`.
+        let shown = if radius.fract() == 0.0 && radius.abs() < 1e16 {
+            format!("{radius:.0}")
+        } else {
+            format!("{radius:?}")
+        };
         Err(format!(
-            "{radius:?} is out of range; expected a number above 0 and at most {MAX_RESOLUTION} (pixel footprints: a wider disc than the largest image gathers every photon into every pixel)"
+            "{shown} is out of range; expected a number above 0 and at most {MAX_RESOLUTION} (pixel footprints: a wider disc than the largest image gathers every photon into every pixel)"
         ))
     }
 }
