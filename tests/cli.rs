@@ -1600,7 +1600,7 @@ fn a_bad_number_is_one_line_in_every_command() {
         ),
         (
             &["render", "--caustic-radius", "0"],
-            "--caustic-radius 0.0 is out of range",
+            "--caustic-radius 0 is out of range",
         ),
         (
             &["golden", "--references", "r", "--depth", "-1"],
