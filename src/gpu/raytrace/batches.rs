@@ -15,6 +15,7 @@ use crate::gpu::raytrace::buffers::TraceBuffers;
 use crate::gpu::vk::context::GpuContext;
 use crate::gpu::vk::error::GpuError;
 use crate::gpu::vk::timestamps::Timestamps;
+use crate::gpu::vk::watchdog::{self, watch, Guard, Watch};
 use crate::work_counter::WorkCounter;
 
 /// Path vertices (a sample's eye ray and its bounces) per submission of
@@ -112,6 +113,8 @@ pub(super) fn run(
         estimate: None,
     };
     let mut first = part.range.start;
+    // Tightened after the first batch, which says how long one takes.
+    let mut _tightened: Option<Guard> = None;
     while first < part.range.end && (first == part.range.start || !part.past_deadline()) {
         // Under a time budget the first batch is one unit of work for the
         // samples (a sample per pixel), so that a budget shorter than a
@@ -132,6 +135,7 @@ pub(super) fn run(
         if first == part.range.start {
             part.refuse_if_too_long(count, times.0 / 1e3, work.unit)
                 .map_err(GpuError::TooLong)?;
+            _tightened = Some(tighten_watch(times.0, count, size));
         }
         run.submit_ms += times.0;
         run.gpu_ms += times.1;
@@ -149,6 +153,20 @@ pub(super) fn run(
         }
     }
     Ok(run)
+}
+
+/// Holds the render's later submissions to what its first batch of
+/// `count` units took (`submit_ms`), scaled to a batch of `size`: a hook
+/// that hangs only in a later batch is found in seconds, not minutes
+/// (`vk::watchdog::tightened`).
+fn tighten_watch(submit_ms: f64, count: u32, size: u32) -> Guard {
+    let per_unit = submit_ms.max(0.0) / 1e3 / f64::from(count.max(1));
+    let expected = std::time::Duration::from_secs_f64(per_unit * f64::from(size));
+    let now = watchdog::current();
+    watch(Watch {
+        limit: watchdog::tightened(now.limit, expected),
+        cause: now.cause,
+    })
 }
 
 /// The size of a time budget's first batch.

@@ -75,6 +75,22 @@ pub(crate) fn current() -> Watch {
     CURRENT.with(|c| c.borrow().clone())
 }
 
+/// The least limit a render's own estimate may tighten the watch to: a
+/// shared, noisy machine can slow one batch several times over.
+pub const TIGHTEST_LIMIT: Duration = Duration::from_secs(10);
+
+/// How many times its expected time a batch may take before the watchdog
+/// gives up on it, once the render has timed its first batch.
+pub const EXPECTED_TIMES: u32 = 20;
+
+/// The limit for a batch expected to take `expected` (from the render's
+/// first batch): `EXPECTED_TIMES` that, at least `TIGHTEST_LIMIT`, and
+/// never looser than `limit` (nor any limit where there is none).
+pub fn tightened(limit: Option<Duration>, expected: Duration) -> Option<Duration> {
+    let own = (expected * EXPECTED_TIMES).max(TIGHTEST_LIMIT);
+    limit.map(|l| l.min(own))
+}
+
 /// The limit as `vkWaitForFences` takes it, in nanoseconds.
 pub(crate) fn timeout_ns(limit: Option<Duration>) -> u64 {
     limit.map_or(u64::MAX, |l| {
@@ -119,5 +135,21 @@ mod tests {
         assert_eq!(current().limit, Some(DEFAULT_LIMIT));
         assert_eq!(timeout_ns(None), u64::MAX);
         assert_eq!(timeout_ns(Some(Duration::from_secs(2))), 2_000_000_000);
+    }
+
+    /// After its first batch a render's later submissions are held to 20
+    /// times their expected time, never under 10 s nor over the limit
+    /// given, and not at all where none was given (`--watchdog 0`).
+    #[test]
+    fn a_render_tightens_its_limit_from_its_first_batch() {
+        let s = Duration::from_secs;
+        assert_eq!(
+            tightened(Some(s(120)), Duration::from_millis(100)),
+            Some(s(10))
+        );
+        assert_eq!(tightened(Some(s(120)), s(2)), Some(s(40)));
+        assert_eq!(tightened(Some(s(120)), s(10)), Some(s(120)));
+        assert_eq!(tightened(Some(s(5)), Duration::from_millis(1)), Some(s(5)));
+        assert_eq!(tightened(None, s(1)), None);
     }
 }
