@@ -17,7 +17,7 @@
 //! `diff` measure it: over the channels of every pixel). Its expectation
 //! is that error exactly when the halves are independent and unbiased; in
 //! one run it scatters about it (measured on sub-pixel edges and bounces,
-//! docs/estimators.md, "How honest --error is").
+//! docs/raytracing.md, "Budgets").
 
 use crate::film_sums::FILM_ONE;
 

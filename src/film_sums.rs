@@ -118,17 +118,6 @@ const FILM_FILE_MAGIC_1: &[u8] = b"shadelab film 1\n";
 /// The header key of the sums' checksum.
 const SUMS_CHECKSUM: &str = "sums_fnv1a64";
 
-/// FNV-1a (64 bits) over the sums' bytes, as 16 hex digits: any bytes
-/// overwritten, swapped or cut change it, so that a damaged film is
-/// refused rather than merged into pixels of 4e9. (A check against
-/// accidents, not against someone forging a film.)
-fn sums_checksum(words: &[u8]) -> String {
-    let hash = words.iter().fold(0xcbf2_9ce4_8422_2325_u64, |hash, byte| {
-        (hash ^ u64::from(*byte)).wrapping_mul(0x0000_0100_0000_01b3)
-    });
-    format!("{hash:016x}")
-}
-
 impl FilmSums {
     /// A film file: the magic line, `header` (what made the film: a JSON
     /// object, to which the film's size and its sums' checksum are added)
@@ -138,7 +127,7 @@ impl FilmSums {
         let mut header = header.clone();
         header["width"] = self.width.into();
         header["height"] = self.height.into();
-        header[SUMS_CHECKSUM] = sums_checksum(&words).into();
+        header[SUMS_CHECKSUM] = crate::digest::fnv1a_hex(&words).into();
         let mut bytes = FILM_FILE_MAGIC.to_vec();
         bytes.extend_from_slice(header.to_string().as_bytes());
         bytes.push(b'\n');
@@ -181,7 +170,7 @@ impl FilmSums {
         let recorded = header[SUMS_CHECKSUM]
             .as_str()
             .ok_or(format!("its header has no {SUMS_CHECKSUM}"))?;
-        let actual = sums_checksum(words);
+        let actual = crate::digest::fnv1a_hex(words);
         if recorded != actual {
             return Err(format!(
                 "its sums are damaged (checksum {actual} where its header says {recorded}): copy or render this shard again"

@@ -90,6 +90,7 @@ pub mod caustics;
 pub mod check;
 pub mod compare;
 pub mod cpu;
+pub mod digest;
 pub mod error;
 pub mod error_budget;
 pub mod film_sums;

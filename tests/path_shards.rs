@@ -279,3 +279,40 @@ fn films_merge_by_scene_content_and_a_damaged_or_foreign_one_is_refused() {
     assert_one_line_refusal(&run, &args, "damaged.film: its sums are damaged");
     assert!(!sub.join("merged.exr").exists());
 }
+
+/// Under `--error` each batch is traced a stream at a time (the even
+/// samples, then the odd, two dispatches that step by 2), so that the
+/// budget reads each stream's part of the film apart. The film it stops
+/// with is the film of the same samples traced in one run, sum for sum: a
+/// shader that stepped by 1 in a stream's dispatch, or a host that dealt a
+/// stream's first sample wrongly, traces samples twice or not at all and
+/// fails here. (The run of one step is the one the CPU twin is held to.)
+#[test]
+fn an_error_budget_traces_a_stream_at_a_time_and_sums_the_same_samples() {
+    let context = GpuContext::new(&GpuOptions::default()).unwrap();
+    let scene = diffuse_box(40, 30, 1024);
+    let part = RenderPart {
+        error: Some(0.2),
+        ..RenderPart::all(1024)
+    };
+    let counter = WorkCounter::default();
+    let budgeted = render_film_part(
+        Some(&context),
+        &scene,
+        Shading::Raytrace,
+        (&part, &counter),
+        false,
+    )
+    .unwrap()
+    .film
+    .expect("bounces sum into a film");
+    let traced = budgeted.traced as u32;
+    // Batches of 16 under this budget: more than one, so that both streams
+    // of several batches were traced, and far from all 1024.
+    assert!((32..512).contains(&traced), "stopped at {traced}");
+    assert!(budgeted.estimated_rmse.is_some_and(|e| e <= 0.2));
+    assert!(
+        budgeted.film == film_of(Some(&context), &scene, (0, traced)),
+        "the budgeted film differs from samples 0..{traced} traced at once"
+    );
+}

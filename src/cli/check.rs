@@ -20,7 +20,6 @@ use super::check_merge::{merge, RECORD};
 use super::check_report::{CaseReport, KeepImages};
 use super::failure::Failure;
 use super::render::load_scene;
-use super::run_digest::content_digest;
 
 #[derive(Args)]
 pub struct CheckArgs {
@@ -270,10 +269,7 @@ fn run_identity(args: &CheckArgs, modes: &[Shading]) -> Result<serde_json::Value
         "scenes": scenes,
         "width": args.size.width,
         "height": args.size.height,
-        "lighting": args.lighting.lighting.as_deref().map(content_digest),
-        "traversal": format!("{:?}", args.traversal),
-        "msaa": format!("{:?}", args.msaa),
-        "depth": format!("{:?}", args.depth),
+        "flags": super::run_digest::scene_flags(&args.lighting, &args.traversal, &args.msaa, &args.depth),
         "interior_max_abs": args.interior_max_abs,
         "edge_fraction": args.edge_fraction,
         "flip_mean": args.flip_mean,

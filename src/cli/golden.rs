@@ -28,7 +28,6 @@ use super::golden_report::{
     case_figure_html, case_json, case_row_html, junit_cases, junit_json, print_case, ReportCase,
 };
 use super::render::{file_name, Batch, CaseView, Made, RenderArgs};
-use super::run_digest::content_digest;
 
 /// Plan the batch, judge each case as it is rendered, then write the
 /// record and reports (`golden_record.rs`); `--merge` joins shards instead.
@@ -120,10 +119,7 @@ fn run_identity(
         "per_driver": args.per_driver,
         "width": args.size.width,
         "height": args.size.height,
-        "lighting": flags.lighting.lighting.as_deref().map(content_digest),
-        "traversal": format!("{:?}", flags.traversal),
-        "msaa": format!("{:?}", flags.msaa),
-        "depth": format!("{:?}", flags.depth),
+        "flags": super::run_digest::scene_flags(&flags.lighting, &flags.traversal, &flags.msaa, &flags.depth),
     }))
 }
 

@@ -113,7 +113,7 @@ impl Plan<'_> {
         // source, beside render's settings.
         made.settings["golden_scene"] = view.name.into();
         if let Some(source) = &made.hook_source {
-            made.settings["lighting_fnv1a"] = golden_keys::fnv1a_hex(source).into();
+            made.settings["lighting_fnv1a"] = shadelab::digest::fnv1a_hex(source.as_bytes()).into();
         }
         made.metadata = image_metadata(view.name, &made.device, &made.settings);
         // An image with NaN is never a reference, nor blessed into one.

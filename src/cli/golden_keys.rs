@@ -155,19 +155,6 @@ pub fn settings_differences(
     out
 }
 
-/// FNV-1a, 64 bits: a digest that is the same on every build (std's
-/// hasher may change between releases), for shards and hook sources.
-pub fn fnv1a(text: &str) -> u64 {
-    text.bytes().fold(0xcbf2_9ce4_8422_2325, |hash, byte| {
-        (hash ^ u64::from(byte)).wrapping_mul(0x0000_0100_0000_01b3)
-    })
-}
-
-/// [`fnv1a`] as 16 hex digits, as a reference's settings record it.
-pub fn fnv1a_hex(text: &str) -> String {
-    format!("{:016x}", fnv1a(text))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -235,7 +222,5 @@ mod tests {
             settings_differences(&hooked, &edited),
             ["lighting a/h.glsl -> a/h.glsl (its source changed)"]
         );
-        assert_eq!(fnv1a_hex(""), "cbf29ce484222325");
-        assert_eq!(fnv1a_hex("a"), "af63dc4c8601ec8c");
     }
 }

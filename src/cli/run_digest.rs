@@ -7,14 +7,16 @@
 
 use std::path::Path;
 
-use super::golden_keys::fnv1a_hex;
+use shadelab::digest::fnv1a_hex;
+
+use super::args::{DepthArg, LightingArg, MsaaArg, TraversalArg};
 
 /// `settings` (a JSON object) with the binary's version added, as a
 /// record's `run`: `{"digest": ..., "settings": {...}}`.
 pub fn run_identity(mut settings: serde_json::Value) -> serde_json::Value {
     settings["shadelab"] = env!("CARGO_PKG_VERSION").into();
     serde_json::json!({
-        "digest": fnv1a_hex(&settings.to_string()),
+        "digest": fnv1a_hex(settings.to_string().as_bytes()),
         "settings": settings,
     })
 }
@@ -39,22 +41,31 @@ pub fn cases_and_scenes(
     (cases, digests)
 }
 
+/// The flags over a scene that a run's records keep alike in every command
+/// (`check`, `golden`): the lighting hook by its content, the engine, the
+/// raster samples and the ray tracers' depths as given.
+pub fn scene_flags(
+    lighting: &LightingArg,
+    traversal: &TraversalArg,
+    msaa: &MsaaArg,
+    depth: &DepthArg,
+) -> serde_json::Value {
+    serde_json::json!({
+        "lighting": lighting.lighting.as_deref().map(content_digest),
+        "traversal": format!("{traversal:?}"),
+        "msaa": format!("{msaa:?}"),
+        "depth": format!("{depth:?}"),
+    })
+}
+
 /// A digest of a file's bytes, so that a scene is known by what it holds
 /// rather than by the path it was given as (`../box.toml` and its absolute
 /// path are one scene); `unreadable: WHY` where it cannot be read.
 pub fn content_digest(path: &Path) -> String {
     match std::fs::read(path) {
-        Ok(bytes) => fnv1a_hex_bytes(&bytes),
+        Ok(bytes) => fnv1a_hex(&bytes),
         Err(e) => format!("unreadable: {e}"),
     }
-}
-
-/// FNV-1a over bytes, as 16 hex digits.
-pub fn fnv1a_hex_bytes(bytes: &[u8]) -> String {
-    let hash = bytes.iter().fold(0xcbf2_9ce4_8422_2325_u64, |hash, byte| {
-        (hash ^ u64::from(*byte)).wrapping_mul(0x0000_0100_0000_01b3)
-    });
-    format!("{hash:016x}")
 }
 
 /// Where two runs' `run` values differ, for a refusal to name: `None`
@@ -121,6 +132,5 @@ mod tests {
             "",
         );
         assert_eq!(nested.as_deref(), Some("s.y is 2 against 3"));
-        assert_eq!(fnv1a_hex_bytes(b"a"), fnv1a_hex("a"));
     }
 }

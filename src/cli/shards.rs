@@ -8,8 +8,8 @@
 use std::path::{Path, PathBuf};
 
 use super::failure::Failure;
-use super::golden_keys::fnv1a;
 use super::run_digest::run_difference;
+use shadelab::digest::fnv1a;
 
 /// `I/N` with `1 <= I <= N`, or `auto`: the shard the CI's own variables
 /// give (`shard_env.rs`).
@@ -44,7 +44,7 @@ pub fn parse_shard(text: &str) -> Result<(usize, usize), String> {
 pub fn on_shard(key: &str, shard: Option<(usize, usize)>) -> bool {
     match shard {
         None => true,
-        Some((i, n)) => fnv1a(key) % n as u64 == (i - 1) as u64,
+        Some((i, n)) => fnv1a(key.as_bytes()) % n as u64 == (i - 1) as u64,
     }
 }
 

@@ -20,7 +20,8 @@ use super::image::{effective_settings, image_metadata};
 use super::scene::{apply_overrides, load_scene};
 use super::stats::print_photons;
 use crate::cli::failure::Failure;
-use crate::cli::run_digest::{first_difference, fnv1a_hex_bytes};
+use crate::cli::run_digest::first_difference;
+use shadelab::digest::fnv1a_hex;
 
 /// The settings a film's header records that say where it ran or by what
 /// path its files were named, not which render it is a part of: the scene
@@ -97,16 +98,15 @@ pub(super) fn run_shard(
         .film
         .as_ref()
         .expect("a render that sums into a film");
-    let mut header = serde_json::json!({
+    let header = serde_json::json!({
         "stem": stem,
         "scene_digest": scene_digest(path)?,
-        "lighting_digest": scene.lighting_hook.as_ref().map(|h| fnv1a_hex_bytes(h.source.as_bytes())),
+        "lighting_digest": scene.lighting_hook.as_ref().map(|h| fnv1a_hex(h.source.as_bytes())),
         "settings": settings,
         "shard": [i, n],
         "range": [job.range.start, job.range.end],
         "stats": film.photons,
     });
-    header["run_digest"] = fnv1a_hex_bytes(render_identity(&header).to_string().as_bytes()).into();
     let bytes = film.film.to_file_bytes(&header);
     shadelab::output::write_atomically(&out, &bytes)?;
     let what = if shading == Shading::Forward {
@@ -158,7 +158,7 @@ fn scene_digest(path: Option<&Path>) -> Result<String, Failure> {
         Some(p) => {
             let bytes = std::fs::read(p)
                 .map_err(|e| Failure::usage(format!("cannot read {}: {e}", p.display())))?;
-            Ok(fnv1a_hex_bytes(&bytes))
+            Ok(fnv1a_hex(&bytes))
         }
     }
 }

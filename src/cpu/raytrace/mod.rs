@@ -19,7 +19,7 @@ mod tracer;
 
 pub use bounce::{bounce_numbers, cosine_direction, pcg4d, photon_numbers};
 pub use path_signature::{PathSignature, RayKind};
-pub use pixel_samples::{owen_scramble, pixel_sample, sobol_second};
+pub use pixel_samples::pixel_sample;
 pub use render::{render, render_counted, render_part, RayTraced};
 pub(crate) use secondary_rays::children;
 pub use secondary_rays::{facing_normal, offset_epsilon, offset_origin};

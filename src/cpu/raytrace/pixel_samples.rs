@@ -58,7 +58,7 @@ fn sample_words(pixel: u32, i: u32) -> [u32; 2] {
 /// the generator matrix's column `k` is the one before it XOR itself
 /// shifted right by one, from `2^31`. Its first dimension is the index
 /// with its bits reversed.
-pub fn sobol_second(mut index: u32) -> u32 {
+fn sobol_second(mut index: u32) -> u32 {
     let mut column = 1u32 << 31;
     let mut word = 0;
     while index != 0 {
@@ -78,7 +78,7 @@ pub fn sobol_second(mut index: u32) -> u32 {
 /// the lower ones, which an addition's carries and a multiplication by an
 /// even number reach only upwards (Laine and Karras's permutation, Burley's
 /// constants).
-pub fn owen_scramble(word: u32, seed: u32) -> u32 {
+fn owen_scramble(word: u32, seed: u32) -> u32 {
     let mut x = word.reverse_bits().wrapping_add(seed);
     for c in [0x6c50_b47c, 0xb82f_1e52, 0xc7af_e638, 0x8d22_f6e6] {
         x ^= x.wrapping_mul(c);
