@@ -91,9 +91,12 @@ fn main() {
 
     // The backward tracer's direct light, exact at each pixel's centre:
     // its trace's time (code generation apart, as for the others).
-    let backward =
-        shadelab::render::render_gpu(&context, &scene, shadelab::shading::Shading::Raytrace)
-            .expect("the ray tracer renders the scene");
+    let backward = shadelab::render::render(
+        &shadelab::render::Device::with_gpu(context.clone()),
+        &scene,
+        &shadelab::render::RenderRequest::gpu(shadelab::shading::Shading::Raytrace),
+    )
+    .expect("the ray tracer renders the scene");
     let backward_s = backward.timings.work_ms() / 1e3;
     let direct_error = patch_rmse(&backward.image, &pixels, |_, d| d);
     println!("backward, direct light alone: {backward_s:.3} s, RMSE {direct_error:.2e} against the exact direct light");

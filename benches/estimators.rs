@@ -33,9 +33,10 @@ fn backward(scene: &Scene, samples: u32) -> (LinearImage, f64) {
     let mut s = scene.clone();
     s.render.samples = samples;
     let started = Instant::now();
-    let image = shadelab::render::render_cpu(&s, Shading::Raytrace)
+    let device = shadelab::render::Device::cpu_only();
+    let request = shadelab::render::RenderRequest::cpu(Shading::Raytrace);
+    let image = shadelab::render::render(&device, &s, &request)
         .expect("the CPU twin renders the box")
-        .0
         .image;
     (image, started.elapsed().as_secs_f64())
 }

@@ -6,6 +6,7 @@
 //! in every raster mode: interior pixels (3x3 neighbourhood on one object)
 //! and silhouette pixels separately.
 
+use shadelab::render::{render, Device, RenderRequest};
 use shadelab::shading::Shading;
 
 fn main() {
@@ -13,11 +14,16 @@ fn main() {
         Some(p) => shadelab::scene::load(std::path::Path::new(&p)).expect("scene loads"),
         None => shadelab::scene::default_scene(),
     };
-    let context = shadelab::gpu::GpuContext::new(&shadelab::gpu::GpuOptions::from_env()).unwrap();
+    let device = Device::open(&shadelab::gpu::GpuOptions::from_env()).unwrap();
     for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
-        let gpu = shadelab::render::render_gpu(&context, &scene, shading).unwrap();
-        let (cpu, coverage) = shadelab::render::render_cpu(&scene, shading).unwrap();
-        let ids = coverage.surface_ids;
+        let gpu = render(&device, &scene, &RenderRequest::gpu(shading)).unwrap();
+        let cpu = render(&device, &scene, &RenderRequest::cpu(shading)).unwrap();
+        let ids = cpu
+            .coverage
+            .as_ref()
+            .expect("the CPU reference knows its pixels")
+            .surface_ids
+            .clone();
         let (w, h) = (scene.image.width as usize, scene.image.height as usize);
         let mut interior = (0.0f64, 0usize, 0.0f64);
         let mut edge = (0.0f64, 0usize, 0.0f64);

@@ -14,9 +14,9 @@ use std::io::Write;
 use std::path::Path;
 use std::process::ExitCode;
 
-use shadelab::gpu::{GpuContext, GpuOptions};
+use shadelab::gpu::GpuOptions;
 use shadelab::metrics::{self, format_figure, ErrorStats};
-use shadelab::render::{render_cpu, render_gpu};
+use shadelab::render::{render, Device, RenderRequest};
 use shadelab::shading::Shading;
 
 const USAGE: &str = "usage: render_and_compare [SCENE] [flat|gouraud|phong|raytrace]";
@@ -53,9 +53,15 @@ pub fn run(args: &[String], out: &mut impl Write) -> Result<(), Box<dyn Error>> 
         eprintln!("warning: {warning}");
     }
 
-    let context = GpuContext::new(&GpuOptions::from_env())?;
-    let gpu = render_gpu(&context, &scene, shading)?;
-    let (cpu, coverage) = render_cpu(&scene, shading)?;
+    // The device keeps its pipelines between renders; the CPU reference
+    // needs none, and comes with any device.
+    let device = Device::open(&GpuOptions::from_env())?;
+    let gpu = render(&device, &scene, &RenderRequest::gpu(shading))?;
+    let cpu = render(&device, &scene, &RenderRequest::cpu(shading))?;
+    let coverage = cpu
+        .coverage
+        .as_ref()
+        .ok_or("the CPU reference knows its pixels")?;
 
     // The CPU image is the expected one. `near_edge` marks the pixels whose
     // sample lies so close to an edge that two correct renderers may cover

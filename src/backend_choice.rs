@@ -219,7 +219,7 @@ fn ray_trace_pilot(scene: &Scene, rt: &RtScene, enough_ms: f64) -> f64 {
 /// (`trace_ms`, the pilot's estimate), which they cost no more than.
 fn caustics_pilot(scene: &Scene, rt: &RtScene, trace_ms: f64) -> Option<f64> {
     let settings = scene.render.caustics;
-    if !settings.on() || !crate::caustics::has_caustics(scene) {
+    if !settings.on() || crate::render::caustics::no_caustic(scene).is_some() {
         return None;
     }
     let count = CAUSTIC_PILOT_PHOTONS.min(settings.photons_per_pass);

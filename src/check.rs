@@ -16,14 +16,12 @@
 //! every pixel and any error at 1e-30 would pass.
 
 use std::borrow::Cow;
-use std::sync::Arc;
 
 use crate::error::Error;
-use crate::gpu::GpuContext;
 use crate::linear_image::LinearImage;
 use crate::metrics::flip::{flip, FlipStats, PIXELS_PER_DEGREE};
 use crate::metrics::stats::ErrorStats;
-use crate::render::{render_cpu_counted, render_gpu};
+use crate::render::{render, Device, RenderRequest};
 use crate::scene::Scene;
 use crate::shading::Shading;
 use crate::work_counter::WorkCounter;
@@ -421,14 +419,14 @@ fn relative_mean_difference(expected: &LinearImage, actual: &LinearImage) -> f64
 /// the CPU reference, and compares. A different `reference` is how the tests
 /// show that perturbing the reference is caught.
 pub fn check(
-    context: &Arc<GpuContext>,
+    device: &Device,
     scene: &Scene,
     reference: &Scene,
     shading: Shading,
     limits: &CheckThresholds,
 ) -> Result<CheckOutcome, Error> {
     check_counted(
-        context,
+        device,
         scene,
         reference,
         shading,
@@ -440,7 +438,7 @@ pub fn check(
 /// [`check`], the CPU reference counting its phases into `counter` (for a
 /// caller to show progress).
 pub fn check_counted(
-    context: &Arc<GpuContext>,
+    device: &Device,
     scene: &Scene,
     reference: &Scene,
     shading: Shading,
@@ -452,12 +450,19 @@ pub fn check_counted(
     // CPU reference fills.
     let started = std::time::Instant::now();
     let (actual, reference_render) = rayon::join(
-        || render_gpu(context, scene, shading),
-        || render_cpu_counted(reference, shading, counter),
+        || render(device, scene, &RenderRequest::gpu(shading)),
+        || {
+            let request = RenderRequest {
+                progress: Some(counter),
+                ..RenderRequest::cpu(shading)
+            };
+            render(device, reference, &request)
+        },
     );
     let renders_ms = started.elapsed().as_secs_f64() * 1e3;
     let actual = actual?;
-    let (expected, coverage) = reference_render?;
+    let expected = reference_render?;
+    let coverage = (expected.coverage.as_ref()).expect("the CPU reference knows its pixels");
     let judgement = judge(&expected.image, &actual.image, &coverage.near_edge, limits);
     Ok(CheckOutcome {
         shading,

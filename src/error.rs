@@ -21,6 +21,9 @@ pub enum Error {
     Metrics(#[from] MetricsError),
     #[error("{0}")]
     Usage(String),
+    /// The caller set the request's cancel flag.
+    #[error("the render was cancelled")]
+    Cancelled,
 }
 
 impl Error {
@@ -35,6 +38,8 @@ impl Error {
             Error::Scene(_) | Error::Output(_) | Error::Metrics(_) | Error::Usage(_) => 2,
             Error::Gpu(e) if e.is_bad_input() => 2,
             Error::Gpu(_) => 3,
+            // As a shell reports a command stopped by Ctrl-C (128 + SIGINT).
+            Error::Cancelled => 130,
         }
     }
 }

@@ -235,6 +235,9 @@ pub struct RenderPart {
     /// An error budget: the RMSE at which the GPU's batches stop, by the
     /// render's own estimate (`error_budget`, `--error`).
     pub error: Option<f64>,
+    /// Set by the caller to stop between batches, passes or tasks (as a
+    /// spent time budget does; the render then answers `Cancelled`).
+    pub cancel: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
 }
 
 impl RenderPart {
@@ -279,10 +282,15 @@ impl RenderPart {
         ))
     }
 
-    /// Whether the time budget is spent.
-    pub fn past_deadline(&self) -> bool {
-        self.deadline
-            .is_some_and(|d| std::time::Instant::now() >= d)
+    /// Whether to start no more work: the time budget is spent, or the
+    /// caller cancelled.
+    pub fn should_stop(&self) -> bool {
+        let cancelled =
+            (self.cancel.as_ref()).is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed));
+        cancelled
+            || self
+                .deadline
+                .is_some_and(|d| std::time::Instant::now() >= d)
     }
 
     /// Shard `i` of `n` (1-based) of `total` photons or samples: the
@@ -295,6 +303,7 @@ impl RenderPart {
             range: at(i - 1)..at(i),
             deadline: None,
             error: None,
+            cancel: None,
         }
     }
 
@@ -305,6 +314,7 @@ impl RenderPart {
             range: 0..total,
             deadline: None,
             error: None,
+            cancel: None,
         }
     }
 }

@@ -27,8 +27,10 @@
 //!   the ray tracer as a compute shader.
 //! - [`cpu`] is the reference: the same raster modes and a twin of the ray
 //!   tracer, in `f64` and independent of the shaders.
-//! - [`render`] is the one entry point for both backends
-//!   ([`render::render_gpu`], [`render::render_cpu`]).
+//! - [`render`] is the one door for both backends: a
+//!   [`render::RenderRequest`] read against a scene into a [`render::Plan`]
+//!   whose integrator renders it on a [`render::Device`]
+//!   ([`render::render`]).
 //! - [`output`] encodes a [`LinearImage`] to PNG (8-bit sRGB) or EXR (linear
 //!   32-bit float) and decodes image files back.
 //! - [`metrics`] compares two images: error statistics, FLIP, heat maps and
@@ -57,17 +59,18 @@
 //! ```no_run
 //! use std::path::Path;
 //!
-//! use shadelab::gpu::{GpuContext, GpuOptions};
-//! use shadelab::render::{render_cpu, render_gpu};
+//! use shadelab::gpu::GpuOptions;
+//! use shadelab::render::{render, Device, RenderRequest};
 //! use shadelab::shading::Shading;
 //!
 //! fn main() -> Result<(), Box<dyn std::error::Error>> {
 //!     // Or `shadelab::scene::default_scene()`, the built-in scene.
 //!     let scene = shadelab::scene::load(Path::new("assets/spheres.toml"))?;
 //!
-//!     let context = GpuContext::new(&GpuOptions::from_env())?;
-//!     let gpu = render_gpu(&context, &scene, Shading::Phong)?;
-//!     let (cpu, coverage) = render_cpu(&scene, Shading::Phong)?;
+//!     let device = Device::open(&GpuOptions::from_env())?;
+//!     let gpu = render(&device, &scene, &RenderRequest::gpu(Shading::Phong))?;
+//!     let cpu = render(&device, &scene, &RenderRequest::cpu(Shading::Phong))?;
+//!     let coverage = cpu.coverage.as_ref().expect("the CPU reference knows its pixels");
 //!
 //!     // The CPU image is the expected one. Pixels near an edge, which two
 //!     // correct rasterizers may cover differently, are measured apart.
@@ -86,7 +89,6 @@
 pub mod backend_choice;
 pub mod cache;
 pub mod camera;
-pub mod caustics;
 pub mod check;
 pub mod compare;
 pub mod cpu;

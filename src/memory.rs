@@ -166,7 +166,9 @@ pub fn multisample_bytes(pixels: u64, shading: Shading, backend: Backend, msaa: 
 /// most: a photon kept more than once is rare).
 pub fn caustic_bytes(pixels: u64, shading: Shading, backend: Backend, scene: &Scene) -> u64 {
     let caustics = scene.render.caustics;
-    if shading != Shading::Raytrace || crate::caustics::pointless(scene).is_some() || !caustics.on()
+    if shading != Shading::Raytrace
+        || crate::render::caustics::no_caustic(scene).is_some()
+        || !caustics.on()
     {
         return 0;
     }

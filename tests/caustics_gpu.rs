@@ -158,8 +158,8 @@ fn the_whole_image_under_a_glass_ball_is_the_forward_tracers() {
         initial_radius: 0.5,
         ..scene.render.caustics
     };
-    let whole = shadelab::render::render_gpu(&context, &scene, Shading::Raytrace).unwrap();
-    let forward = shadelab::render::render_gpu(&context, &scene, Shading::Forward).unwrap();
+    let whole = crate::common::render_gpu(&context, &scene, Shading::Raytrace).unwrap();
+    let forward = crate::common::render_gpu(&context, &scene, Shading::Forward).unwrap();
     let report = whole.caustics.expect("the scene has glass");
     assert_eq!(report.passes, 64);
     let objects = shadelab::cpu::raytrace::render(&scene).primary_object_ids;
@@ -394,8 +394,8 @@ fn with_bounces_the_caustic_lights_what_it_falls_on() {
         initial_radius: 1.5,
         ..scene.render.caustics
     };
-    let whole = shadelab::render::render_gpu(&context, &scene, Shading::Raytrace).unwrap();
-    let forward = shadelab::render::render_gpu(&context, &scene, Shading::Forward).unwrap();
+    let whole = crate::common::render_gpu(&context, &scene, Shading::Raytrace).unwrap();
+    let forward = crate::common::render_gpu(&context, &scene, Shading::Forward).unwrap();
     let mut first_landing = scene.clone();
     first_landing.render.bounces = 0;
     let unbounced = gpu_caustics(&context, &first_landing).image;

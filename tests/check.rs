@@ -36,7 +36,14 @@ fn every_mode_of_every_scene_passes() {
     for (name, scene) in assets() {
         for mode in ALL_MODES {
             let limits = CheckThresholds::for_shading(mode);
-            let o = check(&context, &scene, &scene, mode, &limits).unwrap();
+            let o = check(
+                &crate::common::device(&context),
+                &scene,
+                &scene,
+                mode,
+                &limits,
+            )
+            .unwrap();
             assert!(o.passed(), "{name} {mode}: {:?}", o.judgement.failures);
             // The case's time holds both renders, which run side by side:
             // at least the longer one. (No upper bound: on a busy 2-core
@@ -60,7 +67,7 @@ fn assert_caught(scene: &Scene, reference: &Scene, modes: &[Shading], what: &str
     let context = gpu();
     for &mode in modes {
         let o = check(
-            &context,
+            &crate::common::device(&context),
             scene,
             reference,
             mode,

@@ -73,7 +73,7 @@ fn compare(
         skip: Default::default(),
     };
     let report = run(
-        &gpu(),
+        &crate::common::device(&gpu()),
         scene,
         "test",
         list,

@@ -76,8 +76,8 @@ fn depth_zero_on_a_mesh_equals_phong_in_the_interior() {
         })),
         material: 0,
     });
-    let (phong, coverage) = shadelab::render::render_cpu(&s, Shading::Phong).unwrap();
-    let (ray, ray_coverage) = shadelab::render::render_cpu(&s, Shading::Raytrace).unwrap();
+    let (phong, coverage) = crate::common::render_cpu(&s, Shading::Phong).unwrap();
+    let (ray, ray_coverage) = crate::common::render_cpu(&s, Shading::Raytrace).unwrap();
     let ids: Vec<Option<usize>> = coverage
         .object_ids
         .iter()
@@ -251,19 +251,19 @@ fn the_cutoff_prunes_children_below_it() {
     let mut s = shadow_scene(DVec3::new(0.0, 0.5, 0.0));
     s.materials[0].kr = 0.3;
     s.render.cutoff = 0.5;
-    let (cut, _) = shadelab::render::render_cpu(&s, Shading::Raytrace).unwrap();
+    let (cut, _) = crate::common::render_cpu(&s, Shading::Raytrace).unwrap();
     let stats = cut.ray_stats.unwrap();
     assert_eq!((stats.reflected, stats.refracted), (0, 0));
     assert!(stats.pruned > 100, "{stats:?}");
     assert_eq!(stats.max_depth_reached, 0);
     s.render.depth = 0;
-    let (flat, _) = shadelab::render::render_cpu(&s, Shading::Raytrace).unwrap();
+    let (flat, _) = crate::common::render_cpu(&s, Shading::Raytrace).unwrap();
     assert_eq!(flat.ray_stats.unwrap().pruned, 0);
     assert_eq!(cut.image, flat.image);
     // Below the cut-off's reach (0.3 >= 0.25) the reflections come back.
     s.render.depth = 5;
     s.render.cutoff = 0.25;
-    let (full, _) = shadelab::render::render_cpu(&s, Shading::Raytrace).unwrap();
+    let (full, _) = crate::common::render_cpu(&s, Shading::Raytrace).unwrap();
     assert_eq!(full.ray_stats.unwrap().reflected, stats.pruned);
     assert_ne!(full.image, flat.image);
 }
@@ -432,7 +432,7 @@ fn path_signatures_change_at_shadow_and_silhouette_edges_only() {
     // Background; floor lit; floor in shadow; the sphere lit; the sphere's
     // lower half facing away from the light.
     assert_eq!(distinct.len(), 5, "{} signatures", distinct.len());
-    let (_, coverage) = shadelab::render::render_cpu(&s, Shading::Raytrace).unwrap();
+    let (_, coverage) = crate::common::render_cpu(&s, Shading::Raytrace).unwrap();
     let marked = coverage.near_edge.iter().filter(|&&e| e).count();
     assert!(
         marked > 50 && marked < 64 * 64 / 4,

@@ -11,7 +11,7 @@ use shadelab::shading::Shading;
 
 fn assert_same_everywhere(scene: &Scene, shading: Shading) {
     let gpu_image = render(&gpu(), scene, shading);
-    let (cpu, _) = shadelab::render::render_cpu(scene, shading).unwrap();
+    let (cpu, _) = crate::common::render_cpu(scene, shading).unwrap();
     let mut covered = 0;
     for (i, (g, c)) in gpu_image.pixels.iter().zip(&cpu.image.pixels).enumerate() {
         let err = max_abs_diff(to_dvec(*g), to_dvec(*c));
@@ -54,7 +54,7 @@ fn screen_interpolation_agrees_on_a_tilted_plane() {
     // Interior pixels only: the tilted edges do not pass through samples,
     // so their sub-pixel placement may differ (f32 against f64 positions).
     let gpu_image = render(&gpu(), &s, Shading::Gouraud);
-    let (cpu, coverage) = shadelab::render::render_cpu(&s, Shading::Gouraud).unwrap();
+    let (cpu, coverage) = crate::common::render_cpu(&s, Shading::Gouraud).unwrap();
     let ids: Vec<Option<usize>> = coverage
         .surface_ids
         .iter()
@@ -87,7 +87,7 @@ fn a_floor_running_under_the_eye_is_clipped_alike() {
     });
     for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
         let gpu_image = render(&gpu(), &s, shading);
-        let (cpu, coverage) = shadelab::render::render_cpu(&s, shading).unwrap();
+        let (cpu, coverage) = crate::common::render_cpu(&s, shading).unwrap();
         assert!(gpu_image.pixels.iter().flatten().all(|v| v.is_finite()));
         assert!(cpu.image.pixels.iter().flatten().all(|v| v.is_finite()));
         let ids: Vec<Option<usize>> = coverage
@@ -120,7 +120,14 @@ fn screen_interpolation_stays_finite_and_agrees_on_the_default_scene() {
     s.lighting.interpolation = Interpolation::Screen;
     let context = gpu();
     for shading in [Shading::Gouraud, Shading::Phong] {
-        let o = check(&context, &s, &s, shading, &CheckThresholds::default()).unwrap();
+        let o = check(
+            &crate::common::device(&context),
+            &s,
+            &s,
+            shading,
+            &CheckThresholds::default(),
+        )
+        .unwrap();
         assert!(
             o.actual.pixels.iter().flatten().all(|v| v.is_finite()),
             "{shading}: GPU"

@@ -122,6 +122,7 @@ fn films_are_the_same_bits_however_the_photons_are_split() {
             range: part[0]..part[1],
             deadline: None,
             error: None,
+            cancel: None,
         };
         let out = forward::render(&context, &scene, &job, &counter).unwrap();
         sum.add(&out.film).unwrap();

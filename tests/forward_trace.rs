@@ -76,7 +76,7 @@ fn forward_and_backward_agree_on_the_diffuse_box() {
     scene.render.bounces = 2;
     scene.render.cutoff = 0.0;
     scene.render.samples = 256;
-    let backward = shadelab::render::render_cpu(&scene, Shading::Raytrace)
+    let backward = crate::common::render_cpu(&scene, Shading::Raytrace)
         .unwrap()
         .0
         .image;

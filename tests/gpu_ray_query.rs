@@ -9,11 +9,11 @@ mod common;
 
 use std::path::PathBuf;
 
+use crate::common::render_gpu;
 use common::cli::shadelab;
 use common::*;
 use shadelab::check::{check, CheckThresholds};
 use shadelab::gpu::raytrace::engine_for;
-use shadelab::render::render_gpu;
 use shadelab::scene::{self, Traversal};
 use shadelab::shading::Shading;
 
@@ -59,7 +59,14 @@ fn the_query_engine_holds_checks_limits_on_every_asset() {
     let limits = CheckThresholds::for_shading(Shading::Raytrace);
     for (name, scene) in scenes {
         let s = with_engine(&scene, Traversal::Query);
-        let o = check(&context, &s, &s, Shading::Raytrace, &limits).unwrap();
+        let o = check(
+            &crate::common::device(&context),
+            &s,
+            &s,
+            Shading::Raytrace,
+            &limits,
+        )
+        .unwrap();
         assert_eq!(o.traversal, Some(Traversal::Query));
         assert!(o.passed(), "{name}: {:?}", o.judgement.failures);
     }
@@ -95,7 +102,14 @@ fn the_query_engine_finds_every_mesh_of_a_scene_with_several() {
     }
     let s = with_engine(&scene, Traversal::Query);
     let limits = CheckThresholds::for_shading(Shading::Raytrace);
-    let o = check(&context, &s, &s, Shading::Raytrace, &limits).unwrap();
+    let o = check(
+        &crate::common::device(&context),
+        &s,
+        &s,
+        Shading::Raytrace,
+        &limits,
+    )
+    .unwrap();
     assert_eq!(o.traversal, Some(Traversal::Query));
     assert!(o.passed(), "{:?}", o.judgement.failures);
 }

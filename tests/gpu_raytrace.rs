@@ -27,7 +27,7 @@ fn depth_zero_without_shadows_equals_raster_phong_on_a_mesh() {
     s.render.shadows = false;
     let (traced, stats) = trace(&s);
     let phong = render(&gpu(), &s, Shading::Phong);
-    let (_, coverage) = shadelab::render::render_cpu(&s, Shading::Phong).unwrap();
+    let (_, coverage) = crate::common::render_cpu(&s, Shading::Phong).unwrap();
     let mut compared = 0;
     let mut worst = 0.0f64;
     for (i, near_edge) in coverage.near_edge.iter().enumerate() {
@@ -251,10 +251,17 @@ fn gpu_and_cpu_trace_the_same_tree_at_every_depth() {
     for depth in [0, 1, 3, 8] {
         s.render.depth = depth;
         let limits = CheckThresholds::for_shading(Shading::Raytrace);
-        let o = check(&context, &s, &s, Shading::Raytrace, &limits).unwrap();
+        let o = check(
+            &crate::common::device(&context),
+            &s,
+            &s,
+            Shading::Raytrace,
+            &limits,
+        )
+        .unwrap();
         assert!(o.passed(), "depth {depth}: {:?}", o.judgement.failures);
         let gpu_stats = gpu_ray_stats(&context, &s);
-        let (cpu, _) = shadelab::render::render_cpu(&s, Shading::Raytrace).unwrap();
+        let (cpu, _) = crate::common::render_cpu(&s, Shading::Raytrace).unwrap();
         let cpu_stats = cpu.ray_stats.unwrap();
         for (kind, g, c) in [
             ("primary", gpu_stats.primary, cpu_stats.primary),
@@ -381,7 +388,14 @@ fn long_object_lists_in_the_bvh_agree_with_the_cpu() {
             "the materials must be too many to pick by selects, so that each lane reads its own"
         );
         let limits = CheckThresholds::for_shading(Shading::Raytrace);
-        let o = check(&gpu(), &s, &s, Shading::Raytrace, &limits).unwrap();
+        let o = check(
+            &crate::common::device(&gpu()),
+            &s,
+            &s,
+            Shading::Raytrace,
+            &limits,
+        )
+        .unwrap();
         assert!(o.passed(), "mesh {with_mesh}: {:?}", o.judgement.failures);
     }
 }
@@ -419,7 +433,14 @@ fn the_longest_listed_objects_agree_with_the_cpu() {
         "every list must be short enough to be tested one by one"
     );
     let limits = CheckThresholds::for_shading(Shading::Raytrace);
-    let o = check(&gpu(), &s, &s, Shading::Raytrace, &limits).unwrap();
+    let o = check(
+        &crate::common::device(&gpu()),
+        &s,
+        &s,
+        Shading::Raytrace,
+        &limits,
+    )
+    .unwrap();
     assert!(o.passed(), "{:?}", o.judgement.failures);
 }
 
@@ -495,7 +516,7 @@ fn several_samples_per_pixel_agree_with_the_cpu() {
     s.render.samples = 3;
     let (traced, stats) = trace(&s);
     assert_eq!(stats.primary, 3 * 64 * 64);
-    let (cpu, _) = shadelab::render::render_cpu(&s, Shading::Raytrace).unwrap();
+    let (cpu, _) = crate::common::render_cpu(&s, Shading::Raytrace).unwrap();
     s.render.samples = 1;
     let (one, _) = trace(&s);
     let mut silhouette = 0;

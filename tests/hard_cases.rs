@@ -57,7 +57,14 @@ fn every_hard_case_is_finite_and_within_thresholds_in_every_mode() {
     for name in names {
         let s = hard(&name);
         for mode in MODES {
-            let o = check(&context, &s, &s, mode, &CheckThresholds::for_shading(mode)).unwrap();
+            let o = check(
+                &crate::common::device(&context),
+                &s,
+                &s,
+                mode,
+                &CheckThresholds::for_shading(mode),
+            )
+            .unwrap();
             assert!(
                 o.actual.pixels.iter().flatten().all(|v| v.is_finite()),
                 "{name} {mode}: GPU non-finite"
@@ -72,7 +79,14 @@ fn every_hard_case_is_finite_and_within_thresholds_in_every_mode() {
         for engine in engines(&context).into_iter().skip(1) {
             let q = with_engine(&s, engine);
             let limits = CheckThresholds::for_shading(Shading::Raytrace);
-            let o = check(&context, &q, &q, Shading::Raytrace, &limits).unwrap();
+            let o = check(
+                &crate::common::device(&context),
+                &q,
+                &q,
+                Shading::Raytrace,
+                &limits,
+            )
+            .unwrap();
             assert!(
                 o.actual.pixels.iter().flatten().all(|v| v.is_finite()),
                 "{name} {engine:?}: GPU non-finite"
@@ -97,7 +111,7 @@ fn a_light_in_the_surface_plane_adds_nothing_to_it() {
         let context = gpu();
         for mode in MODES {
             let gpu_value = to_dvec(render(&context, &s, mode).get(x, y));
-            let (cpu, _) = shadelab::render::render_cpu(&s, mode).unwrap();
+            let (cpu, _) = crate::common::render_cpu(&s, mode).unwrap();
             for (side, value) in [("GPU", gpu_value), ("CPU", to_dvec(cpu.image.get(x, y)))] {
                 assert!(
                     max_abs_diff(value, ambient) < 1e-6,
@@ -139,8 +153,8 @@ fn a_far_sphere_renders_as_if_at_the_origin() {
                 worst < 1e-6,
                 "{name} {mode}: GPU far vs near differ by {worst}"
             );
-            let (fc, _) = shadelab::render::render_cpu(&far, mode).unwrap();
-            let (nc, _) = shadelab::render::render_cpu(&near, mode).unwrap();
+            let (fc, _) = crate::common::render_cpu(&far, mode).unwrap();
+            let (nc, _) = crate::common::render_cpu(&near, mode).unwrap();
             let worst = worst_difference(&fc.image, &nc.image);
             assert!(
                 worst < 1e-6,
@@ -171,8 +185,8 @@ fn coincident_surfaces_have_a_deterministic_winner() {
                 assert_eq!(a, b, "{engine:?}: the second plane shows through");
             }
         }
-        let (ca, _) = shadelab::render::render_cpu(&both, mode).unwrap();
-        let (cb, _) = shadelab::render::render_cpu(&first_only, mode).unwrap();
+        let (ca, _) = crate::common::render_cpu(&both, mode).unwrap();
+        let (cb, _) = crate::common::render_cpu(&first_only, mode).unwrap();
         assert_eq!(
             ca.image, cb.image,
             "{mode}: the second plane shows through on the CPU"
@@ -230,8 +244,8 @@ fn equal_distances_go_to_the_lower_object_whatever_its_kind() {
                 worst_difference(&a, &b)
             );
         }
-        let (ca, _) = shadelab::render::render_cpu(&both, Shading::Raytrace).unwrap();
-        let (cb, _) = shadelab::render::render_cpu(&no_plane, Shading::Raytrace).unwrap();
+        let (ca, _) = crate::common::render_cpu(&both, Shading::Raytrace).unwrap();
+        let (cb, _) = crate::common::render_cpu(&no_plane, Shading::Raytrace).unwrap();
         assert!(
             ca.image == cb.image,
             "{name}: the plane shows through the box's face on the CPU (by up to {})",
@@ -290,7 +304,7 @@ fn dark_specks(
 fn secondary_rays_do_not_rehit_their_own_surface() {
     let s = hard("shadow-acne.toml");
     let context = gpu();
-    let (cpu, coverage) = shadelab::render::render_cpu(&s, Shading::Raytrace).unwrap();
+    let (cpu, coverage) = crate::common::render_cpu(&s, Shading::Raytrace).unwrap();
     let mut sides = vec![("CPU".to_string(), cpu.image)];
     for engine in engines(&context) {
         let image = render(&context, &with_engine(&s, engine), Shading::Raytrace);
@@ -330,8 +344,8 @@ fn rays_starting_on_a_surface_cross_it_once() {
     let mut without = glass.clone();
     without.objects.drain(..2);
     let context = gpu();
-    let (cpu_glass, _) = shadelab::render::render_cpu(&glass, Shading::Raytrace).unwrap();
-    let (cpu_without, _) = shadelab::render::render_cpu(&without, Shading::Raytrace).unwrap();
+    let (cpu_glass, _) = crate::common::render_cpu(&glass, Shading::Raytrace).unwrap();
+    let (cpu_without, _) = crate::common::render_cpu(&without, Shading::Raytrace).unwrap();
     let mut sides = vec![("CPU".to_string(), cpu_glass.image, cpu_without.image)];
     for engine in engines(&context) {
         sides.push((
@@ -393,8 +407,8 @@ fn slivers_render_as_the_plain_square() {
             &render(&context, &slivers, mode),
             &render(&context, &plain, mode),
         );
-        let (a, _) = shadelab::render::render_cpu(&slivers, mode).unwrap();
-        let (b, _) = shadelab::render::render_cpu(&plain, mode).unwrap();
+        let (a, _) = crate::common::render_cpu(&slivers, mode).unwrap();
+        let (b, _) = crate::common::render_cpu(&plain, mode).unwrap();
         let cpu_worst = worst_difference(&a.image, &b.image);
         // The same plane, points and normals: only f32 interpolation over
         // different triangles differs (measured: 3.6e-7 Phong, 1.4e-6 ray
@@ -447,8 +461,8 @@ fn bad_vertex_normals_have_defined_answers() {
     );
     let context = gpu();
     for mode in [Shading::Phong, Shading::Raytrace] {
-        let (cpu, _) = shadelab::render::render_cpu(&s, mode).unwrap();
-        let (cpu_up, _) = shadelab::render::render_cpu(&all_up, mode).unwrap();
+        let (cpu, _) = crate::common::render_cpu(&s, mode).unwrap();
+        let (cpu_up, _) = crate::common::render_cpu(&all_up, mode).unwrap();
         let sides = [
             (
                 "GPU",
@@ -509,8 +523,8 @@ fn huge_and_tiny_intensities_scale_the_image() {
         let s = hard(name);
         let unit = divided(&s, factor);
         for mode in MODES {
-            let (cpu, _) = shadelab::render::render_cpu(&s, mode).unwrap();
-            let (cpu_unit, _) = shadelab::render::render_cpu(&unit, mode).unwrap();
+            let (cpu, _) = crate::common::render_cpu(&s, mode).unwrap();
+            let (cpu_unit, _) = crate::common::render_cpu(&unit, mode).unwrap();
             let sides = [
                 (
                     "GPU",
@@ -536,7 +550,7 @@ fn huge_and_tiny_intensities_scale_the_image() {
     let mut brighter = tiny.clone();
     brighter.lights[0].intensity *= 1.01;
     let o = check(
-        &context,
+        &crate::common::device(&context),
         &tiny,
         &brighter,
         Shading::Phong,
@@ -597,7 +611,7 @@ fn grid_on_pixel_centres() -> (
 fn rays_along_shared_edges_do_not_leak() {
     let (s, xs, ys) = grid_on_pixel_centres();
     let context = gpu();
-    let (cpu, _) = shadelab::render::render_cpu(&s, Shading::Raytrace).unwrap();
+    let (cpu, _) = crate::common::render_cpu(&s, Shading::Raytrace).unwrap();
     let mut sides = vec![("CPU".to_string(), cpu.image)];
     for engine in engines(&context) {
         let image = render(&context, &with_engine(&s, engine), Shading::Raytrace);
@@ -647,8 +661,8 @@ fn coincident_meshes_go_to_the_first_listed() {
     let mut second_only = both.clone();
     second_only.objects.remove(0);
     let context = gpu();
-    let (cpu_both, _) = shadelab::render::render_cpu(&both, Shading::Raytrace).unwrap();
-    let (cpu_first, _) = shadelab::render::render_cpu(&first_only, Shading::Raytrace).unwrap();
+    let (cpu_both, _) = crate::common::render_cpu(&both, Shading::Raytrace).unwrap();
+    let (cpu_first, _) = crate::common::render_cpu(&first_only, Shading::Raytrace).unwrap();
     assert!(
         cpu_both.image == cpu_first.image,
         "CPU: the second mesh shows"

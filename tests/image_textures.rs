@@ -9,9 +9,9 @@ mod common;
 
 use std::sync::Arc;
 
+use crate::common::render_cpu;
 use common::*;
 use glam::{DVec2, DVec3};
-use shadelab::render::render_cpu;
 use shadelab::scene::texture::MipLevel;
 use shadelab::scene::{
     Filter, ImageTexture, Object, Pattern, Sampler, Scene, Shape, Texture, TriangleMesh,

@@ -7,9 +7,9 @@ mod common;
 
 use std::path::Path;
 
+use crate::common::render_cpu;
 use common::*;
 use glam::DVec3;
-use shadelab::render::render_cpu;
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 use shadelab::LinearImage;

@@ -39,11 +39,8 @@ fn both_backends(
     scene: &Scene,
     shading: Shading,
 ) -> [(&'static str, LinearImage); 2] {
-    let cpu = shadelab::render::render_cpu(scene, shading)
-        .unwrap()
-        .0
-        .image;
-    let gpu = shadelab::render::render_gpu(context, scene, shading)
+    let cpu = crate::common::render_cpu(scene, shading).unwrap().0.image;
+    let gpu = crate::common::render_gpu(context, scene, shading)
         .unwrap()
         .image;
     [("CPU", cpu), ("GPU", gpu)]
@@ -75,8 +72,8 @@ fn a_known_edge_covers_the_samples_the_standard_locations_say() {
             11..=49 => 1.0,
             _ => 0.0,
         };
-        let (cpu_image, _) = shadelab::render::render_cpu(&scene, Shading::Flat).unwrap();
-        let gpu_image = shadelab::render::render_gpu(&context, &scene, Shading::Flat).unwrap();
+        let (cpu_image, _) = crate::common::render_cpu(&scene, Shading::Flat).unwrap();
+        let gpu_image = crate::common::render_gpu(&context, &scene, Shading::Flat).unwrap();
         for (name, image) in [("CPU", &cpu_image.image), ("GPU", &gpu_image.image)] {
             for y in [0, 23, 47] {
                 for x in [9, 10, 11, 49, 50, 51] {
@@ -315,7 +312,7 @@ fn four_samples_come_nearer_a_sixteen_sample_image_than_one() {
             scene.image.width *= scale;
             scene.image.height *= scale;
             scene.render.msaa = msaa.parse().unwrap();
-            shadelab::render::render_gpu(&context, &scene, shading)
+            crate::common::render_gpu(&context, &scene, shading)
                 .unwrap()
                 .image
         };
@@ -477,7 +474,11 @@ fn the_16_bit_resolve_gives_the_float_path_png_within_one_step() {
         let drawn = ColorTarget::Srgb8.drawn_with(scene.render.msaa);
         assert_eq!(drawn, ColorTarget::ScaledUnorm16);
         let at = |target| {
-            shadelab::render::render_gpu_to(&context, &scene, shading, false, target)
+            let request = shadelab::render::RenderRequest {
+                target,
+                ..shadelab::render::RenderRequest::gpu(shading)
+            };
+            shadelab::render::render(&common::device(&context), &scene, &request)
                 .unwrap()
                 .image
         };

@@ -7,12 +7,12 @@
 //! batch, of a render that would take hours.
 
 use common::cli::{assert_one_line_refusal, render_mean, shadelab, shadelab_with};
-use shadelab::film_sums::{FilmSums, RenderPart};
+use shadelab::backend_choice::Backend;
+use shadelab::film_sums::FilmSums;
 use shadelab::gpu::{GpuContext, GpuOptions};
-use shadelab::render::{render_film_part, FilmRender};
+use shadelab::render::{render, Device, FilmRender, Portion, RenderRequest};
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
-use shadelab::work_counter::WorkCounter;
 
 mod common;
 
@@ -33,15 +33,17 @@ fn film_of(
     scene: &Scene,
     range: (u32, u32),
 ) -> FilmSums {
-    let part = RenderPart {
-        total: scene.render.samples,
-        range: range.0..range.1,
-        deadline: None,
-        error: None,
+    let backend = if context.is_some() {
+        Backend::Gpu
+    } else {
+        Backend::Cpu
     };
-    let counter = WorkCounter::default();
-    let rendered =
-        render_film_part(context, scene, Shading::Raytrace, (&part, &counter), false).unwrap();
+    let request = RenderRequest {
+        portion: Portion::Range(range.0..range.1),
+        ..RenderRequest::new(Shading::Raytrace, backend)
+    };
+    let device = Device::from(context.cloned());
+    let rendered = render(&device, scene, &request).unwrap();
     let FilmRender { film, traced, .. } = rendered.film.expect("bounces sum into a film");
     assert_eq!(traced, u64::from(range.1 - range.0));
     film
@@ -68,7 +70,7 @@ fn parts_of_the_samples_add_up_to_the_whole_render_bit_for_bit() {
             "{where_}: the parts' sums differ from the whole's"
         );
         if on.is_some() {
-            let image = shadelab::render::render_gpu(&context, &scene, Shading::Raytrace).unwrap();
+            let image = crate::common::render_gpu(&context, &scene, Shading::Raytrace).unwrap();
             assert_eq!(image.image.pixels, whole.image().pixels);
         }
     }
@@ -291,21 +293,14 @@ fn films_merge_by_scene_content_and_a_damaged_or_foreign_one_is_refused() {
 fn an_error_budget_traces_a_stream_at_a_time_and_sums_the_same_samples() {
     let context = GpuContext::new(&GpuOptions::default()).unwrap();
     let scene = diffuse_box(40, 30, 1024);
-    let part = RenderPart {
+    let request = RenderRequest {
         error: Some(0.2),
-        ..RenderPart::all(1024)
+        ..RenderRequest::gpu(Shading::Raytrace)
     };
-    let counter = WorkCounter::default();
-    let budgeted = render_film_part(
-        Some(&context),
-        &scene,
-        Shading::Raytrace,
-        (&part, &counter),
-        false,
-    )
-    .unwrap()
-    .film
-    .expect("bounces sum into a film");
+    let budgeted = render(&common::device(&context), &scene, &request)
+        .unwrap()
+        .film
+        .expect("bounces sum into a film");
     let traced = budgeted.traced as u32;
     // Batches of 16 under this budget: more than one, so that both streams
     // of several batches were traced, and far from all 1024.

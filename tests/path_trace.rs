@@ -21,7 +21,7 @@ fn worst_relative_error(image: &LinearImage, want: f64) -> f64 {
 }
 
 fn cpu(scene: &Scene) -> LinearImage {
-    shadelab::render::render_cpu(scene, Shading::Raytrace)
+    crate::common::render_cpu(scene, Shading::Raytrace)
         .unwrap_or_else(|e| panic!("{e}"))
         .0
         .image

@@ -192,7 +192,7 @@ proptest! {
     fn random_scenes_render_in_every_mode_and_agree_with_the_cpu(s in random_scene()) {
         for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong, Shading::Raytrace] {
             let limits = CheckThresholds::for_shading(shading);
-            let outcome = check(context(), &s, &s, shading, &limits)
+            let outcome = check(&common::device(context()), &s, &s, shading, &limits)
                 .map_err(|e| TestCaseError::fail(format!("{shading}: {e}")))?;
             prop_assert!(
                 outcome.actual.pixels.iter().flatten().all(|v| v.is_finite()),

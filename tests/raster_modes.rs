@@ -227,7 +227,7 @@ fn screen_and_perspective_differ_as_predicted_on_a_tilted_plane() {
 #[test]
 fn the_8_bit_png_path_gives_the_float_paths_png_within_one_step() {
     use shadelab::gpu::raster::ColorTarget;
-    use shadelab::render::render_gpu_to;
+    use shadelab::render::{render, RenderRequest};
     use shadelab::srgb::linear_to_srgb8;
     let scenes = asset_scenes();
     assert!(scenes.len() >= 6, "assets/ lost scenes");
@@ -235,7 +235,11 @@ fn the_8_bit_png_path_gives_the_float_paths_png_within_one_step() {
     for (name, scene) in &scenes {
         for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
             let png = |target| -> Vec<u8> {
-                let image = render_gpu_to(&context, scene, shading, false, target)
+                let request = RenderRequest {
+                    target,
+                    ..RenderRequest::gpu(shading)
+                };
+                let image = render(&common::device(&context), scene, &request)
                     .unwrap()
                     .image;
                 image
@@ -332,7 +336,7 @@ fn back_faces_are_drawn_where_they_can_show() {
                 "{name} {shading}: {lit} pixels drawn"
             );
             let limits = CheckThresholds::for_shading(shading);
-            let outcome = check(&context, s, s, shading, &limits).unwrap();
+            let outcome = check(&crate::common::device(&context), s, s, shading, &limits).unwrap();
             assert!(
                 outcome.passed(),
                 "{name} {shading}: {:?}",

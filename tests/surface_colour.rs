@@ -124,7 +124,7 @@ fn the_gpu_shows_the_material_colour_times_the_interpolated_vertex_colour() {
 fn the_cpu_reference_shows_the_same_colours() {
     let scene = square_scene();
     for shading in MODES {
-        let (rendered, _) = shadelab::render::render_cpu(&scene, shading).unwrap();
+        let (rendered, _) = crate::common::render_cpu(&scene, shading).unwrap();
         let worst = worst_against_oracle(&rendered.image, shading);
         // f64 rounded once to the image's f32.
         assert!(
@@ -224,7 +224,7 @@ fn a_checker_pattern_shows_its_cells_where_the_texture_coordinates_put_them() {
         let image = render(&context, &scene, shading);
         let worst = worst_against_checker(&image, shading);
         assert!(worst < FLOAT_TOL, "GPU {shading:?}: {worst}");
-        let (cpu, _) = shadelab::render::render_cpu(&scene, shading).unwrap();
+        let (cpu, _) = crate::common::render_cpu(&scene, shading).unwrap();
         let worst = worst_against_checker(&cpu.image, shading);
         assert!(worst < 1e-6, "CPU {shading:?}: {worst}");
     }
@@ -257,7 +257,7 @@ fn gouraud_adds_the_highlight_after_the_pattern() {
     scene.lights[0].position = DVec3::new(0.0, 0.0, 10.0);
     scene.lights[0].intensity = DVec3::ONE;
     let gpu_image = render(&context, &scene, Shading::Gouraud);
-    let (cpu, _) = shadelab::render::render_cpu(&scene, Shading::Gouraud).unwrap();
+    let (cpu, _) = crate::common::render_cpu(&scene, Shading::Gouraud).unwrap();
     // A red cell (bottom left) shows no blue but the highlight's, and a
     // blue cell (bottom right) no red but the highlight's: the same
     // amount of each, the specular part, at mirrored points.

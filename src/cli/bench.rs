@@ -11,8 +11,9 @@ use std::path::PathBuf;
 
 use clap::Args;
 use shadelab::gpu::raster::ColorTarget;
-use shadelab::gpu::{DeviceInfo, GpuContext, GpuOptions};
+use shadelab::gpu::{DeviceInfo, GpuOptions};
 use shadelab::memory::MemoryLimit;
+use shadelab::render::Device;
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
@@ -113,12 +114,13 @@ pub fn run(args: BenchArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     let runs = check_runs(args.runs)?;
     let modes = args.modes.modes();
     let (scene, name) = load(&args, &modes, memory)?;
-    let context = GpuContext::new(options)?;
+    let device = Device::open(options)?;
+    let context = device.require_gpu()?;
     // Multisampled images are resolved in 16 bits for a PNG
     // (`ColorTarget::drawn_with`).
     let raster_target = args.target.color_target().drawn_with(scene.render.msaa);
     let timing = Timing {
-        context: &context,
+        device: &device,
         scene: &scene,
         runs,
         raster_target,

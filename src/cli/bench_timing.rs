@@ -4,14 +4,10 @@
 //! with every feature in, and the whole `render` command in a fresh process.
 
 use std::ffi::OsString;
-use std::sync::Arc;
-use std::time::Instant;
 
 use shadelab::compare::run::median_and_spread;
-use shadelab::film_sums::RenderPart;
 use shadelab::gpu::raster::ColorTarget;
-use shadelab::gpu::raytrace::TraceOptions;
-use shadelab::gpu::{raster, raytrace, GpuContext, GpuTimings};
+use shadelab::render::{render, Device, RenderRequest, Timings};
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
@@ -20,7 +16,7 @@ use super::time_to_image::{self, TimeToImage};
 
 /// What to time, and on what.
 pub(super) struct Timing<'a> {
-    pub context: &'a Arc<GpuContext>,
+    pub device: &'a Device,
     pub scene: &'a Scene,
     /// Timed runs per mode (after one warm-up run).
     pub runs: usize,
@@ -49,15 +45,15 @@ impl Timing<'_> {
     /// after a warm-up run.
     fn time(&self, shading: Shading, every_feature: bool) -> Result<(f64, f64, f64), Failure> {
         let target = self.target_of(shading);
-        once(self.context, self.scene, shading, every_feature, target)?; // warm-up
+        once(self.device, self.scene, shading, every_feature, target)?; // warm-up
         let mut totals = Vec::new();
         let mut gpus = Vec::new();
         for _ in 0..self.runs {
-            let t = once(self.context, self.scene, shading, every_feature, target)?;
+            let t = once(self.device, self.scene, shading, every_feature, target)?;
             totals.push(t.total_ms);
             // Submission to completion: robust where timestamps are not
             // (see GpuTimings::submit_ms).
-            gpus.push(t.submit_ms);
+            gpus.push(t.work_ms());
         }
         let (total, spread) = median_and_spread(totals);
         Ok((total, median_and_spread(gpus).0, spread))
@@ -94,10 +90,14 @@ fn row(
     let (rays, traversal) = if shading == Shading::Forward {
         (None, Some("bvh"))
     } else if traced {
-        let counted = raytrace::render(t.context, t.scene, true)?;
+        let request = RenderRequest {
+            count_rays: true,
+            ..RenderRequest::gpu(shading)
+        };
+        let counted = render(t.device, t.scene, &request)?;
         (
-            counted.stats.map(|s| s.total()),
-            Some(counted.traversal.name()),
+            counted.ray_stats.map(|s| s.total()),
+            counted.traversal.map(|t| t.name()),
         )
     } else {
         (None, None)
@@ -143,43 +143,26 @@ fn row(
 }
 
 fn once(
-    context: &Arc<GpuContext>,
+    device: &Device,
     scene: &Scene,
     shading: Shading,
     every_feature: bool,
     target: ColorTarget,
-) -> Result<GpuTimings, Failure> {
-    Ok(match shading.raster_mode() {
-        Some(mode) => raster::render_to(context, scene, mode, target)?.timings,
-        None if shading == Shading::Forward => {
-            let job = RenderPart::all(scene.render.photons);
-            raytrace::forward::render(context, scene, &job, &Default::default())?.timings
-        }
-        None => {
-            let options = TraceOptions {
-                every_feature,
-                ..TraceOptions::default()
-            };
-            raytrace::render_with(context, scene, options)?.timings
-        }
-    })
+) -> Result<Timings, Failure> {
+    let request = RenderRequest {
+        target,
+        every_feature,
+        ..RenderRequest::gpu(shading)
+    };
+    Ok(render(device, scene, &request)?.timings)
 }
 
 /// One timed render of the CPU reference, in milliseconds: the ray
 /// tracer's tracing (its BVH built beforehand, as the GPU's is before its
 /// dispatch), or a raster mode's whole render.
 fn cpu_once(scene: &Scene, shading: Shading) -> Result<f64, Failure> {
-    if shading == Shading::Forward {
-        let started = Instant::now();
-        shadelab::render::render_cpu(scene, shading)?;
-        return Ok(started.elapsed().as_secs_f64() * 1e3);
-    }
-    if shading.raster_mode().is_none() {
-        return Ok(shadelab::cpu::raytrace::render(scene).trace_ms);
-    }
-    let started = Instant::now();
-    shadelab::render::render_cpu(scene, shading)?;
-    Ok(started.elapsed().as_secs_f64() * 1e3)
+    let timings = render(&Device::cpu_only(), scene, &RenderRequest::cpu(shading))?.timings;
+    Ok(timings.trace_ms.unwrap_or(timings.total_ms))
 }
 
 #[derive(serde::Serialize)]

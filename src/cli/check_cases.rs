@@ -12,6 +12,7 @@ use shadelab::gpu::{GpuContext, GpuOptions};
 use shadelab::metrics::heatmap::flip_heatmap;
 use shadelab::msaa::Msaa;
 use shadelab::output::write_image;
+use shadelab::render::Device;
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 use shadelab::work_counter::WorkCounter;
@@ -166,7 +167,14 @@ fn check_case(
     let (scene, name) = &cases.scenes[i];
     let scene = scene.as_ref().map_err(|f| CaseError::Check(f.clone()))?;
     let limits = limits_for(shading, scene.render.msaa);
-    let outcome = check_counted(context, scene, scene, shading, &limits, counter)?;
+    let outcome = check_counted(
+        &Device::with_gpu(context.clone()),
+        scene,
+        scene,
+        shading,
+        &limits,
+        counter,
+    )?;
     let keep = match cases.images {
         KeepImages::All => true,
         KeepImages::Failures => !outcome.passed(),

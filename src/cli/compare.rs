@@ -9,9 +9,10 @@ use shadelab::compare::present::write_presentation;
 use shadelab::compare::report::{Metric, ReferenceChoice};
 use shadelab::compare::run::{mark_pareto, run, set_budget, CompareOptions};
 use shadelab::compare::Report;
-use shadelab::gpu::{GpuContext, GpuOptions};
+use shadelab::gpu::GpuOptions;
 use shadelab::memory::MemoryLimit;
 use shadelab::output::write_atomically;
+use shadelab::render::Device;
 use shadelab::shading::Shading;
 
 use super::args::{check_runs, DepthArg, ImageSize, MsaaArg, WatchdogArg};
@@ -239,7 +240,8 @@ fn render_variants(
     // The references alone must fit: without them no variant is measured.
     memory.check(&name, &scene, &[], &[Shading::Raytrace])?;
     let skip = over_the_limit(&scene, &name, &variants, memory)?;
-    let context = GpuContext::new(options)?;
+    let device = Device::open(options)?;
+    let context = device.require_gpu()?;
     // The list chosen for the scene keeps the sample counts this device
     // renders; a count asked for by name is the device's to refuse.
     let variants = if args.variants.is_empty() {
@@ -257,7 +259,7 @@ fn render_variants(
         skip,
     };
     let report = run(
-        &context,
+        &device,
         &scene,
         &name,
         &variants,

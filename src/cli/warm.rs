@@ -10,9 +10,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use shadelab::gpu::{GpuContext, GpuOptions};
+use shadelab::gpu::GpuOptions;
 use shadelab::memory::MemoryLimit;
-use shadelab::render::render_gpu;
+use shadelab::render::{render, Device, RenderRequest};
 
 use super::args::{ModeList, SceneFlags};
 use super::failure::Failure;
@@ -68,10 +68,10 @@ pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result
         &super::ignored::scene_flags_given(&s.traversal, &s.msaa, &s.depth),
         ignoring,
     );
-    let context = GpuContext::new(options)?;
+    let device = Device::open(options)?;
     for (scene, _) in &scenes {
         for &shading in &modes {
-            render_gpu(&context, scene, shading)?;
+            render(&device, scene, &RenderRequest::gpu(shading))?;
         }
     }
     let folder = shadelab::cache::folder()
@@ -87,7 +87,7 @@ pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result
     };
     println!(
         "warmed {} pipeline(s) for {} scene(s) in {:.1} s",
-        context.pipelines_kept(),
+        device.require_gpu()?.pipelines_kept(),
         scenes.len(),
         started.elapsed().as_secs_f64()
     );

@@ -6,7 +6,6 @@
 //! the figures into a `Report`.
 
 use std::path::Path;
-use std::sync::Arc;
 
 use super::report::{
     file_stem, pareto_front, Budget, Errors, Metric, NotRun, ReferenceChoice, Report, Timing,
@@ -14,13 +13,12 @@ use super::report::{
 };
 use super::variant::Variant;
 use crate::error::Error;
-use crate::gpu::GpuContext;
 use crate::linear_image::LinearImage;
 use crate::metrics::flip::{flip, FlipStats, PIXELS_PER_DEGREE};
 use crate::metrics::heatmap::flip_heatmap;
 use crate::metrics::stats::ErrorStats;
 use crate::output::write_image;
-use crate::render::{render_cpu, render_gpu};
+use crate::render::{render, Device, RenderRequest};
 use crate::scene::{CausticSettings, Scene};
 use crate::shading::Shading;
 
@@ -170,7 +168,7 @@ fn cached_reference(reference: &Scene) -> Result<LinearImage, Error> {
             return Ok(image);
         }
     }
-    let (rendered, _) = render_cpu(reference, Shading::Raytrace)?;
+    let rendered = cpu_render(reference, Shading::Raytrace)?;
     if let Some(p) = &path {
         let written = p.parent().map(std::fs::create_dir_all);
         if written.is_some_and(|w| w.is_ok()) {
@@ -241,25 +239,25 @@ type Measured = (
 );
 
 fn measure(
-    context: &Arc<GpuContext>,
+    device: &Device,
     scene: &Scene,
     shading: Shading,
     runs: usize,
 ) -> Result<Measured, Error> {
     // The warm-up: the variant's time to image, its pipeline built.
-    let first = render_gpu(context, scene, shading)?.timings;
+    let first = render(device, scene, &RenderRequest::gpu(shading))?.timings;
     let (mut gpu, mut frame) = (Vec::new(), Vec::new());
     let mut image = None;
     let mut traversal = None;
     for _ in 0..runs.max(1) {
-        let r = render_gpu(context, scene, shading)?;
+        let r = render(device, scene, &RenderRequest::gpu(shading))?;
         gpu.push(r.timings.work_ms());
         frame.push(r.timings.total_ms);
         image = Some(r.image);
         traversal = r.traversal;
     }
     let image = image.expect("at least one run");
-    let (cpu, _) = render_cpu(scene, shading)?;
+    let cpu = cpu_render(scene, shading)?;
     Ok((first, gpu, frame, image, traversal, cpu))
 }
 
@@ -269,7 +267,7 @@ fn measure(
 /// the memory limit), or one whose render fails, is reported as not run,
 /// and the others go on.
 pub fn run(
-    context: &Arc<GpuContext>,
+    device: &Device,
     scene: &Scene,
     scene_name: &str,
     variants: &[Variant],
@@ -277,6 +275,7 @@ pub fn run(
     dir: &Path,
     mut progress: impl FnMut(usize, usize, &str),
 ) -> Result<Report, Error> {
+    let gpu = device.require_gpu()?;
     let chosen = shard_of(variants, options.shard);
     // Every variant's scene first: a hook's file that cannot be read fails
     // the run before the reference takes its time.
@@ -292,7 +291,7 @@ pub fn run(
     for (k, (variant, scene_v)) in chosen.iter().zip(&scenes).enumerate() {
         let name = variant.to_string();
         progress(k + 2, total, &name);
-        match run_variant(context, variant, scene_v, name, options, &references, dir)? {
+        match run_variant(device, variant, scene_v, name, options, &references, dir)? {
             Outcome::Measured(result) => results.push(*result),
             Outcome::NotRun(skipped) => not_run.push(skipped),
         }
@@ -301,8 +300,8 @@ pub fn run(
         scene: scene_name.to_string(),
         width: scene.image.width,
         height: scene.image.height,
-        device: context.info.name.clone(),
-        driver: context.info.driver.clone(),
+        device: gpu.info.name.clone(),
+        driver: gpu.info.driver.clone(),
         runs: options.runs.max(1),
         reference: reference_description,
         reference_image: "reference.png".to_string(),
@@ -340,11 +339,11 @@ fn render_references(
     let reference = if converged {
         cached_reference(reference_scene)?
     } else {
-        render_cpu(reference_scene, Shading::Raytrace)?.0.image
+        cpu_render(reference_scene, Shading::Raytrace)?.image
     };
     write_image(&reference, &dir.join("reference.png"))?;
     progress(1, total, "local reference");
-    let (local_reference, _) = render_cpu(&local_reference_scene(scene), Shading::Raytrace)?;
+    let local_reference = cpu_render(&local_reference_scene(scene), Shading::Raytrace)?;
     write_image(&local_reference.image, &dir.join("reference-local.png"))?;
     Ok(References {
         global: reference,
@@ -363,7 +362,7 @@ enum Outcome {
 /// (skipped, or its render failed: that failure is its own, the others
 /// still run). Fails only when an image cannot be written.
 fn run_variant(
-    context: &Arc<GpuContext>,
+    device: &Device,
     variant: &Variant,
     scene: &Scene,
     name: String,
@@ -379,7 +378,7 @@ fn run_variant(
         }));
     }
     let (first, gpu, frame, image, traversal, cpu) =
-        match measure(context, scene, variant.shading, options.runs) {
+        match measure(device, scene, variant.shading, options.runs) {
             Ok(m) => m,
             // No later variant can run on a stuck device.
             Err(e) if e.leaves_device_stuck() => return Err(e),
@@ -528,4 +527,9 @@ pub fn merge(mut shards: Vec<Report>) -> Result<Report, String> {
     mark_pareto(&mut merged);
     set_budget(&mut merged, budget);
     Ok(merged)
+}
+
+/// The CPU reference's render of `scene` in `shading`.
+fn cpu_render(scene: &Scene, shading: Shading) -> Result<crate::render::Rendered, Error> {
+    render(&Device::cpu_only(), scene, &RenderRequest::cpu(shading))
 }

@@ -442,7 +442,7 @@ pub fn default_variants(scene: &Scene) -> Vec<Variant> {
         list.push(parse("raytrace"));
     }
     list.push(parse("raytrace:samples=4"));
-    if scene.render.caustics.on() && crate::caustics::has_caustics(scene) {
+    if scene.render.caustics.on() && crate::render::caustics::no_caustic(scene).is_none() {
         // SPPM's error pass by pass, at the scene's photons per pass; and
         // the ray tracer without them, what the caustics cost and buy.
         for passes in [4, 16, 64] {

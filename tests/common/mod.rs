@@ -13,6 +13,7 @@ use std::sync::Arc;
 use glam::DVec3;
 use shadelab::camera::View;
 use shadelab::gpu::{GpuContext, GpuOptions};
+use shadelab::render::{Device, RenderRequest};
 use shadelab::scene::*;
 use shadelab::shading::Shading;
 use shadelab::LinearImage;
@@ -68,20 +69,19 @@ pub fn with_engine(scene: &Scene, engine: Traversal) -> Scene {
 
 /// The GPU ray tracer's ray counts for `scene` (its counting variant).
 pub fn gpu_ray_stats(context: &Arc<GpuContext>, scene: &Scene) -> shadelab::rt_scene::RayStats {
-    shadelab::render::render_gpu_to(
-        context,
-        scene,
-        Shading::Raytrace,
-        true,
-        shadelab::gpu::raster::ColorTarget::Float32,
-    )
-    .unwrap_or_else(|e| panic!("render failed: {e}"))
-    .ray_stats
-    .expect("the counting variant counts")
+    let request = RenderRequest {
+        count_rays: true,
+        ..RenderRequest::gpu(Shading::Raytrace)
+    };
+    shadelab::render::render(&Device::with_gpu(context.clone()), scene, &request)
+        .unwrap_or_else(|e| panic!("render failed: {e}"))
+        .ray_stats
+        .expect("the counting variant counts")
 }
 
 pub fn render(context: &Arc<GpuContext>, scene: &Scene, shading: Shading) -> LinearImage {
-    match shadelab::render::render_gpu(context, scene, shading) {
+    let device = Device::with_gpu(context.clone());
+    match shadelab::render::render(&device, scene, &RenderRequest::gpu(shading)) {
         Ok(r) => r.image,
         Err(e) => panic!("render failed: {e}"),
     }
@@ -298,4 +298,34 @@ pub fn plain_sphere_scene() -> Scene {
     });
     plain.materials[0].ks = 0.0;
     plain
+}
+
+/// The GPU's render of `scene` in `shading` through the library's one
+/// door (`shadelab::render`), as most tests want it.
+pub fn render_gpu(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    shading: Shading,
+) -> Result<shadelab::render::Rendered, shadelab::error::Error> {
+    let device = Device::with_gpu(context.clone());
+    shadelab::render::render(&device, scene, &RenderRequest::gpu(shading))
+}
+
+/// The CPU reference's render of `scene` in `shading` and its coverage.
+pub fn render_cpu(
+    scene: &Scene,
+    shading: Shading,
+) -> Result<(shadelab::render::Rendered, shadelab::render::Coverage), shadelab::error::Error> {
+    let request = RenderRequest::cpu(shading);
+    let mut rendered = shadelab::render::render(&Device::cpu_only(), scene, &request)?;
+    let coverage = rendered
+        .coverage
+        .take()
+        .expect("the CPU reference knows its pixels");
+    Ok((rendered, coverage))
+}
+
+/// The library's device over a context a test opened.
+pub fn device(context: &Arc<GpuContext>) -> Device {
+    Device::with_gpu(context.clone())
 }

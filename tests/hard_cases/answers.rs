@@ -14,8 +14,8 @@ fn same_images(a: &Scene, b: &Scene, gpu_limit: f64, cpu_limit: f64, what: &str)
             worst <= gpu_limit,
             "{what} {mode}: GPU differs by {worst:e}"
         );
-        let (ca, _) = shadelab::render::render_cpu(a, mode).unwrap();
-        let (cb, _) = shadelab::render::render_cpu(b, mode).unwrap();
+        let (ca, _) = crate::common::render_cpu(a, mode).unwrap();
+        let (cb, _) = crate::common::render_cpu(b, mode).unwrap();
         let worst = worst_difference(&ca.image, &cb.image);
         assert!(
             worst <= cpu_limit,
@@ -71,8 +71,8 @@ fn a_light_inside_a_closed_surface_lights_nothing_outside() {
                 "{name} {engine:?}: the enclosed light shows by {worst:e}"
             );
         }
-        let (a, _) = shadelab::render::render_cpu(&lit, Shading::Raytrace).unwrap();
-        let (b, _) = shadelab::render::render_cpu(&dark, Shading::Raytrace).unwrap();
+        let (a, _) = crate::common::render_cpu(&lit, Shading::Raytrace).unwrap();
+        let (b, _) = crate::common::render_cpu(&dark, Shading::Raytrace).unwrap();
         assert_eq!(a.image, b.image, "{name} CPU: the enclosed light shows");
     }
 }
@@ -122,7 +122,7 @@ fn a_mirror_corridor_is_traced_to_depth_64() {
     assert_eq!(s.render.depth, 64);
     let context = gpu();
     let gpu_stats = gpu_ray_stats(&context, &s);
-    let (cpu, _) = shadelab::render::render_cpu(&s, Shading::Raytrace).unwrap();
+    let (cpu, _) = crate::common::render_cpu(&s, Shading::Raytrace).unwrap();
     let cpu_stats = cpu.ray_stats.unwrap();
     assert_eq!(cpu_stats.max_depth_reached, 64);
     assert_eq!(gpu_stats.max_depth_reached, 64);
@@ -179,13 +179,10 @@ fn what_f32_cannot_render_is_refused_with_its_line() {
     narrow.image.width = 16;
     let context = gpu();
     for mode in MODES {
-        let Err(error) = shadelab::render::render_gpu(&context, &narrow, mode) else {
+        let Err(error) = crate::common::render_gpu(&context, &narrow, mode) else {
             panic!("{mode}: rendered");
         };
         assert!(error.to_string().contains("8e-6"), "{mode}: {error}");
-        assert!(
-            shadelab::render::render_cpu(&narrow, mode).is_err(),
-            "{mode}"
-        );
+        assert!(crate::common::render_cpu(&narrow, mode).is_err(), "{mode}");
     }
 }

@@ -151,8 +151,8 @@ fn planet_floors_ray_traced_are_a_flat_floor() {
             render(&context, &planet, Shading::Raytrace),
             render(&context, &flat, Shading::Raytrace),
         );
-        let (pc, _) = shadelab::render::render_cpu(&planet, Shading::Raytrace).unwrap();
-        let (fc, _) = shadelab::render::render_cpu(&flat, Shading::Raytrace).unwrap();
+        let (pc, _) = crate::common::render_cpu(&planet, Shading::Raytrace).unwrap();
+        let (fc, _) = crate::common::render_cpu(&flat, Shading::Raytrace).unwrap();
         for (side, a, b) in [("GPU", &p, &f), ("CPU", &pc.image, &fc.image)] {
             let mut worst = 0.0f64;
             for y in first_row..a.height {
@@ -182,11 +182,11 @@ fn planet_floors_keep_the_ball_in_every_raster_mode() {
     let centre = view(&small).project(DVec3::new(0.0, 1.0, 0.0)).unwrap();
     for mode in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
         let base = render(&context, &small, mode);
-        let (base_cpu, _) = shadelab::render::render_cpu(&small, mode).unwrap();
+        let (base_cpu, _) = crate::common::render_cpu(&small, mode).unwrap();
         for (name, _) in &PLANETS[1..] {
             let s = hard(name);
             let image = render(&context, &s, mode);
-            let (cpu, _) = shadelab::render::render_cpu(&s, mode).unwrap();
+            let (cpu, _) = crate::common::render_cpu(&s, mode).unwrap();
             for (side, a, b) in [("GPU", &image, &base), ("CPU", &cpu.image, &base_cpu.image)] {
                 let mut worst_ball = 0.0f64;
                 let mut worst_floor = 0.0f64;
@@ -231,7 +231,7 @@ fn a_sky_sphere_around_the_eye_shows_its_inside() {
     let floor_centre = view(&s).project(DVec3::new(0.0, 0.0, 1.5)).unwrap();
     for mode in MODES {
         let image = render(&context, &s, mode);
-        let (cpu, _) = shadelab::render::render_cpu(&s, mode).unwrap();
+        let (cpu, _) = crate::common::render_cpu(&s, mode).unwrap();
         for (side, image) in [("GPU", &image), ("CPU", &cpu.image)] {
             for (x, y) in [(2, 2), (image.width - 3, 2), (2, image.height / 3)] {
                 let value = to_dvec(image.get(x, y));
@@ -265,7 +265,7 @@ fn smallpt_walls_are_lit_from_inside() {
     let context = gpu();
     for mode in MODES {
         let image = render(&context, &s, mode);
-        let (cpu, _) = shadelab::render::render_cpu(&s, mode).unwrap();
+        let (cpu, _) = crate::common::render_cpu(&s, mode).unwrap();
         for (side, image) in [("GPU", &image), ("CPU", &cpu.image)] {
             // The left (red) wall, a tenth in from the left, halfway up.
             let value = to_dvec(image.get(image.width / 10, image.height / 2));
@@ -324,8 +324,8 @@ material = "m"
     let context = gpu();
     for mode in MODES {
         let (a, b) = (render(&context, &up, mode), render(&context, &down, mode));
-        let (ca, _) = shadelab::render::render_cpu(&up, mode).unwrap();
-        let (cb, _) = shadelab::render::render_cpu(&down, mode).unwrap();
+        let (ca, _) = crate::common::render_cpu(&up, mode).unwrap();
+        let (cb, _) = crate::common::render_cpu(&down, mode).unwrap();
         let lit = (0..a.height)
             .flat_map(|y| (0..a.width).map(move |x| (x, y)))
             .filter(|&(x, y)| to_dvec(cb.image.get(x, y)).x > 0.3)

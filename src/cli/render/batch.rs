@@ -11,6 +11,7 @@ use shadelab::backend_choice::{Backend, Choice};
 use shadelab::gpu::{GpuContext, GpuOptions};
 use shadelab::memory::MemoryLimit;
 use shadelab::output::ImageFormat;
+use shadelab::render::{Device, RenderRequest};
 use shadelab::shading::Shading;
 
 use super::args::RenderArgs;
@@ -121,19 +122,11 @@ impl Batch {
                 for warning in &loaded.warnings {
                     eprintln!("shadelab: warning: {}: {warning}", scene.name);
                 }
-                let blind = modes
-                    .contains(&Shading::Forward)
-                    .then(|| shadelab::render::forward_blind_spots(loaded))
-                    .flatten();
-                if let Some(warning) = blind {
-                    eprintln!("shadelab: warning: {}: {warning}", scene.name);
-                }
-                let pointless = modes
-                    .contains(&Shading::Raytrace)
-                    .then(|| shadelab::caustics::pointless(loaded))
-                    .flatten();
-                if let Some(warning) = pointless {
-                    eprintln!("shadelab: warning: {}: {warning}", scene.name);
+                let said = [Shading::Forward, Shading::Raytrace].into_iter();
+                for shading in said.filter(|s| modes.contains(s)) {
+                    for warning in shadelab::render::warnings(loaded, shading) {
+                        eprintln!("shadelab: warning: {}: {warning}", scene.name);
+                    }
                 }
             }
         }
@@ -245,14 +238,13 @@ impl Batch {
         let format = ImageFormat::from_path(Path::new(&case.file_name))?;
         let (rendered, device, driver) = match (backend, context) {
             (Backend::Gpu, Some(context)) => {
-                let target = color_target(scene, format);
-                let rendered = shadelab::render::render_gpu_to(
-                    context,
-                    scene,
-                    case.shading,
-                    args.stats,
-                    target,
-                )?;
+                let request = RenderRequest {
+                    target: color_target(scene, format),
+                    count_rays: args.stats,
+                    ..RenderRequest::gpu(case.shading)
+                };
+                let device = Device::with_gpu(context.clone());
+                let rendered = shadelab::render::render(&device, scene, &request)?;
                 let info = &context.info;
                 (rendered, info.name.clone(), Some(info.driver.clone()))
             }
@@ -263,7 +255,8 @@ impl Batch {
                     .unwrap_or_else(|| Failure::usage("no device".into())))
             }
             (Backend::Cpu, _) => {
-                let (rendered, _) = shadelab::render::render_cpu(scene, case.shading)?;
+                let request = RenderRequest::cpu(case.shading);
+                let rendered = shadelab::render::render(&Device::cpu_only(), scene, &request)?;
                 (rendered, "CPU reference (f64)".to_string(), None)
             }
         };

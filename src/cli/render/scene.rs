@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use shadelab::memory::MemoryLimit;
+use shadelab::render::Technique;
 use shadelab::scene::{self, Scene};
 use shadelab::shading::Shading;
 
@@ -110,7 +111,7 @@ fn check_budgets(args: &RenderArgs, scene: &Scene) -> Result<(), Failure> {
                 "--error estimates an unbiased render's error from two halves of its batches, and the photon map's caustics are biased (their radius shrinks pass by pass): stop them with --time or --caustic-passes".into(),
             ));
         }
-        let budgeted = caustics || one.is_some_and(|m| shadelab::render::sums_in_film(scene, m));
+        let budgeted = caustics || one.is_some_and(|m| Technique::of(scene, m).sums_in_film());
         if !budgeted {
             return Err(Failure::usage(format!(
                 "{flag} stops one render (--shading forward, or raytrace with --bounces 1 or more or with --caustics; one scene, no --shard) at a budget"

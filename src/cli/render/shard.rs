@@ -6,13 +6,13 @@
 //! bit (integer sums do not care in what order they are added).
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 use shadelab::backend_choice::Backend;
-use shadelab::film_sums::{FilmSums, PhotonStats, RenderPart};
-use shadelab::gpu::{GpuContext, GpuOptions};
+use shadelab::film_sums::{FilmSums, PhotonStats};
+use shadelab::gpu::GpuOptions;
 use shadelab::memory::MemoryLimit;
 use shadelab::output::ImageFormat;
+use shadelab::render::{Device, Plan, Portion, RenderRequest};
 use shadelab::shading::Shading;
 
 use super::args::RenderArgs;
@@ -43,45 +43,39 @@ pub(super) fn run_shard(
     let path = args.scenes.first().map(PathBuf::as_path);
     let (mut scene, stem) = load_scene(path, memory)?;
     apply_overrides(&mut scene, args, &[shading], true)?;
-    // Caustics first: with them a trace without bounces is no Whitted
-    // trace to render whole, and what stops the shard is the photon map.
-    if shading == Shading::Raytrace && scene.render.caustics.on() {
-        return Err(Failure::usage(
-            "--shard splits the samples of a ray trace, and its caustics do not split: each pass of the photon map shrinks the radius the last one left; leave out --caustics (and render.caustics) for a shard".into(),
-        ));
-    }
-    if !shadelab::render::sums_in_film(&scene, shading) {
-        return Err(Failure::usage(
-            "--shard splits the samples of a ray trace with diffuse bounces (--bounces 1 or more); a Whitted trace is exact per sample, quick, and its f32 mean does not add up across machines: render it whole".into(),
-        ));
-    }
-    shadelab::output::prepare_output_path(&out)?;
     let backend = if args.backend == "cpu" {
         Backend::Cpu
     } else {
         Backend::Gpu
     };
+    let request = RenderRequest {
+        portion: Portion::Shard(i as u32, n as u32),
+        ..RenderRequest::new(shading, backend)
+    };
+    // The plan's refusals (a Whitted trace or caustics do not split)
+    // before the output's folder or the device.
+    let plan = Plan::new(&scene, &request)?;
+    shadelab::output::prepare_output_path(&out)?;
     match backend {
         Backend::Cpu => memory.check(&stem, &scene, &[], &[shading])?,
         Backend::Gpu => memory.check(&stem, &scene, &[shading], &[])?,
     };
-    let context: Option<Arc<GpuContext>> = match backend {
-        Backend::Gpu => Some(GpuContext::new(options)?),
-        Backend::Cpu => None,
+    let device = match backend {
+        Backend::Gpu => Device::open(options)?,
+        Backend::Cpu => Device::cpu_only(),
     };
-    let total = shadelab::render::part_total(&scene, shading);
-    let job = RenderPart::shard(total, (i as u32, n as u32));
+    let context = device.gpu().filter(|_| backend == Backend::Gpu);
+    let total = plan.part.total;
+    let job = plan.part.clone();
     let label = format!("{shading}, shard {i} of {n}");
     let rendered = crate::cli::progress::counted(&label, |counter| {
-        shadelab::render::render_film_part(
-            context.as_ref(),
-            &scene,
-            shading,
-            (&job, counter),
-            false,
-        )
+        let request = RenderRequest {
+            progress: Some(counter),
+            ..request.clone()
+        };
+        shadelab::render::render(&device, &scene, &request)
     })?;
-    let (device, driver) = match &context {
+    let (device, driver) = match context {
         Some(c) => (c.info.name.clone(), Some(c.info.driver.clone())),
         None => ("CPU reference (f64)".to_string(), None),
     };

@@ -11,7 +11,7 @@ use shadelab::gpu::raster::ColorTarget;
 use shadelab::gpu::{ms_since, GpuContext, GpuError, GpuOptions};
 use shadelab::memory::MemoryLimit;
 use shadelab::output::ImageFormat;
-use shadelab::render::{Rendered, Timings};
+use shadelab::render::{Device, FilmRender, Plan, RenderRequest, Rendered, Technique, Timings};
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
@@ -144,16 +144,6 @@ pub fn run(args: RenderArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
         }
     }
     let (rendered, device, driver) = render(&args, &loaded, shading, context, target)?;
-    if shading == Shading::Forward {
-        if let Some(warning) = shadelab::render::forward_blind_spots(&loaded.scene) {
-            eprintln!("shadelab: warning: {warning}");
-        }
-    }
-    if shading == Shading::Raytrace {
-        if let Some(warning) = shadelab::caustics::pointless(&loaded.scene) {
-            eprintln!("shadelab: warning: {warning}");
-        }
-    }
     let settings = effective_settings(
         path,
         shading,
@@ -227,8 +217,10 @@ fn open_device(
     Ok((None, Some(opened_ms)))
 }
 
-/// Renders on the device where there is one, else on the CPU reference
-/// (with a progress line); the image, the device's name and its driver.
+/// Renders on the device where there is one, else on the CPU reference,
+/// with a progress line (in photons or samples for a render that sums
+/// into a film, which `--time` and `--error` stop and which says what it
+/// traced); the image, the device's name and its driver.
 fn render(
     args: &RenderArgs,
     loaded: &Loaded,
@@ -237,54 +229,38 @@ fn render(
     target: ColorTarget,
 ) -> Result<(Rendered, String, Option<String>), Failure> {
     let scene = &loaded.scene;
-    if shadelab::render::sums_in_film(scene, shading) {
-        return render_film(args, scene, shading, context);
-    }
-    Ok(if let Some(context) = context {
-        // A time budget stops the caustics' passes (`check_budgets`).
-        let rendered = shadelab::render::render_gpu_until(
-            &context,
-            scene,
-            shading,
-            (args.stats, target),
-            args.deadline(),
-        )?;
-        let info = &context.info;
-        (rendered, info.name.clone(), Some(info.driver.clone()))
+    let backend = if context.is_some() {
+        Backend::Gpu
     } else {
-        let label = format!("{shading} on the CPU reference");
-        let (rendered, _) = crate::cli::progress::counted(&label, |counter| {
-            shadelab::render::render_cpu_counted(scene, shading, counter)
-        })?;
-        (rendered, "CPU reference (f64)".to_string(), None)
-    })
-}
-
-/// A render that sums into a film (forward, or ray tracing with bounces),
-/// its photons or samples counted as the progress, stopped at `--time` if
-/// given (said, with what it traced).
-fn render_film(
-    args: &RenderArgs,
-    scene: &shadelab::scene::Scene,
-    shading: Shading,
-    context: Option<Arc<GpuContext>>,
-) -> Result<(Rendered, String, Option<String>), Failure> {
-    let total = shadelab::render::part_total(scene, shading);
-    let mut part = shadelab::film_sums::RenderPart::all(total);
-    part.deadline = args.deadline();
-    part.error = args.error_budget;
-    let on = if context.is_some() {
-        "GPU"
-    } else {
-        "CPU reference"
+        Backend::Cpu
     };
+    let on = match backend {
+        Backend::Gpu => "GPU",
+        Backend::Cpu => "CPU reference",
+    };
+    let device = Device::from(context.clone());
+    // Progress where there is some to show: the CPU reference's, and a
+    // film's photons or samples (a GPU image in one dispatch has none).
+    let counts = backend == Backend::Cpu || Technique::of(scene, shading).sums_in_film();
     let rendered = crate::cli::progress::counted(&format!("{shading} on the {on}"), |counter| {
-        let part = (&part, counter);
-        shadelab::render::render_film_part(context.as_ref(), scene, shading, part, args.stats)
+        let request = RenderRequest {
+            target,
+            count_rays: args.stats,
+            deadline: args.deadline(),
+            error: args.error_budget,
+            progress: counts.then_some(counter),
+            ..RenderRequest::new(shading, backend)
+        };
+        let plan = Plan::new(scene, &request)?;
+        for warning in &plan.warnings {
+            eprintln!("shadelab: warning: {warning}");
+        }
+        let rendered = plan.render(&device, scene)?;
+        if let Some(film) = &rendered.film {
+            say_budget(args, plan.technique, film, plan.part.count());
+        }
+        Ok::<_, shadelab::error::Error>(rendered)
     })?;
-    if let Some(film) = &rendered.film {
-        say_budget(args, shading, film, part.count());
-    }
     Ok(match &context {
         Some(c) => (rendered, c.info.name.clone(), Some(c.info.driver.clone())),
         None => (rendered, "CPU reference (f64)".to_string(), None),
@@ -294,17 +270,8 @@ fn render_film(
 /// What a budget did: where it stopped the render, with the estimate of
 /// the error where there was an error budget, or that the error budget
 /// was not reached.
-fn say_budget(
-    args: &RenderArgs,
-    shading: Shading,
-    film: &shadelab::render::FilmRender,
-    asked: u32,
-) {
-    let what = if shading == Shading::Forward {
-        "photons"
-    } else {
-        "samples per pixel"
-    };
+fn say_budget(args: &RenderArgs, technique: Technique, film: &FilmRender, asked: u32) {
+    let what = technique.work_unit();
     let traced = film.traced;
     let estimate = film
         .estimated_rmse

@@ -53,7 +53,7 @@ pub(super) fn print_photons(s: &PhotonStats) {
 
 /// One line: the photon map's passes and photons, what they did (on the
 /// GPU), and its time.
-pub(super) fn print_caustics(c: &shadelab::caustics::CausticReport) {
+pub(super) fn print_caustics(c: &shadelab::render::CausticReport) {
     let photons = u64::from(c.photons_per_pass) * u64::from(c.passes);
     let did = c.photons.map_or(String::new(), |p| {
         format!(

@@ -70,7 +70,7 @@ pub fn render_job(scene: &Scene, job: &RenderPart, counter: &WorkCounter) -> Opt
         .fold(fresh, |(mut film, mut stats), task| {
             // The first task runs whatever the budget: an image of no
             // photon would be black, not an estimate.
-            if task > 0 && job.past_deadline() {
+            if task > 0 && job.should_stop() {
                 return (film, stats);
             }
             let first = range.start + task * PHOTONS_PER_TASK;

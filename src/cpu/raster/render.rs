@@ -59,7 +59,7 @@ pub fn render_counted(scene: &Scene, mode: RasterMode, counter: &WorkCounter) ->
     let msaa = scene.render.msaa;
     let offsets = msaa
         .positions()
-        .expect("render::render_cpu refuses counts without standard locations");
+        .expect("the render plan refuses counts without standard locations");
     let raster = Raster {
         scene,
         view: &view,

@@ -115,7 +115,7 @@ pub(super) fn run(
     let mut first = part.range.start;
     // Tightened after the first batch, which says how long one takes.
     let mut _tightened: Option<Guard> = None;
-    while first < part.range.end && (first == part.range.start || !part.past_deadline()) {
+    while first < part.range.end && (first == part.range.start || !part.should_stop()) {
         // Under a time budget the first batch is one unit of work for the
         // samples (a sample per pixel), so that a budget shorter than a
         // batch overshoots it least.
