@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Renders the default scene, assets/*.toml and assets/hard/*.toml in all four
-# modes, PNG and EXR, on the GPU and with the CPU reference, and prints one
+# modes, PNG and EXR, on the GPU and with the CPU reference; and the Monte
+# Carlo renders (forward tracing, two diffuse bounces, the photon map's
+# caustics) of assets/*.toml at 96x72 as EXR on both; and prints one
 # SHA-256 per image: a refactoring that must not change a pixel is checked
 # by diffing this list before and after (`ci/identity.sh BIN > list`).
 #   ci/identity.sh [BINARY] > hashes.txt
@@ -26,6 +28,22 @@ for backend in gpu cpu; do
                 --out-dir "$dir" --name "{scene}-{mode}.$ext" >"$dir.log" 2>&1 || status=$?
             echo "status $backend-$ext-$set $status"
         done
+    done
+done
+# The Monte Carlo renders: their images are sums of fixed-point films (or,
+# for caustics, the photon map's), so a refactoring keeps them bit for bit.
+for backend in gpu cpu; do
+    for run in forward bounces caustics; do
+        case $run in
+            forward) flags=(assets/*.toml --shading forward) ;;
+            bounces) flags=(assets/*.toml --shading raytrace --bounces 2 --samples 4) ;;
+            caustics) flags=(assets/caustics.toml --shading raytrace) ;;
+        esac
+        dir=$out/$backend-mc-$run
+        status=0
+        "$bin" render "${flags[@]}" --quiet --backend "$backend" --width 96 --height 72 \
+            --out-dir "$dir" --name "{scene}-{mode}.exr" >"$dir.log" 2>&1 || status=$?
+        echo "status $backend-mc-$run $status"
     done
 done
 cd "$out"
