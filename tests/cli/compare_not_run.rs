@@ -4,7 +4,7 @@
 //! variant given twice is refused; and its progress shows in a log (stderr
 //! not a terminal) as lines, none with `--quiet`.
 
-mod common;
+use crate::common;
 
 use common::cli::{shadelab, shadelab_with};
 

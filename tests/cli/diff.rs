@@ -2,7 +2,7 @@
 //! implementation. No GPU: every image is built here or read from
 //! tests/data/flip/.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 
@@ -490,14 +490,12 @@ fn the_share_and_count_of_pixels_over_a_threshold_can_be_gated() {
     assert_eq!(run(&["--threshold", "count_over=-1"]).code, 2);
 }
 
-/// Two folders: images matched by name, each judged with the limits of a
-/// single diff; one on one side only fails too (missing) or cannot be
-/// judged (extra: an error in JUnit). Exit 1 when any does not pass.
-#[test]
-fn two_folders_are_compared_image_by_image_with_junit() {
-    let dir = tempfile::tempdir().unwrap();
+/// `reference/` and `run/` in `dir`: an image the same on both sides, one
+/// changed, one on each side only, and a file that is no image; returns
+/// the two folders and the unchanged image.
+fn two_folders(dir: &Path) -> (PathBuf, PathBuf, LinearImage) {
     let (expected, actual) = known_pair();
-    let (reference, run_dir) = (dir.path().join("reference"), dir.path().join("run"));
+    let (reference, run_dir) = (dir.join("reference"), dir.join("run"));
     std::fs::create_dir_all(&reference).unwrap();
     std::fs::create_dir_all(&run_dir).unwrap();
     for (name, r, a) in [
@@ -510,6 +508,16 @@ fn two_folders_are_compared_image_by_image_with_junit() {
     write_image(&expected, &reference.join("gone.exr")).unwrap();
     write_image(&expected, &run_dir.join("new.exr")).unwrap();
     std::fs::write(run_dir.join("notes.txt"), "not an image").unwrap();
+    (reference, run_dir, expected)
+}
+
+/// Two folders: images matched by name, each judged with the limits of a
+/// single diff; one on one side only fails too (missing) or cannot be
+/// judged (extra: an error in JUnit). Exit 1 when any does not pass.
+#[test]
+fn two_folders_are_compared_image_by_image_with_junit() {
+    let dir = tempfile::tempdir().unwrap();
+    let (reference, run_dir, expected) = two_folders(dir.path());
     let run = shadelab(
         dir.path(),
         &[

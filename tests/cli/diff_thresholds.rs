@@ -3,7 +3,7 @@
 //! 0. Images are written as EXR (lossless) and compared by the binary, as
 //! a CI job would.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -5,7 +5,7 @@
 
 use common::cli::{assert_one_line_refusal, shadelab};
 
-mod common;
+use crate::common;
 
 const BOX: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/diffuse-box.toml");
 

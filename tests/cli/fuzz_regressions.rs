@@ -2,7 +2,7 @@
 //! regression tests: each must now be one clear error, exit status 2,
 //! through the library and through the binary.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

@@ -4,7 +4,7 @@
 //! flag; each shader change of issue 33's list is caught by the default
 //! limits; a driver's own references are found before the shared ones.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

@@ -4,7 +4,7 @@
 //! and a failure against a reference made with other settings names each
 //! difference (docs/golden.md, "Which reference a case reads").
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -2,7 +2,7 @@
 //! status 2 and one clear message before anything large is allocated, and
 //! the estimate it is judged by bounds what a render really takes.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

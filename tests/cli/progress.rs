@@ -1,10 +1,10 @@
 //! Progress where stderr is not a terminal (a CI log): lines saying what is
 //! done and what is left, for the CPU reference's phases and for the cases
-//! of `check` and `golden` (`compare`'s: tests/compare_not_run.rs). With
+//! of `check` and `golden` (`compare`'s: tests/cli/compare_not_run.rs). With
 //! `SHADELAB_PROGRESS_SECONDS=0` a line comes at every step the poller
 //! sees, so a short run shows some.
 
-mod common;
+use crate::common;
 
 use common::cli::shadelab_with;
 

@@ -3,7 +3,7 @@
 //! whose pipelines the cases share; a failed case reported while the
 //! others are written.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

@@ -3,7 +3,7 @@
 //! reports: the same cases in the same order, the same verdicts and
 //! figures, the same JUnit cases and exit status.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 
@@ -143,8 +143,13 @@ fn golden_in_three_shards_merged_reports_what_one_run_reports() {
         missing.stderr
     );
     merged_record_names_its_own_files_and_the_shards_figures(d, "merged");
-    // A shard of another run: one scene fewer, or another width. Each is
-    // refused in one line naming the setting, and nothing merged.
+    a_shard_of_another_run_is_refused(d);
+}
+
+/// A shard of another run (in `d`, beside `refs/`, `shard1/` and
+/// `shard2/`): one scene fewer, or another width. Each is refused in one
+/// line naming the setting, and nothing merged.
+fn a_shard_of_another_run_is_refused(d: &Path) {
     let one_scene = |extra: &[&str]| {
         let mut args = vec!["golden".to_string(), scenes()[0].clone()];
         args.extend(SMALL.iter().map(|s| s.to_string()));

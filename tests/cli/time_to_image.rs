@@ -2,7 +2,7 @@
 //! `--json` reports them, and the caches that make a second run warm
 //! (shadelab's cache folder, with Mesa's shader cache inside it).
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Command;

@@ -9,7 +9,7 @@ use glam::DVec3;
 use shadelab::cpu::caustics::caustic_photons;
 use shadelab::rt_scene::RtScene;
 
-mod common;
+use crate::common;
 
 /// The flux of the caustic photons that land in a patch of the floor
 /// (x in [-0.5, 0.3], |z| <= 0.3, where every path from the mirror image

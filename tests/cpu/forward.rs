@@ -9,7 +9,7 @@ use shadelab::cpu::forward;
 use shadelab::shading::Shading;
 use shadelab::LinearImage;
 
-mod common;
+use crate::common;
 
 fn channel_values(image: &LinearImage) -> Vec<f64> {
     image.pixels.iter().map(|p| f64::from(p[0])).collect()

@@ -384,7 +384,7 @@ fn every_fixture_and_asset_gltf_imports_as_the_specification_says() {
         for entry in std::fs::read_dir(repo(dir)).unwrap() {
             let path = entry.unwrap().path();
             let name = path.file_name().unwrap().to_string_lossy().into_owned();
-            // nan_position and corrupt are bad input (tests/cli.rs).
+            // nan_position and corrupt are bad input (tests/cli/bad_input.rs).
             let gltf = name.ends_with(".gltf") || name.ends_with(".glb");
             if gltf && !name.starts_with("nan_position") && !name.starts_with("corrupt") {
                 files.push(path);

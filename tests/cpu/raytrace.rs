@@ -2,7 +2,7 @@
 //! from `docs/raytracing.md`, and against the CPU Phong rasterizer where the
 //! contract says the two evaluate the same thing.
 
-mod common;
+use crate::common;
 
 use common::cli::shadelab;
 use common::*;

@@ -167,40 +167,10 @@ fn push_constant_blocks_have_the_hosts_size() {
     assert!(compared >= 6, "only {compared} stages compared");
 }
 
-#[test]
-fn specialization_constants_match_by_id_and_name() {
-    for shader in ALL_SHADERS {
-        let host = host_for(shader);
-        for spec in shader.spec_constants {
-            assert!(
-                host.spec_constants.contains(spec),
-                "{}: specialization constant {spec:?} unknown to the host",
-                shader.name
-            );
-        }
-    }
-    // One 4-byte value per constant, in order, as the map entries say.
-    assert_eq!(
-        std::mem::size_of::<raster_layout::Specialization>(),
-        4 * raster_layout::SPEC_CONSTANTS.len()
-    );
-    assert_eq!(
-        std::mem::size_of::<rt_layout::TraceSpecialization>(),
-        4 * rt_layout::SPEC_CONSTANTS.len()
-    );
-    let raster = raster_layout::Specialization::map_entries();
-    assert_eq!(raster.len(), raster_layout::SPEC_CONSTANTS.len());
-    assert_eq!(
-        std::mem::size_of::<raster_layout::Specialization>(),
-        4 * raster.len()
-    );
-    for (entry, (id, _)) in raster.iter().zip(raster_layout::SPEC_CONSTANTS) {
-        assert_eq!(entry.constant_id, u32::from(*id));
-    }
-    // Each field sits where its constant's map entry says: the field named
-    // like the constant is at 4 x the constant's place in the list.
-    let traced = rt_layout::TraceSpecialization::map_entries();
-    let fields = [
+/// Each ray-tracing specialization constant's name and the offset of the
+/// `TraceSpecialization` field that holds it.
+fn trace_specialization_fields() -> Vec<(&'static str, usize)> {
+    vec![
         ("LIGHT_COUNT", offset_of!(TraceSpecialization, light_count)),
         (
             "USE_SPECULAR",
@@ -260,7 +230,43 @@ fn specialization_constants_match_by_id_and_name() {
             "INVERSE_SQUARE",
             offset_of!(TraceSpecialization, inverse_square),
         ),
-    ];
+    ]
+}
+
+#[test]
+fn specialization_constants_match_by_id_and_name() {
+    for shader in ALL_SHADERS {
+        let host = host_for(shader);
+        for spec in shader.spec_constants {
+            assert!(
+                host.spec_constants.contains(spec),
+                "{}: specialization constant {spec:?} unknown to the host",
+                shader.name
+            );
+        }
+    }
+    // One 4-byte value per constant, in order, as the map entries say.
+    assert_eq!(
+        std::mem::size_of::<raster_layout::Specialization>(),
+        4 * raster_layout::SPEC_CONSTANTS.len()
+    );
+    assert_eq!(
+        std::mem::size_of::<rt_layout::TraceSpecialization>(),
+        4 * rt_layout::SPEC_CONSTANTS.len()
+    );
+    let raster = raster_layout::Specialization::map_entries();
+    assert_eq!(raster.len(), raster_layout::SPEC_CONSTANTS.len());
+    assert_eq!(
+        std::mem::size_of::<raster_layout::Specialization>(),
+        4 * raster.len()
+    );
+    for (entry, (id, _)) in raster.iter().zip(raster_layout::SPEC_CONSTANTS) {
+        assert_eq!(entry.constant_id, u32::from(*id));
+    }
+    // Each field sits where its constant's map entry says: the field named
+    // like the constant is at 4 x the constant's place in the list.
+    let traced = rt_layout::TraceSpecialization::map_entries();
+    let fields = trace_specialization_fields();
     assert_eq!(fields.len(), rt_layout::SPEC_CONSTANTS.len());
     for (name, offset) in fields {
         let index = rt_layout::SPEC_CONSTANTS
@@ -325,14 +331,14 @@ fn every_stage_is_present() {
 /// plain `const`s and a layout qualifier, not reflected).
 #[test]
 fn the_bvh_stack_size_listed_objects_and_work_item_are_the_shaders() {
-    let raytrace = include_str!("../shaders/raytrace.comp.glsl");
-    let forward = include_str!("../shaders/forward.comp.glsl");
+    let raytrace = include_str!("../../shaders/raytrace.comp.glsl");
+    let forward = include_str!("../../shaders/forward.comp.glsl");
     let photons = format!("const uint PHOTONS_PER_LANE = {PHOTONS_PER_LANE}u;");
     assert!(
         forward.contains(&photons),
         "forward.comp.glsl lacks `{photons}`"
     );
-    let caustics_source = include_str!("../shaders/caustics.comp.glsl");
+    let caustics_source = include_str!("../../shaders/caustics.comp.glsl");
     let per_lane = format!("const uint PER_LANE = {}u;", caustics::PER_LANE);
     assert!(
         caustics_source.contains(&per_lane),
@@ -379,7 +385,7 @@ fn quad_records_have_the_hosts_word_offsets() {
         GpuBox, GpuBvhChild, GpuBvhNode, GpuPlane, GpuSphere, GpuTriangleGeometry, GpuWideNode,
     };
     use std::mem::size_of;
-    let source = include_str!("../shaders/include/rt_interface.glsl");
+    let source = include_str!("../../shaders/include/rt_interface.glsl");
     let constant = |name: &str| -> usize {
         let prefix = format!("const uint {name} = ");
         let line = source

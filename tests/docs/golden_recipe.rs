@@ -2,7 +2,7 @@
 //! order from a scratch folder, each with the exit status its comment
 //! gives; then what the page says the runs leave behind.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

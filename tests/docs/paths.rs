@@ -51,7 +51,7 @@ fn text_files(root: &Path) -> Vec<PathBuf> {
             // This file's own examples are not paths of the repository, nor
             // are the small trees the layout check's test builds.
             if SKIPPED.contains(&rel.as_str())
-                || rel == "tests/doc_paths.rs"
+                || rel == "tests/docs/paths.rs"
                 || rel == "ci/test_layout_check.py"
             {
                 continue;

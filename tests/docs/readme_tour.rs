@@ -4,7 +4,7 @@
 //! checkout as the README says to. Each must exit 0, or 1 where its comment
 //! says `exit 1`.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -16,7 +16,7 @@ use shadelab::shading::Shading;
 use shadelab::work_counter::WorkCounter;
 use shadelab::LinearImage;
 
-mod common;
+use crate::common;
 
 fn caustics_asset(width: u32, height: u32) -> Scene {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/caustics.toml");
@@ -113,7 +113,7 @@ fn the_caustic_is_the_same_bits_on_every_run() {
 }
 
 /// The GPU's caustic beside the mirror is the mirror image's light, as
-/// the twin's is (tests/caustic_photons.rs): 64 passes of 2^18 photons
+/// the twin's is (tests/cpu/caustics.rs): 64 passes of 2^18 photons
 /// from 1.5 pixel footprints at 192 x 144, the mean of the floor patch's
 /// pixels within 1% (the target; their spread is about 4%, so the
 /// mean's standard error is 0.3%), every pixel within 20% (five spreads).

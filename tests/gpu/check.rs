@@ -3,7 +3,7 @@
 //! like: a light moved by 1%, `p` off by one, one normal flipped, the
 //! interpolation rule swapped.
 
-mod common;
+use crate::common;
 
 use common::{asset_scenes, gpu};
 use shadelab::check::{check, CheckThresholds};

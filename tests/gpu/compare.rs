@@ -3,7 +3,7 @@
 //! falling with tessellation and depth; Phong beating Gouraud beating flat;
 //! shards that merge into the unsharded report.
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::DVec3;

@@ -2,7 +2,7 @@
 //! geometry whose edges and vertices pass through pixel centres, so that the
 //! fill rule decides every tie, and near-plane clipping.
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::DVec3;

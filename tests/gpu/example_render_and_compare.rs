@@ -3,7 +3,7 @@
 //! prints figures that no longer parse or no longer show agreement.
 
 #[allow(dead_code)] // The example's `main`: the tests call its `run`.
-#[path = "../examples/render_and_compare.rs"]
+#[path = "../../examples/render_and_compare.rs"]
 mod example;
 
 use shadelab::check::CheckThresholds;

@@ -10,7 +10,7 @@ use shadelab::gpu::raytrace::forward;
 use shadelab::scene::Scene;
 use shadelab::work_counter::WorkCounter;
 
-mod common;
+use crate::common;
 
 fn diffuse_box(width: u32, height: u32) -> Scene {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/diffuse-box.toml");

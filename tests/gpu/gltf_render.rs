@@ -3,7 +3,7 @@
 //! positions are computed here by hand from the fixtures'
 //! raw data (tests/data/make_fixtures.py), independently of the loader.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 

@@ -4,7 +4,7 @@
 
 #[path = "hard_cases/answers.rs"]
 mod answers;
-mod common;
+use crate::common;
 #[path = "hard_cases/huge_spheres.rs"]
 mod huge_spheres;
 

@@ -5,7 +5,7 @@
 //! texture magnified, a uv seam, a texture seen in a mirror and through
 //! glass) in every wrap mode and filter.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -3,7 +3,7 @@
 //! colour texture and BoxVertexColors' `COLOR_0`, on the GPU and in the
 //! reference alike, where before issue 31 both rendered as a grey box.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 
@@ -59,7 +59,7 @@ fn render_everywhere(scene: &Scene, plain: &Scene) -> Vec<(Shading, Vec<DVec3>)>
                     worst = worst.max(max_abs_diff(to_dvec(*g), to_dvec(*c)));
                 }
             }
-            // As tests/image_textures.rs: f32 rounding alone.
+            // As tests/gpu/image_textures.rs: f32 rounding alone.
             assert!(
                 worst < FLOAT_TOL,
                 "{shading:?}: {worst:.2e} from the reference"

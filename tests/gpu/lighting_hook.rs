@@ -2,7 +2,7 @@
 //! used by each, and refused with exit status 2 and a message that names
 //! the file when it does not compile or does not define the hook.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 use std::sync::Arc;

@@ -3,7 +3,7 @@
 //! the CPU reference; four samples nearer a sixteen-sample image than one;
 //! the CLI's refusals.
 
-mod common;
+use crate::common;
 
 use common::cli::shadelab;
 use common::gpu;

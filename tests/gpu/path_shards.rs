@@ -14,7 +14,7 @@ use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 use shadelab::work_counter::WorkCounter;
 
-mod common;
+use crate::common;
 
 const BOX: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/diffuse-box.toml");
 

@@ -4,7 +4,7 @@
 //! sphere of `common::closed_sphere`, whose every pixel is a series in
 //! the albedo.
 
-mod common;
+use crate::common;
 
 use common::closed_sphere::{closed_sphere, expected, AMBIENT, KA};
 use shadelab::scene::Scene;

@@ -3,7 +3,7 @@
 //! only when everything that went into it is the same: the mode, the
 //! scene's constants, the colour target, the engine and the lighting hook.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

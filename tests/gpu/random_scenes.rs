@@ -12,7 +12,7 @@
 //! scene drawn at random on 2026-12-05 put flat's FLIP mean at 1.91e-3
 //! against 1.7e-3, found again by drawing until it fails).
 
-mod common;
+use crate::common;
 
 use std::sync::{Arc, OnceLock};
 

@@ -1,7 +1,7 @@
 //! Flat and Gouraud shading, and screen against perspective interpolation,
 //! held to the lighting formula evaluated in double precision.
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::{DVec2, DVec3};

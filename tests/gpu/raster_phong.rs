@@ -2,7 +2,7 @@
 //! at each pixel's exact sphere point, and one test per lighting parameter
 //! showing it changes the image as the formula says.
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::DVec3;

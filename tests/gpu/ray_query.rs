@@ -1,11 +1,11 @@
 //! The ray tracer's two engines (`--traversal bvh|query|auto`): each one
 //! asked for is the one used, `auto` follows its rule, and the ray-query
 //! engine holds `check`'s ray-tracing limits against the CPU twin on every
-//! scene in `assets/` (the hard cases: tests/hard_cases.rs). On a device
+//! scene in `assets/` (the hard cases: tests/gpu/hard_cases.rs). On a device
 //! without ray queries (Mesa 22.3's lavapipe) the query engine's tests say
 //! so on stderr and check only that it is refused with a reason.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 

@@ -4,7 +4,7 @@
 //! the cut-off prunes; and against the CPU twin where no exact answer is
 //! at hand (every depth, long object lists, several samples per pixel).
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::{DMat3, DVec3};

@@ -7,7 +7,7 @@
 //! checkerboard of 2 x 2 cells over texture coordinates that run 0 to 1
 //! across it.
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::DVec2;

@@ -8,7 +8,7 @@
 //! here by hand, and each of the four GPU modes and the CPU reference must
 //! show it. The texture's `rotation` is checked the same way.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -1,7 +1,7 @@
 //! The validation layer is really on in the tests, and its messages are
 //! caught: otherwise "no validation message" would pass vacuously.
 
-mod common;
+use crate::common;
 
 #[test]
 fn an_invalid_call_is_reported() {
