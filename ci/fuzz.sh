@@ -19,7 +19,7 @@
 # target starts from its seeds in fuzz/seeds/TARGET (committed) plus what earlier runs found in
 # fuzz/corpus/TARGET (not committed); a crash lands in fuzz/artifacts/TARGET
 # and ends that target's run: turn it into a regression test under tests/
-# (tests/fuzz_regressions.rs). The last lines of each run (executions,
+# (tests/cli/fuzz_regressions.rs). The last lines of each run (executions,
 # coverage, corpus) go to target/fuzz-TARGET.log and a summary is printed.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -9,11 +9,11 @@
 # apt-get update when nothing is missing.
 #
 # Usage: ci/install-deps.sh [--with-chromium] [--with-slurm]
-#   --with-chromium  also Chromium, which tests/compare_present.rs renders
+#   --with-chromium  also Chromium, which tests/cpu/compare_present.rs renders
 #                    report.html in (ci/test.sh asks for it; building and
 #                    rendering do not need it).
 #   --with-slurm     also Slurm and MUNGE (slurm-wlm, munge), which
-#                    tests/shards.rs runs a one-node cluster of, to shard
+#                    tests/cli/shards.rs runs a one-node cluster of, to shard
 #                    with --shard auto under a real scheduler (ci/test.sh
 #                    asks for it). Any other argument is an error.
 #

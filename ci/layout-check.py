@@ -10,6 +10,10 @@ Fails (exit 1) when, anywhere in `src/` or `shaders/`:
 - a function outside tests is over 100 lines, from its `fn` line to its
   closing brace.
 
+The same rules hold in `tests/` (`check_tests_folder`), for every
+function there, `#[test]` ones included, and for import loops within
+each test binary.
+
 An item reached through a re-export (`pub use child::Thing` in a `mod.rs`)
 counts as an import of the file that defines it, not of the re-exporting
 one, so that a parent which re-exports its children is not a loop with
@@ -310,17 +314,17 @@ def loops(edges):
     return out
 
 
-def functions(path: Path):
+def functions(path: Path, keep_tests: bool = False):
     """(name, first line, length in lines) of every function outside test
-    modules and `#[test]` functions."""
+    modules and `#[test]` functions; with `keep_tests`, of every one."""
     code = strip_comments_and_strings(path.read_text())
-    spans = test_spans(code)
+    spans = [] if keep_tests else test_spans(code)
     found = []
     for m in re.finditer(r"\bfn\s+(" + IDENT + r")\s*(<[^{;]*?>)?\s*\(", code):
         if not outside(spans, m.start()):
             continue
         before = code[max(0, m.start() - 200):m.start()]
-        if re.search(r"#\[test\]\s*(pub\s+)?$", before):
+        if not keep_tests and re.search(r"#\[test\]\s*(pub\s+)?$", before):
             continue
         # The body starts at the first `{` after the signature; a `;` first
         # means a declaration without a body (a trait method).
@@ -355,6 +359,91 @@ def glsl_functions(path: Path):
         last = code.count("\n", 0, end) + 1
         found.append((m.group(1), first, last - first + 1))
     return found
+
+
+# The test files (tests/): the same limits as src/, and every function
+# counts, `#[test]` ones too. Each test binary is its own crate, so import
+# loops are looked for within one binary: `tests/NAME.rs` alone, or
+# `tests/NAME/main.rs` and the modules under `tests/NAME/`, with
+# `tests/common/` as the module `common` of every binary that declares it.
+
+TEST_ROOT_COMMON = re.compile(r"^\s*(?:#\[path\s*=\s*\"[^\"]*\"\]\s*)?(?:pub\s+)?mod\s+common\s*;", re.M)
+
+
+def test_sources(tests: Path) -> list[Path]:
+    """Every Rust file of `tests/` but the fixtures (`tests/data/`)."""
+    return [p for p in sorted(tests.rglob("*.rs")) if "data" not in p.relative_to(tests).parts[:1]]
+
+
+def test_binaries(tests: Path) -> dict[str, dict[tuple[str, ...], Path]]:
+    """Each test binary's files by module path (the root is `()`)."""
+    def tree(folder: Path, root: Path) -> dict[tuple[str, ...], Path]:
+        files = {}
+        for path in sorted(folder.rglob("*.rs")):
+            parts = path.relative_to(folder).with_suffix("").parts
+            if parts[-1] in ("mod", "main"):
+                parts = parts[:-1]
+            if path == root or parts:
+                files[tuple(parts)] = path
+        return files
+
+    binaries = {}
+    roots = [(p.stem, p, None) for p in sorted(tests.glob("*.rs"))]
+    roots += [(p.parent.name, p, p.parent) for p in sorted(tests.glob("*/main.rs"))]
+    for name, root, folder in roots:
+        files = tree(folder, root) if folder else {(): root}
+        common = tests / "common"
+        if common.is_dir() and TEST_ROOT_COMMON.search(strip_comments_and_strings(root.read_text())):
+            for parts, path in tree(common, common / "mod.rs").items():
+                files[("common",) + parts] = path
+        binaries[name] = files
+    return binaries
+
+
+def check_tests_folder(listing: bool) -> list[str]:
+    """The problems in `tests/`: files over the line limit, functions
+    (tests included) over theirs, import loops within a test binary."""
+    tests = ROOT / "tests"
+    if not tests.is_dir():
+        return []
+    problems, sizes, lengths = [], [], []
+    sources = test_sources(tests)
+    for path in sources:
+        n = len(path.read_text().splitlines())
+        sizes.append((n, path.relative_to(ROOT)))
+        if n > MAX_FILE_LINES:
+            problems.append(f"{path.relative_to(ROOT)}: {n} lines (at most {MAX_FILE_LINES})")
+        for name, line, length in functions(path, keep_tests=True):
+            lengths.append((length, f"{path.relative_to(ROOT)}:{line}", name))
+            if length > MAX_FUNCTION_LINES:
+                problems.append(
+                    f"{path.relative_to(ROOT)}:{line}: fn {name} is {length} lines (at most {MAX_FUNCTION_LINES})"
+                )
+    binaries = test_binaries(tests)
+    for binary, files in binaries.items():
+        edges = import_graph(files)
+        for comp in loops(edges):
+            detail = [
+                f"{files[a].relative_to(ROOT)}:{edges[a][b]} -> {files[b].relative_to(ROOT)}"
+                for a in comp for b in comp if b in edges[a]
+            ]
+            names = [str(files[m].relative_to(ROOT)) for m in comp]
+            problems.append(f"import loop in test binary {binary}: " + ", ".join(names) + "\n    " + "\n    ".join(detail))
+    if listing:
+        print("Test files over half the limit:")
+        for n, p in sorted(sizes, reverse=True):
+            if n > MAX_FILE_LINES // 2:
+                print(f"  {n:5} {p}")
+        print("Test functions over half the limit:")
+        for n, where, name in sorted(lengths, reverse=True):
+            if n > MAX_FUNCTION_LINES // 2:
+                print(f"  {n:5} {where} {name}")
+    if not problems:
+        print(
+            f"layout-check: tests/: {len(sources)} files within {MAX_FILE_LINES} lines, "
+            f"{len(lengths)} functions within {MAX_FUNCTION_LINES}, no import loop in {len(binaries)} test binaries"
+        )
+    return problems
 
 
 def main():
@@ -394,6 +483,8 @@ def main():
                 if b in edges[a]:
                     detail.append(f"{files[a].relative_to(ROOT)}:{edges[a][b]} -> {files[b].relative_to(ROOT)}")
         problems.append("import loop: " + ", ".join(names) + "\n    " + "\n    ".join(detail))
+
+    problems += check_tests_folder(args.list)
 
     if args.list:
         print("Files over half the limit:")

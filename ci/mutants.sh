@@ -12,7 +12,7 @@
 #            give a file or two, or use --shard K/N.
 #
 # Usage: ci/mutants.sh [--glsl] [--rust] [--file PATH]... [--shard K/N] [-- CARGO_TEST_ARGS]
-# (cargo test's arguments for the Rust half, e.g. `-- --test check_thresholds`
+# (cargo test's arguments for the Rust half, e.g. `-- --test cpu check_thresholds::`
 # to run only the tests that guard the file; the default is the whole suite.)
 # With neither --glsl nor --rust, both. Needs `cargo install cargo-mutants`
 # for --rust. Results: target/mutants-glsl.txt and mutants.out/ (cargo-mutants').
@@ -37,7 +37,7 @@ done
 
 # The GPU tests a shader mutant must fail: the formula per pixel and per
 # vertex against f64, the modes' own rules, the ray tracer's exact answers.
-gpu_tests=(--test raster_phong --test raster_modes --test gpu_raytrace)
+gpu_tests=(--test gpu -- raster_phong:: raster_modes:: raytrace::)
 
 # file | what it breaks | sed expression (applied to that file only)
 glsl_mutants=(

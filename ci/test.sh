@@ -2,9 +2,9 @@
 # The test suite, as CI runs it: formatting, lints, the API docs (rustdoc
 # warnings are errors), then every test in release mode with the Khronos
 # validation layer on (a validation message fails the test that caused it).
-# Chromium is installed too: tests/compare_present.rs renders report.html in
+# Chromium is installed too: tests/cpu/compare_present.rs renders report.html in
 # it, and fails (does not skip) where it is missing; so are Slurm and MUNGE,
-# which tests/shards.rs runs a one-node cluster of (--shard auto).
+# which tests/cli/shards.rs runs a one-node cluster of (--shard auto).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash ci/install-deps.sh --with-chromium --with-slurm

@@ -82,3 +82,62 @@ class LayoutCheck(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class TestsFolder(unittest.TestCase):
+    """tests/ holds to the same limits, each test binary on its own."""
+
+    COMMON = {
+        "tests/common/mod.rs": "pub mod cli;\npub fn gpu() {}\n",
+        "tests/common/cli.rs": "pub fn shadelab() {}\n",
+        "tests/gpu/main.rs": '#[path = "../common/mod.rs"]\nmod common;\nmod raster;\nmod raytrace;\n',
+        "tests/gpu/raster.rs": "use crate::common;\n#[test]\nfn draws() { common::gpu() }\n",
+        "tests/gpu/raytrace.rs": "use crate::common::cli::shadelab;\n#[test]\nfn traces() { shadelab() }\n",
+        "tests/alone.rs": "mod common;\n#[test]\nfn alone() { common::gpu() }\n",
+    }
+
+    def tree(self, changes: dict) -> dict:
+        return {**CLEAN, **self.COMMON, **changes}
+
+    def test_a_clean_tests_folder_passes(self):
+        result = check(self.tree({}))
+        self.assertEqual(result.returncode, 0, result.stdout)
+        self.assertIn("no import loop in 2 test binaries", result.stdout)
+
+    def test_a_test_file_over_800_lines_fails(self):
+        long = self.COMMON["tests/gpu/raster.rs"] + "// line\n" * 800
+        result = check(self.tree({"tests/gpu/raster.rs": long}))
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("tests/gpu/raster.rs: 803 lines", result.stdout)
+
+    def test_a_test_function_over_100_lines_fails(self):
+        long = "#[test]\nfn long() {\n" + "    let _x = 1;\n" * 99 + "}\n"
+        result = check(self.tree({"tests/gpu/raster.rs": long}))
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("tests/gpu/raster.rs:2: fn long is 101 lines", result.stdout)
+        exactly = "#[test]\nfn long() {\n" + "    let _x = 1;\n" * 98 + "}\n"
+        result = check(self.tree({"tests/gpu/raster.rs": exactly}))
+        self.assertEqual(result.returncode, 0, result.stdout)
+
+    def test_two_modules_of_a_test_binary_naming_each_other_are_a_loop(self):
+        files = self.tree({
+            "tests/gpu/raster.rs": "pub fn f() { crate::raytrace::g() }\n",
+            "tests/gpu/raytrace.rs": "pub fn g() {}\npub fn h() { crate::raster::f() }\n",
+        })
+        result = check(files)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("import loop in test binary gpu: tests/gpu/raster.rs, tests/gpu/raytrace.rs", result.stdout)
+
+    def test_the_shared_helpers_are_a_module_of_each_binary(self):
+        # common naming a test module back is a loop, in the binary that has both.
+        files = self.tree({
+            "tests/common/cli.rs": "pub fn shadelab() { crate::raytrace::traces() }\n",
+            "tests/gpu/raytrace.rs": "use crate::common::cli::shadelab;\npub fn traces() { shadelab() }\n",
+        })
+        result = check(files)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("import loop in test binary gpu: tests/common/cli.rs, tests/gpu/raytrace.rs", result.stdout)
+
+    def test_fixtures_are_not_checked(self):
+        files = self.tree({"tests/data/big.rs": "// line\n" * 900})
+        self.assertEqual(check(files).returncode, 0)

@@ -35,7 +35,7 @@ fn main() -> ExitCode {
 }
 
 /// Everything `main` does, writing the report to `out` so that a test can
-/// read it (`tests/example_render_and_compare.rs`).
+/// read it (`tests/gpu/example_render_and_compare.rs`).
 pub fn run(args: &[String], out: &mut impl Write) -> Result<(), Box<dyn Error>> {
     if args.len() > 2 {
         return Err(USAGE.into());

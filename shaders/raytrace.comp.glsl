@@ -32,7 +32,7 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 #include "lighting.glsl"
 #include "texture.glsl"
 
-// The sizes the host holds the shader to (gpu::raytrace::layout; tests/shader_interface.rs
+// The sizes the host holds the shader to (gpu::raytrace::layout; tests/cpu/shader_interface.rs
 // checks each against its constant there), in one place.
 //
 // Depth is at most 64 (checked on the host). Only a ray that both reflects

@@ -1,5 +1,12 @@
 //! The ray tracer's module specialised before the driver sees it
 //! (`gpu::specialise`) against the driver specialising it, pixel for pixel.
+//!
+//! A binary of its own, not a module of `tests/gpu/`: it points the cache
+//! folder (`SHADELAB_CACHE_DIR`, which the library reads at every lookup)
+//! at an empty folder of its own with `std::env::set_var`. In a process
+//! shared with other tests that would race their threads' reads of the
+//! environment, and their specialised modules would land in its folder
+//! and in its count.
 
 mod common;
 

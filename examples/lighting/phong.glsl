@@ -1,7 +1,7 @@
 // The lecture's formula, written as a user hook: the built-in hook
 // (shaders/include/lighting_hook.glsl) line for line. It trades nothing; it
 // is the baseline the other hooks are measured against, and the test that a
-// hook is compiled into every mode renders it (tests/lighting_hook.rs).
+// hook is compiled into every mode renders it (tests/gpu/lighting_hook.rs).
 vec3 shade_light(vec3 N, vec3 V, vec3 L, float d, vec3 intensity, Surface m, float k) {
     vec3 light = intensity;
     if (USE_ATTENUATION) {

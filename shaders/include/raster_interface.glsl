@@ -1,6 +1,6 @@
 // The interface between the host and every raster stage: specialization
 // constants, descriptor bindings and push constants. The host's side of it is
-// src/gpu/raster/layout.rs; tests/shader_interface.rs checks the two agree
+// src/gpu/raster/layout.rs; tests/cpu/shader_interface.rs checks the two agree
 // using naga's reflection of the compiled SPIR-V.
 //
 // Positions here are camera-relative (world position minus eye, computed in

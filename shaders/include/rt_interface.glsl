@@ -1,7 +1,7 @@
 // The interface between the host and the ray-tracing compute shader:
 // specialization constants, descriptor bindings, buffer records. The host's
 // side is src/gpu/raytrace/layout.rs (records built in src/gpu/raytrace/records.rs);
-// tests/shader_interface.rs checks the two agree. Positions are
+// tests/cpu/shader_interface.rs checks the two agree. Positions are
 // camera-relative (the eye is the origin), computed in double precision on
 // the host (src/rt_scene/).
 //

@@ -180,7 +180,7 @@ RayFrame ray_frame(vec3 o, vec3 d) {
 
 // Corner `v` of a shared triangle (read_triangle) relative to the ray's
 // origin, sheared. The record holds the corners by axis, in consecutive
-// quads from TRI_X (tests/shader_interface.rs holds TRI_Y and TRI_Z to
+// quads from TRI_X (tests/cpu/shader_interface.rs holds TRI_Y and TRI_Z to
 // that): axis k's quad is in lane TRI_X / 4 + k, its word v corner v's
 // coordinate. So each coordinate in the order this lane's ray asks for is
 // one shuffle whose source lane is the axis: picked from a corner's three

@@ -65,7 +65,7 @@ bool occluded(vec3 o, vec3 d, float t_max) {
     // went through its planet on lavapipe 25.0.7 (with hits at 0 < t < 5
     // and t_max near 7.6, which the same source compiled into the
     // ray-query engine blocked): a difference we could not trace to the
-    // source, which this order avoids (tests/hard_cases.rs holds it).
+    // source, which this order avoids (tests/gpu/hard_cases.rs holds it).
     bool blocked = huge_sphere_blocks(o, d, t_max);
     for (int i = 0; i < SPHERE_COUNT; ++i) {
         float t = sphere_t(o, d, listed_spheres[i]);

@@ -34,7 +34,7 @@ pub const BOX_WIDENING: f64 = 1e-5;
 /// The CPU needs it so that no f64 triangle pokes out of a box built from
 /// its f32 rounding; the GPU so that a ray along an edge shared by two
 /// boxes, which lies on both boxes' faces, is not rejected by both slab
-/// tests' rounding (`tests/hard_cases.rs`, rays along shared edges).
+/// tests' rounding (`tests/gpu/hard_cases.rs`, rays along shared edges).
 pub fn widened_box(min: DVec3, max: DVec3) -> (DVec3, DVec3) {
     let margin = |x: DVec3| BOX_WIDENING * x.abs().max(DVec3::ONE);
     (min - margin(min), max + margin(max))

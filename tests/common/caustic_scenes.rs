@@ -1,5 +1,5 @@
-//! Scenes for the photon map's caustics (`tests/caustic_photons.rs` for
-//! the f64 twin, `tests/caustics_gpu.rs` for the GPU), and the answer the
+//! Scenes for the photon map's caustics (`tests/cpu/caustics.rs` for
+//! the f64 twin, `tests/gpu/caustics.rs` for the GPU), and the answer the
 //! mirror's caustic is held to, worked out by hand (also read by
 //! `benches/caustics.rs`).
 #![allow(dead_code)]

@@ -1,5 +1,5 @@
-//! The secondary-illumination oracle that tests/path_trace.rs and
-//! tests/forward_trace.rs share: a point light at the centre of a closed
+//! The secondary-illumination oracle that tests/gpu/path_trace.rs and
+//! tests/cpu/forward.rs share: a point light at the centre of a closed
 //! sphere of radius `R` whose inside is diffuse of albedo `a` (falloff
 //! 1/d^2). Every point of the inside gets the same direct light, `E = Il /
 //! R^2` at normal incidence, so it shows `a E`; each bounce sees another

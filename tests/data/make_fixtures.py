@@ -50,7 +50,7 @@ and, for assets/vertex-colors.toml, into ../../assets/models/:
                         them (floats for the cube, 0 to 1 across each face;
                         shorts for the floor; bytes for the triangle)
 
-and, for the image textures (tests/texture_import.rs), here:
+and, for the image textures (tests/cpu/texture_import.rs), here:
 
 - checker-2x2.png       a 2x2 RGBA PNG: red, green (top row), blue, sRGB
                         grey 128 (bottom row), all opaque

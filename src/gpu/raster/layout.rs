@@ -1,7 +1,7 @@
 //! The host's side of the raster shader interface
 //! (`shaders/include/raster_interface.glsl`): binding numbers and types,
 //! the byte layout of every buffer record and of the push constants, and the
-//! specialization constants. tests/shader_interface.rs checks each of these
+//! specialization constants. tests/cpu/shader_interface.rs checks each of these
 //! against naga's reflection of the compiled shaders.
 
 use ash::vk;

@@ -20,7 +20,7 @@ pub enum ColorTarget {
     Float32,
     /// 8-bit sRGB RGBA: the hardware encodes `clamp(I, 0, 1)` as a PNG
     /// holds it. A quarter of the bytes to write and read back; the same
-    /// PNG as the float target within 1 in 255 (tests/raster_modes.rs).
+    /// PNG as the float target within 1 in 255 (tests/gpu/raster_modes.rs).
     Srgb8,
     /// 16-bit unsigned-normalised RGBA holding linear values / 16: a
     /// multisampled render for a PNG. Its samples are averaged as linear
@@ -32,7 +32,7 @@ pub enum ColorTarget {
     /// sample up to 16 keeps its value, and one at 16 or more already
     /// makes the average of up to 16 samples 1 or more, white in a PNG as
     /// it should be; steps of 16/65535 keep the PNG within 1 in 255 of the
-    /// 32-bit path's (tests/msaa.rs).
+    /// 32-bit path's (tests/gpu/msaa.rs).
     ScaledUnorm16,
 }
 

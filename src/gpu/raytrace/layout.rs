@@ -1,6 +1,6 @@
 //! The host's side of the ray-tracing shader interface
 //! (`shaders/include/rt_interface.glsl`): bindings, record layouts, the
-//! uniform block and the specialization constants. tests/shader_interface.rs
+//! uniform block and the specialization constants. tests/cpu/shader_interface.rs
 //! checks each against naga's reflection of `raytrace.comp.glsl`.
 
 use ash::vk;
@@ -56,7 +56,7 @@ pub const QUERY_BINDINGS: &[(u32, vk::DescriptorType)] =
     &[(0, vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)];
 
 /// Entries of the BVH traversal stack in raytrace.comp.glsl (its
-/// `BVH_STACK_SIZE`; tests/shader_interface.rs holds the two equal). The
+/// `BVH_STACK_SIZE`; tests/cpu/shader_interface.rs holds the two equal). The
 /// walk stacks one far child per inner node on its path, so a tree `d`
 /// nodes deep needs fewer than `d` entries.
 pub const BVH_STACK_SIZE: usize = 64;
@@ -66,7 +66,7 @@ pub const BVH_STACK_SIZE: usize = 64;
 /// in all), so that each record is read at a constant index, once for the
 /// whole subgroup. A longer list goes into the BVH, where a ray tests only
 /// the objects whose boxes it enters. The shader's arrays of the listed
-/// objects have these sizes (its `UNROLLED_*`; tests/shader_interface.rs
+/// objects have these sizes (its `UNROLLED_*`; tests/cpu/shader_interface.rs
 /// holds the two equal).
 pub const UNROLLED_SPHERES: usize = 16;
 pub const UNROLLED_PLANES: usize = 12;
@@ -74,7 +74,7 @@ pub const UNROLLED_BOXES: usize = 6;
 
 /// Material counts up to which the shader reads a scene's materials once
 /// per invocation and picks a hit's by selects (its `UNROLLED_MATERIALS`;
-/// tests/shader_interface.rs holds the two equal): a comparison and 10
+/// tests/cpu/shader_interface.rs holds the two equal): a comparison and 10
 /// blends per material, where a lane's own read is 10 loads per lane with
 /// their bounds checks.
 pub const UNROLLED_MATERIALS: usize = 8;
@@ -91,7 +91,7 @@ pub fn lists_materials(count: usize) -> bool {
 pub const WORKGROUP_SIZE: u32 = 64;
 
 /// Pixels each lane traces per work item the shader takes from its queue
-/// (the shader's `ITEM_PACKETS`; tests/shader_interface.rs holds the two
+/// (the shader's `ITEM_PACKETS`; tests/cpu/shader_interface.rs holds the two
 /// equal).
 pub const ITEM_PACKETS: u32 = 16;
 
@@ -392,7 +392,7 @@ pub fn record_size(binding: u32) -> usize {
         UNIFORMS => std::mem::size_of::<TraceUniforms>(),
         // Read as quads of words, a subgroup at a time; the records' word
         // offsets are checked against the shader's constants by
-        // tests/shader_interface.rs.
+        // tests/cpu/shader_interface.rs.
         SPHERES | PLANES | BOXES | TRIANGLES | BVH_NODES => 16,
         TRIANGLE_SHADING => std::mem::size_of::<GpuTriangleShading>(),
         TRIANGLE_COLORS => std::mem::size_of::<GpuTriangleColors>(),

@@ -1,7 +1,7 @@
 //! Every compiled shader variant: SPIR-V produced by build.rs, with naga's
 //! reflection of its descriptor bindings, push constants and specialization
 //! constants. The host declares its side in `raster::layout`;
-//! tests/shader_interface.rs holds the two together.
+//! tests/cpu/shader_interface.rs holds the two together.
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ShaderStage {

@@ -236,7 +236,7 @@ fn describe_devices(instance: &ash::Instance) -> Result<Vec<Candidate>, GpuError
                 msaa_counts: msaa_counts(&props.limits),
                 // lavapipe reports 0 bits, yet applies the viewport in
                 // floats and snaps after it, to 1/256 of a pixel; the edge
-                // test of tests/msaa.rs at 8 and 16 samples per sample
+                // test of tests/gpu/msaa.rs at 8 and 16 samples per sample
                 // fails if that stops being so.
                 viewport_subpixel_bits: if driver.driver_id == vk::DriverId::MESA_LLVMPIPE {
                     props.limits.viewport_sub_pixel_bits.max(8)

@@ -1,6 +1,6 @@
 //! Descriptor set layouts and the one descriptor set a dispatch or draw
 //! binds, built from a list of `(binding, type)` pairs (a pipeline's
-//! `BINDINGS`, which tests/shader_interface.rs checks against the shaders).
+//! `BINDINGS`, which tests/cpu/shader_interface.rs checks against the shaders).
 
 use std::sync::Arc;
 

@@ -81,7 +81,7 @@ pub(super) fn parse(
 
 /// The `gltf` crate percent-decodes a relative buffer URI and unwraps the
 /// result as UTF-8, so a URI such as `a%AA.bin` panics inside it (found by
-/// fuzzing, `tests/fuzz_regressions.rs`). Refuse such a URI first.
+/// fuzzing, `tests/cli/fuzz_regressions.rs`). Refuse such a URI first.
 fn check_buffer_uris(label: &str, document: &gltf::Document) -> Result<(), SceneError> {
     for buffer in document.buffers() {
         let gltf::buffer::Source::Uri(uri) = buffer.source() else {

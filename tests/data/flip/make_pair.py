@@ -13,7 +13,7 @@ Standard library only. Run it from anywhere; it writes next to itself:
                  fixed linear congruential generator in [-12, 12]
 
 The mean FLIP of the pair (LDR, 67 pixels per degree) is recorded in
-tests/diff.rs as NVIDIA's reference implementation reports it:
+tests/cli/diff.rs as NVIDIA's reference implementation reports it:
 
     python3 -m venv /tmp/flipvenv && /tmp/flipvenv/bin/pip install flip-evaluator
     /tmp/flipvenv/bin/flip -r reference.png -t test.png -ppd 67 -nerm

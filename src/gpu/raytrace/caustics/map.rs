@@ -27,7 +27,7 @@ pub const MAP_BINDINGS: &[(u32, vk::DescriptorType)] = &[
 
 /// The record each binding of `MAP_BINDINGS` holds, in bytes: a quad of
 /// a point or a state, a bucket's head, a node, a count
-/// (tests/shader_interface.rs holds the shader to them).
+/// (tests/cpu/shader_interface.rs holds the shader to them).
 pub const MAP_RECORD_SIZES: [usize; 5] = [16, 16, 4, 8, 4];
 
 /// Hash buckets per pixel: a visible point goes into up to 8 cells' buckets,
