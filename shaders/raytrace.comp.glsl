@@ -1,10 +1,5 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#extension GL_KHR_shader_subgroup_basic : require
-#extension GL_KHR_shader_subgroup_shuffle : require
-#ifdef RAY_QUERY
-#extension GL_EXT_ray_query : require
-#endif
 // Backward (Whitted) ray tracing, exactly as docs/raytracing.md specifies
 // (its CPU twin is src/cpu/raytrace/): stratified samples, nearest hits
 // with the object-order tie rule, shadow rays, reflection and refraction
@@ -25,58 +20,19 @@
 // ended, a light behind the surface) takes part with a negative distance
 // limit, which no box or primitive passes.
 
-// 64 invocations; how many workgroups run does not matter (see main).
-layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
-
-#include "rt_interface.glsl"
-#include "lighting.glsl"
-#include "texture.glsl"
-
-// The sizes the host holds the shader to (gpu::raytrace::layout; tests/cpu/shader_interface.rs
-// checks each against its constant there), in one place.
-//
-// Depth is at most 64 (checked on the host). Only a ray that both reflects
-// and refracts leaves a ray waiting, one per level (rt_ray_tree.glsl); with
-// diffuse bounces (PATHS) a bounce can wait beside it, two per level.
+// The prelude (extensions, workgroup, sizes, interface, and the parts
+// that find and shade a ray's hits), then the rest in the order the parts
+// build on each other:
+#include "rt_kernel.glsl"
 #ifdef PATHS
-const int STACK_SIZE = 128;
-#else
-const int STACK_SIZE = 64;
-#endif
-// Packets each subgroup traces per work item (rt_layout::ITEM_PACKETS): a
-// 4 x 4 arrangement of packets, each packet 4 pixels wide, so an item is
-// ITEM_WIDTH pixels wide.
-const uint ITEM_PACKETS = 16u;
-const uint ITEM_WIDTH = 16u;
-// The BVH walk's stack (rt_bvh.glsl).
-const int BVH_STACK_SIZE = 64;
-// The objects tested one by one, read once per invocation into private
-// arrays (rt_objects.glsl, which says why). Sized as rt_layout::UNROLLED_*
-// (longer lists go into the BVH).
-const int UNROLLED_SPHERES = 16;
-const int UNROLLED_PLANES = 12;
-const int UNROLLED_BOXES = 6;
-// A scene's few materials, read once per invocation when MATERIALS_LISTED
-// (rt_shading.glsl, which says why).
-const int UNROLLED_MATERIALS = 8;
-
-// The tracer in the order its parts build on each other:
-#include "rt_ray.glsl"         // rays, hit records, the ray counts
-#include "rt_packet.glsl"      // the subgroup as a packet: votes, shared record reads
-#include "rt_hit_rule.glsl"    // which of two hits is the nearest (the tie rule)
-#include "rt_objects.glsl"     // the analytic objects' records, and the listed ones
-#include "rt_primitives.glsl"  // ray against sphere, plane, box and triangle
-#include "rt_bvh.glsl"         // the packet walk of the BVH, binary or 4-wide
-#include "rt_search.glsl"      // nearest hit and shadow query: lists, then BVH (or ray queries)
-#include "rt_surface.glsl"     // what shading needs at a hit: normal, uv, pattern, tint
-#include "rt_shading.glsl"     // materials, offsets, direct light with shadow rays
-#ifdef PATHS
-#include "rt_bounce.glsl"      // diffuse bounces: random numbers, directions
+#include "random_streams.glsl" // the named random streams, and a sampler of them
+#include "rt_bounce.glsl"      // diffuse bounces: their numbers, directions
 #include "rt_pixel_samples.glsl" // where a pixel's samples look: a progressive sequence
 #include "rt_sample_sums.glsl" // samples summed in fixed point, as films are
 #endif
 #include "rt_children.glsl"    // a hit's reflected and refracted rays
 #include "rt_ray_tree.glsl"    // one sample's reflection and refraction tree
+#include "rt_work_queue.glsl"  // the work items, shared out as the work goes
 
 // Sample i's cell of the Whitted tracer's grid: row i / kx and column
 // i % kx, in floats (exact: (i + 0.5) / kx is 0.5 / kx from an integer or
@@ -87,12 +43,8 @@ vec2 grid_cell(uint i, float kx, float inv_kx, float inv_ky) {
     return vec2(column + 0.5, row + 0.5) * vec2(inv_kx, inv_ky);
 }
 
-// Subgroups take work items from a queue (one atomic counter) until it
-// runs dry, so the image's pixels are shared out as the work goes, not
-// by workgroup id: lavapipe hands each of its threads a fixed share of
-// the workgroups, and a thread that was slower (a busier core, or the
-// share of the image with the scene in it) left the others idle at the
-// end. An item is 16 packets, each packet a 4 x (S/4) patch of
+// Subgroups take work items from the queue (rt_work_queue.glsl says why).
+// An item is 16 packets, each packet a 4 x (S/4) patch of
 // pixels for a subgroup of S lanes (4 x 2 on lavapipe): 16 x S pixels,
 // in rows of items from the top. Each lane's colour depends on its own
 // ray alone (see walk_bvh), so which subgroup traces a pixel, and with
@@ -130,12 +82,7 @@ void main() {
     uint items_across = (width + ITEM_WIDTH - 1u) / ITEM_WIDTH;
     uint item_count = items_across * ((height + size - 1u) / size);
     for (;;) {
-        // Uniform control flow: lane 0 takes the item, every lane gets it.
-        uint item = 0u;
-        if (lane == 0u) {
-            item = atomicAdd(next_item, 1u);
-        }
-        item = subgroupShuffle(item, 0u);
+        TAKE_WORK_ITEM(item, lane);
         if (item >= item_count) {
             break;
         }
@@ -165,8 +112,8 @@ void main() {
                 vec2 ndc = (vec2(pixel) + cell) * ndc_per_pixel - 1.0;
                 vec3 dir = frame.forward_cutoff.xyz + right_per_ndc * ndc.x - up_per_ndc * ndc.y;
 #ifdef PATHS
-                uvec2 key = uvec2(pixel_index, i);
-                vec3 value = trace_sample(dir * inversesqrt(dot(dir, dir)), on_image, key);
+                sample_sampler = start_pixel_sample(pixel_index, i);
+                vec3 value = trace_sample(dir * inversesqrt(dot(dir, dir)), on_image);
                 add_sample(sums, value / float(samples));
                 i += max(sample_range.step, 1u);
                 if (i >= sample_range.end) {

@@ -44,7 +44,7 @@
 //!
 //! The rest support these: [`camera`] (the view every renderer shares),
 //! [`shading`] (the modes), [`rt_scene`] (the scene as both ray tracers see
-//! it), [`huge_sphere`] (how they test spheres large where the eye is), [`narrow_view`] (the narrowest view they can place), [`msaa`] (samples per pixel and where they lie), [`cache`] (the folder of compiled modules and Mesa's shader cache), [`linear_image`], [`srgb`], [`junit`], [`markup`] and [`error`].
+//! it), [`huge_sphere`] (how they test spheres large where the eye is), [`narrow_view`] (the narrowest view they can place), [`random_streams`] (the random numbers the tracers draw, named by stream), [`msaa`] (samples per pixel and where they lie), [`cache`] (the folder of compiled modules and Mesa's shader cache), [`linear_image`], [`srgb`], [`junit`], [`markup`] and [`error`].
 //!
 //! The lighting model every renderer follows, GPU and CPU alike, is specified
 //! in `docs/lighting-model.md` in this repository; `cpu::lighting` and
@@ -107,6 +107,7 @@ pub mod metrics;
 pub mod msaa;
 pub mod narrow_view;
 pub mod output;
+pub mod random_streams;
 pub mod render;
 pub mod rt_scene;
 pub mod scene;

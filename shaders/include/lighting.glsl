@@ -17,6 +17,8 @@
 //   the eye) turns L by up to about 1e-7 r / d, so the bound grows to
 //   FACING_EPS r / d where the light is nearer than the eye
 //   (assets/hard/light-on-surface.toml, 8 samples a pixel).
+#ifndef LIGHTING_GLSL
+#define LIGHTING_GLSL
 
 // 1e-5: ten times f32 rounding of a dot product of unit vectors, and only
 // 0.0006 degrees from the tangent plane.
@@ -94,3 +96,4 @@ vec3 shade(vec3 P, vec3 N, vec3 V, Surface m, vec3 ambient, float k) {
     return intensity;
 }
 
+#endif

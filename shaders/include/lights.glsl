@@ -2,6 +2,8 @@
 // specialization constants 0 to 2 and 32 and the light buffer at binding 0. The
 // host's side is `raster_layout::SPEC_CONSTANTS` (which `raytrace::layout` starts
 // with) and `raster_layout::GpuLight`.
+#ifndef LIGHTS_GLSL
+#define LIGHTS_GLSL
 
 layout(constant_id = 0) const int LIGHT_COUNT = 1;
 layout(constant_id = 1) const bool USE_SPECULAR = true;
@@ -18,3 +20,5 @@ struct PointLight {
 layout(std430, set = 0, binding = 0) readonly buffer LightBuffer {
     PointLight lights[];
 };
+
+#endif

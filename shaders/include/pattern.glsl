@@ -6,6 +6,8 @@
 // be an image instead, read at the level of detail of the pixel's quad
 // (`raster_lambda`; the CPU twin's is in src/cpu/raster/shade.rs). Needs `draw`
 // (raster_interface.glsl) compiled with PATTERN.
+#ifndef PATTERN_GLSL
+#define PATTERN_GLSL
 #ifdef TEXTURE
 #include "texture.glsl"
 
@@ -38,3 +40,5 @@ vec3 pattern_color(vec2 uv) {
     vec2 cell = floor(scale * uv);
     return mod(cell.x + cell.y, 2.0) == 0.0 ? draw.checker_a.rgb : draw.checker_b.rgb;
 }
+
+#endif

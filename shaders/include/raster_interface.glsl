@@ -6,6 +6,8 @@
 // Positions here are camera-relative (world position minus eye, computed in
 // double precision on the host), so the eye sits at the origin and far-away
 // scenes keep their float precision.
+#ifndef RASTER_INTERFACE_GLSL
+#define RASTER_INTERFACE_GLSL
 
 // Features a scene does not use are compiled out (chosen per scene on the
 // host): constants 0 to 2 and the lights, shared with the ray tracer.
@@ -40,3 +42,5 @@ layout(push_constant) uniform DrawConstants {
     vec4 checker_b;           // rgb: second colour
 #endif
 } draw;
+
+#endif

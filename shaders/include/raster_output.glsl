@@ -12,6 +12,8 @@
 // that samples up to 16 keep their value through the resolve, and the host
 // multiplies by 16 again (gpu::raster::ColorTarget::ScaledUnorm16). Any
 // other target: 1.
+#ifndef RASTER_OUTPUT_GLSL
+#define RASTER_OUTPUT_GLSL
 layout(constant_id = 6) const float OUTPUT_SCALE = 1.0;
 layout(constant_id = 7) const bool AT_LEAST_ZERO = false;
 
@@ -20,3 +22,5 @@ vec3 written(vec3 c) {
 }
 
 #define WRITE_COLOR(c) out_color = vec4(written(c), 1.0)
+
+#endif

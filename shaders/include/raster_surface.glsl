@@ -1,4 +1,8 @@
 // The material of the current draw, from the raster push constants.
+#ifndef RASTER_SURFACE_GLSL
+#define RASTER_SURFACE_GLSL
+
+#include "lighting.glsl"
 Surface draw_surface() {
     return Surface(draw.color_ka.rgb, draw.color_ka.a, draw.kd_ks_p.x, draw.kd_ks_p.y, draw.kd_ks_p.z);
 }
@@ -12,4 +16,6 @@ Surface tinted(Surface s, vec3 tint) {
     s.color *= tint;
     return s;
 }
+#endif
+
 #endif

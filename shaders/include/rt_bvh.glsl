@@ -1,5 +1,15 @@
 // The ray tracer's BVH walk (walk_bvh): the subgroup's rays as one packet
 // through the binary tree, or the 4-wide one when compiled with WIDE_BVH.
+#ifndef RT_BVH_GLSL
+#define RT_BVH_GLSL
+
+#include "kernel_sizes.glsl"
+#include "rt_interface.glsl"
+#include "rt_ray.glsl"
+#include "rt_packet.glsl"
+#include "rt_hit_rule.glsl"
+#include "rt_objects.glsl"
+#include "rt_primitives.glsl"
 
 // The smaller and the larger of two numbers that are not NaN, as one
 // comparison each: lavapipe's min() and max() also sort out a NaN operand,
@@ -178,7 +188,7 @@ void walk_bvh(vec3 o, vec3 d, inout Hit best, bool any_hit) {
     vec3 inv_d = slab_inverse(d);
     RayFrame shear = ray_frame(o, d);
     // Cannot overflow: the host refuses a tree deeper than the stack
-    // (rt_layout::BVH_STACK_SIZE), since a dropped node would be a miss,
+    // (kernel_sizes::BVH_STACK_SIZE), since a dropped node would be a miss,
     // and walks a tree 4-wide only where that walk's stack fits too
     // (wide_bvh::WideBvh::stack_need).
     uint stack_link[BVH_STACK_SIZE];
@@ -273,3 +283,5 @@ void walk_bvh(vec3 o, vec3 d, inout Hit best, bool any_hit) {
         }
     }
 }
+
+#endif

@@ -1,11 +1,57 @@
 // The photon map's four stages (caustics.comp.glsl): the twin of
 // src/cpu/caustics/sppm.rs and photons.rs, in the order of
 // docs/lighting-model.md, "Caustics: light the eye's rays cannot find".
+// Its own interface (the pass's push constants, set 1) is here: only
+// caustics.comp.glsl, compiled with FORWARD, includes this.
+#ifndef RT_CAUSTICS_GLSL
+#define RT_CAUSTICS_GLSL
 
-// A number in [0, 1) from the top 24 bits of a word, exact in f32.
-float unit_number(uint x) {
-    return float(x >> 8u) * (1.0 / 16777216.0);
-}
+#include "rt_interface.glsl"
+#include "film_fixed.glsl"
+#include "random_streams.glsl"
+#include "rt_ray.glsl"
+#include "rt_packet.glsl"
+#include "rt_search.glsl"
+#include "rt_surface.glsl"
+#include "rt_shading.glsl"
+#include "rt_children.glsl"
+#include "rt_photon.glsl"
+
+// The dispatch (gpu::raytrace::caustics::CausticPass).
+layout(push_constant) uniform CausticPass {
+    uint first;            // the pass's first photon
+    uint count;            // its photons
+    uint total;            // photons per pass, over which the lights' power is split
+    uint stage;            // 0 visible points, 1 grid, 2 photons, 3 update
+    uint pass;             // the pass's number, which keys the eye paths' numbers
+    uint buckets;          // the grid's hash buckets
+    float initial_radius;  // in pixel footprints
+    float alpha;           // SPPM's share of new photons kept
+} batch;
+
+// Each pixel's visible point this pass, three quads: xyz its position and
+// w its radius (negative: none this pass); xyz the normal on the side it
+// faces; xyz its weight, the eye path's weights times kd C.
+layout(std430, set = 1, binding = 0) buffer VisiblePointBuffer { vec4 points[]; };
+// Each pixel's state over the passes, two quads: rgb its flux so far and
+// w its count of photons kept; x its radius (0 until it has had a point).
+layout(std430, set = 1, binding = 1) buffer PixelStateBuffer { vec4 states[]; };
+// The grid: the widest radius of the pass (as the bits of a float, which
+// order as the floats do for radii of 0 or more), the nodes used, and
+// each bucket's first node.
+layout(std430, set = 1, binding = 2) buffer GridBuffer {
+    uint grid_widest;
+    uint grid_nodes;
+    uint grid_unused0;
+    uint grid_unused1;
+    uint heads[];
+};
+// A bucket's list: x a pixel, y the next node.
+layout(std430, set = 1, binding = 3) buffer GridNodeBuffer { uvec2 nodes[]; };
+// Each pixel's photons gathered this pass.
+layout(std430, set = 1, binding = 4) buffer FoundBuffer { uint found[]; };
+
+const uint NO_NODE = 0xffffffffu;
 
 // What a surface does to light at a hit: its albedo kd C (tinted).
 vec3 albedo_at(Hit hit, Surfel s, Surface m, vec3 dir) {
@@ -20,16 +66,16 @@ vec3 albedo_at(Hit hit, Surfel s, Surface m, vec3 dir) {
 }
 
 // Pixel `pixel`'s eye path this pass, if `live`: through a point of the
-// pixel drawn from pcg4d(pixel, pass, 0, 3), then at each surface one
-// event drawn from pcg4d(pixel, pass, level, 3): stop on its kd C (all
+// pixel drawn at level 0 of its eye path's numbers (`start_eye_path`),
+// then at each surface one event drawn at the next level: stop on its kd C (all
 // paths where it has no kr or kt, half where it has), or go on by kr or
 // kt in proportion, each weighted up by its chance. The point it stops
 // on is written, its radius set where the pixel has none yet. Call in
 // uniform control flow (the searches walk the BVH as packets).
 void trace_visible_point(uint pixel, bool live) {
     uint width = frame.image.x;
-    uvec4 u = pcg4d(uvec4(pixel, batch.pass, 0u, 3u));
-    vec2 at = vec2(float(pixel % width), float(pixel / width)) + vec2(unit_number(u.x), unit_number(u.y));
+    Sampler eye = start_eye_path(pixel, batch.pass);
+    vec2 at = vec2(float(pixel % width), float(pixel / width)) + sampler_at_level(eye, 0).xy;
     vec2 ndc = at * vec2(2.0 / float(width), 2.0 / float(frame.image.y)) - 1.0;
     float focal = frame.right_focal.w;
     vec3 dir = normalize(frame.forward_cutoff.xyz + frame.right_focal.xyz * (ndc.x * frame.up_aspect.w / focal) -
@@ -53,7 +99,7 @@ void trace_visible_point(uint pixel, bool live) {
             float p_reflect = c.reflects ? c.reflect_weight : 0.0;
             float p_refract = c.refracts ? c.refract_weight : 0.0;
             float p_stop = albedo == vec3(0.0) ? 0.0 : (p_reflect + p_refract > 0.0 ? 0.5 : 1.0);
-            float pick = unit_number(pcg4d(uvec4(pixel, batch.pass, uint(level + 1), 3u)).x);
+            float pick = sampler_at_level(eye, level + 1).x;
             live = s.normal != vec3(0.0);
             if (live && pick < p_stop) {
                 stops = true;
@@ -232,3 +278,5 @@ void update_pixel(uint pixel) {
         grid_nodes = 0u;
     }
 }
+
+#endif

@@ -1,6 +1,12 @@
 // What a hit's ray branches into, shared by both directions of tracing:
 // the eye's rays (rt_ray_tree.glsl) and the photons (rt_photon.glsl). The
 // twin of `children` in src/cpu/raytrace/secondary_rays.rs.
+#ifndef RT_CHILDREN_GLSL
+#define RT_CHILDREN_GLSL
+
+#include "rt_interface.glsl"
+#include "rt_ray.glsl"
+#include "rt_shading.glsl"
 
 // What a hit's ray branches into: a reflected ray, a refracted one (its
 // direction), both or neither, with their weights. A child lighter than
@@ -51,3 +57,5 @@ Children children_of(Ray ray, vec3 N, MaterialRecord material, float cutoff) {
     }
     return c;
 }
+
+#endif

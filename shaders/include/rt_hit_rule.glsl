@@ -1,6 +1,11 @@
 // The ray tracer's nearest-hit rule (docs/raytracing.md): the nearest
 // t > 0 wins; a tie goes to the lower scene object, then to the lower
 // triangle.
+#ifndef RT_HIT_RULE_GLSL
+#define RT_HIT_RULE_GLSL
+
+#include "rt_interface.glsl"
+#include "rt_ray.glsl"
 
 // The scene object of a shape, and its place among that object's
 // primitives (triangles only), for the tie rule.
@@ -50,3 +55,5 @@ void consider_object(float t, uint shape, vec3 normal, float radius, uint materi
         best = Hit(t, shape, vec2(0.0), normal, radius, material, object);
     }
 }
+
+#endif

@@ -14,6 +14,8 @@
 // second record read once per ray, for the nearest hit. Nodes, triangles
 // and object records are read as quads of words, so that a subgroup can
 // share them.
+#ifndef RT_INTERFACE_GLSL
+#define RT_INTERFACE_GLSL
 
 // Shared with the raster pipelines (same ids, same meaning).
 #include "lights.glsl"
@@ -39,7 +41,7 @@ layout(constant_id = 11) const bool BVH_SPHERES = false;
 layout(constant_id = 12) const bool BVH_PLANES = false;
 layout(constant_id = 13) const bool BVH_BOXES = false;
 // Whether the scene's materials are few enough to be read once per
-// invocation and picked by selects (rt_layout::UNROLLED_MATERIALS), and
+// invocation and picked by selects (kernel_sizes::UNROLLED_MATERIALS), and
 // then how many there are; otherwise each lane reads its own.
 layout(constant_id = 14) const bool MATERIALS_LISTED = false;
 layout(constant_id = 15) const int MATERIAL_COUNT = 0;
@@ -217,5 +219,7 @@ layout(std430, set = 0, binding = 14) readonly buffer PatternBuffer { MaterialPa
 layout(std430, set = 0, binding = 15) readonly buffer TextureRecordBuffer { uvec4 texture_records[]; };
 layout(std430, set = 0, binding = 16) readonly buffer TexelBuffer { vec4 texels[]; };
 // The work queue: the next work item to take (zeroed before each dispatch;
-// see main).
+// rt_work_queue.glsl).
 layout(std430, set = 0, binding = 11) buffer WorkQueueBuffer { uint next_item; };
+
+#endif

@@ -1,5 +1,11 @@
 // The ray tracer's analytic objects (spheres, planes, boxes) read from
 // their records, and the listed ones read once per invocation.
+#ifndef RT_OBJECTS_GLSL
+#define RT_OBJECTS_GLSL
+
+#include "kernel_sizes.glsl"
+#include "rt_interface.glsl"
+#include "rt_packet.glsl"
 
 // The analytic objects' geometry. In the loops over the objects tested one
 // by one (which unroll) `X_geometry(i)` reads each record at a constant
@@ -90,8 +96,8 @@ BoxGeometry box_geometry(int i) {
 // them unroll, so the driver keeps them in registers and spill slots. Read
 // where they are tested, each word was a load of its own with a bounds
 // check, reloaded for every test: the four spheres took 0.75x the time
-// with them read once. Sized as rt_layout::UNROLLED_*, in raytrace.comp.glsl
-// (longer lists go into the BVH).
+// with them read once. Sized as kernel_sizes::UNROLLED_* (longer lists go
+// into the BVH).
 SphereGeometry listed_spheres[UNROLLED_SPHERES];
 PlaneGeometry listed_planes[UNROLLED_PLANES];
 BoxGeometry listed_boxes[UNROLLED_BOXES];
@@ -107,3 +113,5 @@ void read_listed_objects() {
         listed_boxes[i] = box_geometry(i);
     }
 }
+
+#endif

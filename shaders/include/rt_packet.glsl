@@ -1,6 +1,10 @@
 // The ray tracer's subgroup as one packet (raytrace.comp.glsl's opening
 // comment says why): a vote over the lanes, and records read once by the
 // whole subgroup and handed to every lane by shuffles.
+#ifndef RT_PACKET_GLSL
+#define RT_PACKET_GLSL
+
+#include "rt_interface.glsl"
 
 // The OR of `v` over the subgroup; every lane must be here. A butterfly of
 // shuffles, written out: lavapipe does not unroll a loop over the steps,
@@ -95,3 +99,5 @@ LANE_READER(triangle_word, triangle_quads, TRI_QUADS)
 LANE_READER(sphere_word, sphere_quads, SPHERE_QUADS)
 LANE_READER(plane_word, plane_quads, PLANE_QUADS)
 LANE_READER(box_word, box_quads, BOX_QUADS)
+
+#endif

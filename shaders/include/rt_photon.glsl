@@ -1,8 +1,23 @@
 // One photon's flight from a light and its splats toward the eye
 // (forward.comp.glsl): the twin of src/cpu/forward/photon.rs, in the order
-// of docs/lighting-model.md, "Forward: photons from the lights".
+// of docs/lighting-model.md, "Forward: photons from the lights". Shared
+// with the photon map (rt_caustics.glsl). For the kernels compiled with
+// FORWARD, whose interface has the film.
+#ifndef RT_PHOTON_GLSL
+#define RT_PHOTON_GLSL
 
+#include "rt_interface.glsl"
+#include "lighting.glsl"
 #include "film_fixed.glsl"
+#include "random_streams.glsl"
+#include "rt_ray.glsl"
+#include "rt_packet.glsl"
+#include "rt_objects.glsl"
+#include "rt_search.glsl"
+#include "rt_surface.glsl"
+#include "rt_shading.glsl"
+#include "rt_bounce.glsl"
+#include "rt_children.glsl"
 
 // What this invocation's photons did (flushed once, at the end).
 uint64_t counted_photons[4];
@@ -22,11 +37,9 @@ struct Flight {
 };
 
 // Photon i's four numbers at `level` (0: the light and the direction; n:
-// the event at its n-th surface): the top 24 bits of each word, exact in
-// f32 (cpu::raytrace::photon_numbers).
+// the event at its n-th surface; `random_streams::Sampler::photon`).
 vec4 photon_numbers(uint i, int level) {
-    uvec4 x = pcg4d(uvec4(i, uint(level), 0u, 2u));
-    return vec4(x >> 8u) * (1.0 / 16777216.0);
+    return sampler_at_level(start_photon(i), level);
 }
 
 // The light `u` picks and its chance: each light's running share of the
@@ -200,10 +213,11 @@ Flight emit_photon(uint i, uint total) {
                   12.566370614359172 * lights[j].intensity.rgb / (float(total) * chance), 0.0, false, 0);
 }
 
-// Photon i's flight, if `live`. Call in uniform control flow (its searches
-// walk the BVH as packets): a lane with no photon takes part with none.
-void trace_photon(uint i, bool live) {
-    Flight f = emit_photon(i, batch.total);
+// Photon i of `total`'s flight, if `live`. Call in uniform control flow
+// (its searches walk the BVH as packets): a lane with no photon takes part
+// with none.
+void trace_photon(uint i, uint total, bool live) {
+    Flight f = emit_photon(i, total);
     if (live) {
         counted_photons[0] += 1ul;
     }
@@ -261,6 +275,19 @@ void trace_photon(uint i, bool live) {
     }
 }
 
+// What an invocation of a photon kernel does first: its counts zeroed,
+// the listed objects and materials read (rt_objects.glsl and
+// rt_shading.glsl say why).
+void start_photon_invocation() {
+    for (int k = 0; k < 4; ++k) {
+        counted_photons[k] = 0ul;
+    }
+    read_listed_objects();
+    if (MATERIALS_LISTED) {
+        read_listed_materials();
+    }
+}
+
 // This invocation's counts, added to the render's.
 void flush_photon_counts() {
     for (int k = 0; k < 4; ++k) {
@@ -269,3 +296,5 @@ void flush_photon_counts() {
         }
     }
 }
+
+#endif

@@ -4,12 +4,11 @@
 // and the stream, so any prefix of a pixel's samples covers the pixel and is
 // unbiased, and the two streams are independent estimates for --error. The
 // twin of src/cpu/raytrace/pixel_samples.rs, bit for bit (docs/raytracing.md,
-// "Samples of a pixel"). Needs pcg4d (rt_bounce.glsl).
+// "Samples of a pixel").
 #ifndef RT_PIXEL_SAMPLES_GLSL
 #define RT_PIXEL_SAMPLES_GLSL
 
-// The last word of a scramble seed's hash key (the twin's SCRAMBLE_KEY).
-const uint SCRAMBLE_KEY = 5u;
+#include "random_streams.glsl"
 
 // The Sobol sequence's second dimension: column k is column k - 1 XOR
 // itself shifted right by one, from 2^31.
@@ -43,7 +42,7 @@ uint owen_scramble(uint word, uint seed) {
 vec2 pixel_sample(uint pixel, uint i) {
     // Reversed: the scramble's top bits take the seed's low ones, where the
     // hash mixes least (the twin says what that did).
-    uvec4 seeds = bitfieldReverse(pcg4d(uvec4(pixel, i & 1u, 0u, SCRAMBLE_KEY)));
+    uvec4 seeds = bitfieldReverse(stream_words(STREAM_PIXEL_SCRAMBLE, pixel, i & 1u, 0u));
     uint index = i >> 1;
     uvec2 words = uvec2(owen_scramble(bitfieldReverse(index), seeds.x),
                         owen_scramble(sobol_second(index), seeds.y));

@@ -2,6 +2,13 @@
 // for none: spheres (huge ones in their anchored form), planes, boxes and
 // triangles; and the tests of a ray's line against a bounding sphere that
 // let a packet skip that work.
+#ifndef RT_PRIMITIVES_GLSL
+#define RT_PRIMITIVES_GLSL
+
+#include "rt_interface.glsl"
+#include "rt_ray.glsl"
+#include "rt_packet.glsl"
+#include "rt_objects.glsl"
 
 // Distance to a sphere along the ray, or 0 for none (the stable form).
 // The square root and the division sit in one branch, which the driver
@@ -218,3 +225,5 @@ float triangle_t(RayFrame frame, Shared tri, out vec2 uv) {
     }
     return t;
 }
+
+#endif

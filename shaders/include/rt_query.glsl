@@ -12,6 +12,10 @@
 // committed: the nearest t > 0 wins, ties to the lower object.
 // docs/raytracing.md, "The ray-query engine", says where the two engines
 // may differ.
+#ifndef RT_QUERY_GLSL
+#define RT_QUERY_GLSL
+
+#include "rt_search.glsl"
 
 layout(set = 1, binding = 0) uniform accelerationStructureEXT scene_structure;
 
@@ -118,3 +122,5 @@ bool occluded(vec3 o, vec3 d, float t_max) {
     }
     return blocked;
 }
+
+#endif

@@ -1,5 +1,9 @@
 // The ray tracer's (raytrace.comp.glsl) rays and hit records, and the
 // counts of the rays it traced that it reports with COUNT_RAYS.
+#ifndef RT_RAY_GLSL
+#define RT_RAY_GLSL
+
+#include "rt_interface.glsl"
 
 // Beyond every hit: the distance limit of a ray that has found none yet.
 const float NO_HIT = 3.0e38;
@@ -63,3 +67,5 @@ void count(int kind) {
         local_counts[kind] += 1u;
     }
 }
+
+#endif

@@ -2,23 +2,32 @@
 // tree walked with a stack of the rays that wait; compiled with PATHS,
 // diffuse bounces too (docs/lighting-model.md, "Secondary illumination").
 
+#ifndef RT_RAY_TREE_GLSL
+#define RT_RAY_TREE_GLSL
+
+#include "kernel_sizes.glsl"
+#include "rt_interface.glsl"
+#include "rt_ray.glsl"
+#include "rt_packet.glsl"
+#include "rt_objects.glsl"
+#include "rt_search.glsl"
+#include "rt_surface.glsl"
+#include "rt_shading.glsl"
+#include "rt_children.glsl"
 #ifdef PATHS
+#include "random_streams.glsl"
+#include "rt_bounce.glsl"
+
 // The diffuse albedo kd C of the hit `shade_hit` shaded last, after
 // vertex colours, patterns and images: a bounce's weight.
 vec3 hit_albedo = vec3(0.0);
+// The sample being traced, whose numbers its bounces draw: set by the
+// kernel (`start_pixel_sample`) before it calls trace_sample.
+Sampler sample_sampler;
 // Bounces wait on the stack, as refracted rays' siblings do.
 #define RAYS_WAIT true
-// The background lights nothing: only eye rays (no bounce yet) see it.
-#define AND_AN_EYE_RAY && ray.bounces == 0
-// A sample's pixel and index, which seed its bounces.
-#define SAMPLE_KEY , uvec2 key
-// A ray's bounces so far, after its depth.
-#define BOUNCES_SO_FAR(n) , n
 #else
 #define RAYS_WAIT HAS_TRANSMISSION
-#define AND_AN_EYE_RAY
-#define SAMPLE_KEY
-#define BOUNCES_SO_FAR(n)
 #endif
 
 // The local model's light at a hit, shadow rays included, and the surface
@@ -71,17 +80,22 @@ void child_cones(vec2 cone, Hit hit, out vec2 refracted_cone, out vec2 reflected
 // A child of `ray` at its hit `s`: leaving along `dir`, from an origin off
 // the surface, one level deeper.
 Ray child_ray(Ray ray, Surfel s, vec3 dir, WEIGHT weight) {
-    return Ray(offset_origin(s.p, ray.origin, s.geometric, dir), dir, weight, ray.depth + 1 BOUNCES_SO_FAR(ray.bounces));
+#ifdef PATHS
+    // A mirror's or glass's child keeps its path's bounces.
+    return Ray(offset_origin(s.p, ray.origin, s.geometric, dir), dir, weight, ray.depth + 1, ray.bounces);
+#else
+    return Ray(offset_origin(s.p, ray.origin, s.geometric, dir), dir, weight, ray.depth + 1);
+#endif
 }
 
 #ifdef PATHS
 // The diffuse bounce of `ray`'s hit `s` (at distance `t`, albedo
-// `hit_albedo`) and its cone, drawn with the numbers of `key`: false where
+// `hit_albedo`) and its cone, drawn with `sample_sampler`'s numbers: false where
 // the hit takes none (the depth or the bounce limit reached, a zero
 // normal, a black surface), where Russian roulette ends the path, or where
 // the direction leaves below the surface's geometric side
 // (src/cpu/raytrace/tracer.rs, `bounce`).
-bool bounce_of(Ray ray, Surfel s, float t, vec2 cone, uvec2 key, out Ray bounced, out vec2 bounce_cone) {
+bool bounce_of(Ray ray, Surfel s, float t, vec2 cone, out Ray bounced, out vec2 bounce_cone) {
     bounce_cone = vec2(0.0);
     if (TEXTURES) {
         // As a refracted ray's: as wide as this one at the hit.
@@ -96,7 +110,7 @@ bool bounce_of(Ray ray, Surfel s, float t, vec2 cone, uvec2 key, out Ray bounced
     if (!kept) {
         return false;
     }
-    vec3 u = bounce_numbers(key, ray.depth);
+    vec3 u = bounce_numbers(sample_sampler, ray.depth);
     vec3 weight = ray.weight * hit_albedo;
     if (ray.bounces >= ROULETTE_AFTER) {
         float q = min(LARGEST(weight), 1.0);
@@ -154,13 +168,25 @@ bool packet_goes_on_with(bool live, bool packet_hits) {
 // the votes did, for less (a vote is three shuffles; the four spheres took
 // 0.9x the time without).
 //
+// The first search goes without a vote: a packet with no pixel on the
+// image is rare (the image's edges), and its lanes find nothing. No
+// children from a zero normal: no direction to reflect or refract about.
+// (Specialization constants appear only as whole conditions: naga's SPIR-V
+// reader rejects operators on them, OpSpecConstantOp.)
+//
 // With PATHS a hit's diffuse bounce waits on the stack below its mirror
-// and glass children, so it is traced after them, as on the CPU.
-vec3 trace_sample(vec3 dir, bool live SAMPLE_KEY) {
+// and glass children, so it is traced after them, as on the CPU; its
+// numbers are `sample_sampler`'s. The background lights nothing there:
+// only eye rays (no bounce yet) see it.
+vec3 trace_sample(vec3 dir, bool live) {
     Ray waiting[STACK_SIZE];
     vec2 waiting_cones[STACK_SIZE];
     int top = 0;
-    Ray ray = Ray(vec3(0.0), dir, WEIGHT(1.0), 0 BOUNCES_SO_FAR(0));
+#ifdef PATHS
+    Ray ray = Ray(vec3(0.0), dir, WEIGHT(1.0), 0, 0);
+#else
+    Ray ray = Ray(vec3(0.0), dir, WEIGHT(1.0), 0);
+#endif
     vec2 cone = vec2(0.0);
     if (TEXTURES) {
         cone.y = 2.0 / (frame.right_focal.w * float(frame.image.y));
@@ -171,8 +197,6 @@ vec3 trace_sample(vec3 dir, bool live SAMPLE_KEY) {
     vec3 total = vec3(0.0);
     int max_depth = int(frame.image.w);
     float cutoff = frame.forward_cutoff.w;
-    // The first search without a vote: a packet with no pixel on the
-    // image is rare (the image's edges), and its lanes find nothing.
     bool packet_goes_on = true;
     while (packet_goes_on) {
         if (live) {
@@ -180,8 +204,11 @@ vec3 trace_sample(vec3 dir, bool live SAMPLE_KEY) {
         }
         Hit hit = nearest(ray.origin, ray.dir, live);
         bool hits = live && hit.shape != NO_SHAPE;
-        if (live && !hits AND_AN_EYE_RAY) {
-            total += ray.weight * frame.background.rgb;
+        if (live && !hits) {
+#ifdef PATHS
+            if (ray.bounces == 0)
+#endif
+                total += ray.weight * frame.background.rgb;
         }
         Surfel s = Surfel(vec3(0.0), vec3(0.0), vec3(0.0), 0u);
         MaterialRecord material = MaterialRecord(vec4(0.0), vec4(0.0), vec2(0.0));
@@ -193,18 +220,14 @@ vec3 trace_sample(vec3 dir, bool live SAMPLE_KEY) {
         live = false;
         if (hits) {
             total += ray.weight * local;
-            // Specialization constants appear only as whole conditions: naga's
-            // SPIR-V reader rejects operators on them (OpSpecConstantOp).
             bool may_branch = false;
             if (HAS_REFLECTION) {
-                // No children from a zero normal: no direction to reflect
-                // or refract about.
                 may_branch = ray.depth < max_depth && s.normal != vec3(0.0);
             }
 #ifdef PATHS
             Ray bounced;
             vec2 bounce_cone;
-            if (bounce_of(ray, s, hit.t, cone, key, bounced, bounce_cone)) {
+            if (bounce_of(ray, s, hit.t, cone, bounced, bounce_cone)) {
                 if (TEXTURES) {
                     waiting_cones[top] = bounce_cone;
                 }
@@ -254,3 +277,5 @@ vec3 trace_sample(vec3 dir, bool live SAMPLE_KEY) {
     }
     return total;
 }
+
+#endif

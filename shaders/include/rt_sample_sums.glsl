@@ -9,6 +9,10 @@
 // sum is two words, low first: on a little-endian host the buffer reads
 // back as 64-bit words (film_sums::FilmSums::from_ne_bytes).
 
+#ifndef RT_SAMPLE_SUMS_GLSL
+#define RT_SAMPLE_SUMS_GLSL
+
+#include "rt_interface.glsl"
 #include "film_fixed.glsl"
 
 // Adds b to a, two words each, low first, wrapping as a 64-bit sum would.
@@ -49,3 +53,5 @@ void add_to_pixel(uint pixel, uvec2 sums[3]) {
         sample_sums[at + c] = add_words(sample_sums[at + c], sums[c]);
     }
 }
+
+#endif

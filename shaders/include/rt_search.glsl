@@ -2,6 +2,14 @@
 // (a shadow ray): the listed objects one by one, the huge spheres, then
 // the BVH walk; compiled with RAY_QUERY, rt_query.glsl's instead, through
 // the driver's acceleration structure.
+#ifndef RT_SEARCH_GLSL
+#define RT_SEARCH_GLSL
+
+#include "rt_interface.glsl"
+#include "rt_ray.glsl"
+#include "rt_hit_rule.glsl"
+#include "rt_objects.glsl"
+#include "rt_primitives.glsl"
 
 // The huge spheres, tested one by one by both engines (never in a BVH or
 // an acceleration structure: they are few, and a box around one holds
@@ -89,4 +97,6 @@ bool occluded(vec3 o, vec3 d, float t_max) {
 }
 #else
 #include "rt_query.glsl"
+#endif
+
 #endif

@@ -1,5 +1,14 @@
 // The ray tracer's local shading: secondary rays' origins off the surface,
 // the materials, and every light's term with its shadow ray.
+#ifndef RT_SHADING_GLSL
+#define RT_SHADING_GLSL
+
+#include "kernel_sizes.glsl"
+#include "rt_interface.glsl"
+#include "lighting.glsl"
+#include "rt_ray.glsl"
+#include "rt_search.glsl"
+#include "rt_surface.glsl"
 
 // 1e-4 of the larger of the hit's and its ray's origin's largest
 // coordinate: what the hit's rounding grows with (`offset_epsilon` in
@@ -100,3 +109,5 @@ vec3 local_shading(Surfel s, Surface m, vec3 origin, vec3 d, bool lit) {
     }
     return intensity;
 }
+
+#endif

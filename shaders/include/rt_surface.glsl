@@ -1,6 +1,14 @@
 // The ray tracer's surface at the nearest hit, read once per ray after the
 // search: position, normals and material, texture coordinates, the
 // pattern's or image's colour, the vertex colour.
+#ifndef RT_SURFACE_GLSL
+#define RT_SURFACE_GLSL
+
+#include "rt_interface.glsl"
+#include "lighting.glsl"
+#include "texture.glsl"
+#include "rt_ray.glsl"
+#include "rt_objects.glsl"
 
 // What shading needs of the nearest hit, read once per ray.
 struct Surfel {
@@ -137,3 +145,5 @@ vec3 hit_tint(Hit hit) {
     }
     return vec3(1.0);
 }
+
+#endif

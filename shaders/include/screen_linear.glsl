@@ -10,3 +10,7 @@
 //
 // Why not `noperspective`: lavapipe 22.3 returned infinities for it on
 // triangles that reach far outside the image (the default scene's floor).
+#ifndef SCREEN_LINEAR_GLSL
+#define SCREEN_LINEAR_GLSL
+
+#endif

@@ -11,6 +11,8 @@
 // `SAMPLER_FIXED` and `FIXED_SAMPLER`: where every image of the scene has
 // one sampler, its bits, so that the branches on them fold away when the
 // pipeline is built (lavapipe's code generation is then a fraction).
+#ifndef TEXTURE_GLSL
+#define TEXTURE_GLSL
 
 // An index (an integer in a float, perhaps outside 0..size) wrapped into
 // it: 0 repeat, 1 clamp to edge, 2 mirrored repeat. In float arithmetic:
@@ -106,3 +108,5 @@ float cone_lambda(float density, float width, float cos_angle) {
     float lambda = 0.5 * log2(density) + log2(width) - log2(abs(cos_angle));
     return isnan(lambda) ? 0.0 : lambda;
 }
+
+#endif

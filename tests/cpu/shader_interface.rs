@@ -11,7 +11,9 @@ use shadelab::gpu::raster::layout as raster_layout;
 use shadelab::gpu::raytrace::caustics;
 use shadelab::gpu::raytrace::forward::{PhotonBatch, PHOTONS_PER_LANE};
 use shadelab::gpu::raytrace::layout as rt_layout;
-use shadelab::gpu::shared::shader_catalog::{BindingKind, ShaderBlob, ShaderStage, ALL_SHADERS};
+use shadelab::gpu::shared::shader_catalog::{
+    BindingKind, ShaderBlob, ShaderStage, ALL_SHADERS, INCLUDES,
+};
 use std::mem::offset_of;
 
 /// What the host declares for one pipeline family.
@@ -328,26 +330,45 @@ fn every_stage_is_present() {
 /// one by one no more of a kind's objects than the shader's arrays of them
 /// hold (the rest go into the BVH), and sizes its dispatch by the shader's
 /// workgroup and work item; the constants must agree (the shader's are
-/// plain `const`s and a layout qualifier, not reflected).
+/// plain `const`s and a layout qualifier, not reflected). build.rs writes
+/// them from the host's (`gpu::raytrace::kernel_sizes`) into the kernels'
+/// `kernel_sizes.glsl` and their defines: this holds it to having done so.
 #[test]
 fn the_bvh_stack_size_listed_objects_and_work_item_are_the_shaders() {
-    let raytrace = include_str!("../../shaders/raytrace.comp.glsl");
-    let forward = include_str!("../../shaders/forward.comp.glsl");
-    let photons = format!("const uint PHOTONS_PER_LANE = {PHOTONS_PER_LANE}u;");
-    assert!(
-        forward.contains(&photons),
-        "forward.comp.glsl lacks `{photons}`"
-    );
-    let caustics_source = include_str!("../../shaders/caustics.comp.glsl");
-    let per_lane = format!("const uint PER_LANE = {}u;", caustics::PER_LANE);
-    assert!(
-        caustics_source.contains(&per_lane),
-        "caustics.comp.glsl lacks `{per_lane}`"
-    );
+    let sizes = INCLUDES
+        .iter()
+        .find(|(name, _)| *name == "kernel_sizes.glsl")
+        .expect("build.rs writes kernel_sizes.glsl")
+        .1;
+    let prelude = INCLUDES
+        .iter()
+        .find(|(name, _)| *name == "rt_kernel.glsl")
+        .expect("the kernels' prelude")
+        .1;
+    assert!(prelude.contains("layout(local_size_x = WORKGROUP_SIZE,"));
+    let workgroup = rt_layout::WORKGROUP_SIZE.to_string();
+    for kernel in ALL_SHADERS
+        .iter()
+        .filter(|s| s.stage == ShaderStage::Compute)
+    {
+        assert!(
+            kernel.source.contains("#include \"rt_kernel.glsl\""),
+            "{} does not start with the prelude",
+            kernel.name
+        );
+        assert!(
+            kernel
+                .defines
+                .contains(&("WORKGROUP_SIZE", Some(workgroup.as_str()))),
+            "{} is not compiled with WORKGROUP_SIZE {workgroup}",
+            kernel.name
+        );
+    }
     for declared in [
+        format!("const uint PHOTONS_PER_LANE = {PHOTONS_PER_LANE}u;"),
+        format!("const uint CAUSTIC_PER_LANE = {}u;", caustics::PER_LANE),
         format!("const int BVH_STACK_SIZE = {};", rt_layout::BVH_STACK_SIZE),
         format!("const uint ITEM_PACKETS = {}u;", rt_layout::ITEM_PACKETS),
-        format!("layout(local_size_x = {},", rt_layout::WORKGROUP_SIZE),
         format!(
             "const int UNROLLED_SPHERES = {};",
             rt_layout::UNROLLED_SPHERES
@@ -363,15 +384,9 @@ fn the_bvh_stack_size_listed_objects_and_work_item_are_the_shaders() {
         ),
     ] {
         assert!(
-            raytrace.contains(&declared),
-            "raytrace.comp.glsl lacks `{declared}`"
+            sizes.contains(&declared),
+            "kernel_sizes.glsl lacks `{declared}`"
         );
-        if !declared.starts_with("const uint ITEM_PACKETS") {
-            assert!(
-                forward.contains(&declared),
-                "forward.comp.glsl lacks `{declared}`"
-            );
-        }
     }
 }
 

@@ -11,8 +11,9 @@ use rayon::prelude::*;
 
 use crate::cpu::forward::{go_on, Flight, LightChoice};
 use crate::cpu::intersect::Accel;
-use crate::cpu::raytrace::{facing_normal, photon_numbers};
+use crate::cpu::raytrace::facing_normal;
 use crate::cpu::surface::hit_tint;
+use crate::random_streams::Sampler;
 use crate::rt_scene::RtScene;
 
 /// Photons traced by one task: tasks run in parallel, and their photons
@@ -121,7 +122,7 @@ pub fn trace_caustic_photon(
             return;
         }
         flight.met(albedo);
-        let numbers = photon_numbers(i, level + 1);
+        let numbers = Sampler::start_photon(i).at_level(level + 1).all();
         // Light that leaves its first surface diffusely is the backward
         // tracer's (its shadow rays find that surface's light).
         let diffuse_allowed = level > 0 && flight.may_bounce(scene);

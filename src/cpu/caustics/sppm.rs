@@ -20,9 +20,10 @@ use super::photons::{trace_caustic_photons, CausticPhoton};
 use crate::camera::View;
 use crate::cpu::forward::LightChoice;
 use crate::cpu::intersect::{Accel, Ray};
-use crate::cpu::raytrace::{children, facing_normal, offset_origin, pcg4d};
+use crate::cpu::raytrace::{children, facing_normal, offset_origin};
 use crate::cpu::surface::hit_tint;
 use crate::linear_image::LinearImage;
+use crate::random_streams::Sampler;
 use crate::rt_scene::RtScene;
 use crate::scene::{CausticSettings, Scene};
 
@@ -117,8 +118,8 @@ pub fn render_caustics(scene: &Scene, settings: &CausticSettings) -> Option<Line
 }
 
 /// The visible point of `pixel` (`y * width + x`) in `pass`: its eye ray
-/// through a point of the pixel drawn from `pcg4d(pixel, pass, 0, 3)`,
-/// then one event at each surface drawn from `pcg4d(pixel, pass, level, 3)`
+/// through a point of the pixel drawn at level 0 of its eye path's numbers
+/// (`Sampler::start_eye_path`), then one event at each surface drawn at its level
 /// (docs/lighting-model.md, "Caustics": stop on the surface's `kd C`, or go
 /// on by `kr` or `kt`), to the surface it stops on. `None` where the path
 /// leaves the scene, is absorbed, or runs past `depth`.
@@ -128,12 +129,12 @@ fn visible_point(
     view: &View,
     (pixel, pass): (u32, u32),
 ) -> Option<VisiblePoint> {
-    let unit = |x: u32| f64::from(x >> 8) / 16_777_216.0;
-    let [u0, u1, _, _] = pcg4d([pixel, pass, 0, 3]);
+    let eye = Sampler::start_eye_path(pixel, pass);
+    let [u0, u1] = eye.at_level(0).get_2d();
     let (x, y) = (pixel % view.width, pixel / view.width);
     let mut ray = Ray {
         origin: DVec3::ZERO,
-        dir: view.ray_direction(f64::from(x) + unit(u0), f64::from(y) + unit(u1)),
+        dir: view.ray_direction(f64::from(x) + u0, f64::from(y) + u1),
     };
     let (mut weight, mut length) = (DVec3::ONE, 0.0);
     for level in 0..=rt.render.depth {
@@ -157,7 +158,7 @@ fn visible_point(
             (true, false) => 1.0,
             (true, true) => 0.5,
         };
-        let u = unit(pcg4d([pixel, pass, level + 1, 3])[0]);
+        let u = eye.at_level(level + 1).get_1d();
         if u < p_stop {
             return Some(VisiblePoint {
                 position: p,

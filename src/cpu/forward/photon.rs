@@ -7,10 +7,11 @@ use glam::DVec3;
 use super::film::Film;
 use crate::cpu::intersect::{Accel, Hit, Ray};
 use crate::cpu::raytrace::{
-    children, cosine_direction, facing_normal, offset_epsilon, offset_origin, photon_numbers,
+    children, cosine_direction, facing_normal, offset_epsilon, offset_origin,
 };
 use crate::cpu::surface::hit_tint;
 use crate::film_sums::PhotonStats;
+use crate::random_streams::Sampler;
 use crate::rt_scene::{LightShares, RtScene};
 use crate::scene::Material;
 
@@ -64,7 +65,9 @@ impl Flight {
     /// direction, with flux `4 pi Il / (total p)`.
     pub(crate) fn emit(lights: &LightChoice, i: u32, total: u32) -> Self {
         let scene = lights.scene;
-        let [u0, u1, u2, _] = photon_numbers(i, 0);
+        let mut numbers = Sampler::start_photon(i).at_level(0);
+        let u0 = numbers.get_1d();
+        let [u1, u2] = numbers.get_2d();
         let (j, chance) = lights.shares.pick(u0);
         let light = &scene.lights[j];
         let z = 1.0 - 2.0 * u1;
@@ -138,7 +141,7 @@ pub fn trace_photon(
         if level == scene.render.depth || hit.normal == DVec3::ZERO {
             break;
         }
-        let numbers = photon_numbers(i, level + 1);
+        let numbers = Sampler::start_photon(i).at_level(level + 1).all();
         let surface = (&hit, p, material, albedo);
         let diffuse_allowed = flight.may_bounce(scene);
         if !go_on(&mut flight, surface, arriving, numbers, diffuse_allowed) {

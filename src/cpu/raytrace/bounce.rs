@@ -1,51 +1,14 @@
-//! Diffuse bounces (secondary illumination): the counter-based random
-//! numbers the GPU draws too (`shaders/include/rt_bounce.glsl`), and the
-//! cosine-weighted direction they pick (docs/lighting-model.md,
-//! "Backward: the eye's ray tree with diffuse bounces").
+//! Diffuse bounces (secondary illumination): the cosine-weighted direction
+//! a bounce's numbers (`random_streams`) pick and Russian roulette, as the
+//! GPU's `shaders/include/rt_bounce.glsl` (docs/lighting-model.md,
+//! "Backward: the eye's ray tree with diffuse bounces"). The forward
+//! tracer's photons bounce by the same direction.
 
 use glam::DVec3;
 
 /// The bounce that a path takes past this many bounces is decided by
 /// Russian roulette.
 pub const ROULETTE_AFTER: u32 = 3;
-
-/// Jarzynski and Olano's 4-D hash (2020), "Hash functions for GPU
-/// rendering": one call turns a counter into four independent words, so a
-/// pixel's paths need no state carried between threads or runs.
-pub fn pcg4d(v: [u32; 4]) -> [u32; 4] {
-    let mut v = v.map(|x| x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223));
-    let mix = |v: &mut [u32; 4]| {
-        v[0] = v[0].wrapping_add(v[1].wrapping_mul(v[3]));
-        v[1] = v[1].wrapping_add(v[2].wrapping_mul(v[0]));
-        v[2] = v[2].wrapping_add(v[0].wrapping_mul(v[1]));
-        v[3] = v[3].wrapping_add(v[1].wrapping_mul(v[2]));
-    };
-    mix(&mut v);
-    v = v.map(|x| x ^ (x >> 16));
-    mix(&mut v);
-    v
-}
-
-/// The top 24 bits of `x` as a number in `[0, 1)`: exact in `f32`, so the
-/// GPU and the CPU start from the same value.
-pub fn unit(x: u32) -> f64 {
-    f64::from(x >> 8) / 16_777_216.0
-}
-
-/// The three numbers a bounce from a hit at tree level `level` of sample
-/// `sample` of pixel `pixel` (`y * width + x`) uses: two for its direction,
-/// one for Russian roulette.
-pub fn bounce_numbers(pixel: u32, sample: u32, level: u32) -> [f64; 3] {
-    let x = pcg4d([pixel, sample, level, 0]);
-    [unit(x[0]), unit(x[1]), unit(x[2])]
-}
-
-/// The four numbers photon `i` of a forward render uses at the `level`-th
-/// surface of its path (0: its light, direction; the fourth word of the
-/// key, 2, keeps them apart from the eye's bounces).
-pub fn photon_numbers(i: u32, level: u32) -> [f64; 4] {
-    pcg4d([i, level, 0, 2]).map(unit)
-}
 
 /// A direction about the unit normal `n`, distributed as `(n·w) / pi`
 /// when `u0, u1` are uniform: azimuth `2 pi u0`, `sin^2` of the polar
@@ -72,28 +35,7 @@ pub fn roulette(weight: DVec3, u: f64) -> Option<DVec3> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The hash's words for a few counters, worked out by hand from its
-    /// definition with Python's arbitrary-precision integers masked to 32
-    /// bits (the GLSL twin is held to the same values through the images
-    /// `tests/gpu/path_trace.rs` compares).
-    #[test]
-    fn pcg4d_matches_its_definition() {
-        assert_eq!(
-            pcg4d([0, 0, 0, 0]),
-            [0x0f02_f829, 0x2d56_8769, 0x32b0_c43b, 0xd325_48ea]
-        );
-        assert_eq!(
-            pcg4d([1, 2, 3, 4]),
-            [0x3622_cd16, 0xf114_71d8, 0xe110_9b3f, 0x02b9_4c2f]
-        );
-    }
-
-    #[test]
-    fn units_lie_in_the_half_open_interval() {
-        assert_eq!(unit(0), 0.0);
-        assert_eq!(unit(u32::MAX), 1.0 - 1.0 / 16_777_216.0);
-    }
+    use crate::random_streams::Sampler;
 
     /// Directions are unit, on the normal's side, and their mean cosine is
     /// 2/3 (the mean of cos under a cosine-weighted hemisphere), their
@@ -109,7 +51,7 @@ mod tests {
             let (mut cos, mut mean) = (0.0, DVec3::ZERO);
             let count = 20_000;
             for i in 0..count {
-                let [u0, u1, _] = bounce_numbers(i, 7, 1);
+                let [u0, u1] = Sampler::start_pixel_sample(i, 7).at_level(1).get_2d();
                 let w = cosine_direction(n, u0, u1);
                 assert!((w.length() - 1.0).abs() < 1e-12, "{w}");
                 assert!(w.dot(n) >= 0.0);

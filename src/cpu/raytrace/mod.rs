@@ -4,7 +4,8 @@
 //! counting), so that the two images can be compared pixel by pixel.
 //!
 //! Geometry is `cpu::intersect`, the formula `cpu::lighting`; this folder
-//! owns the ray tree (`tracer.rs`), its diffuse bounces (`bounce.rs`), where a
+//! owns the ray tree (`tracer.rs`), its diffuse bounces (`bounce.rs`, whose
+//! numbers are `crate::random_streams`'), where a
 //! path-traced pixel's samples look (`pixel_samples.rs`), where secondary rays start and go
 //! (`secondary_rays.rs`), the per-pixel path signature
 //! (`path_signature.rs`) and the parallel loop over rows (`render.rs`). It
@@ -17,7 +18,7 @@ mod render;
 mod secondary_rays;
 mod tracer;
 
-pub use bounce::{bounce_numbers, cosine_direction, pcg4d, photon_numbers};
+pub use bounce::cosine_direction;
 pub use path_signature::{PathSignature, RayKind};
 pub use pixel_samples::pixel_sample;
 pub use render::{render, render_counted, render_part, RayTraced};

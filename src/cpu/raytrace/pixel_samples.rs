@@ -23,11 +23,7 @@
 //! The Whitted tracer (no bounces) keeps its grid of cell centres
 //! (`cpu::raytrace::sample_offsets`): its samples are all traced at once.
 
-use super::bounce::pcg4d;
-
-/// The last word of the hash key of a stream's scramble seeds, apart from
-/// the eye's bounces (0), the photons (2) and the caustics' eye paths (3).
-const SCRAMBLE_KEY: u32 = 5;
+use crate::random_streams::Stream;
 
 /// The point sample `i` of pixel `pixel` (`y * width + x`) looks through,
 /// as an offset `(sx, sy)` in `(0, 1)` from the pixel's top-left corner.
@@ -47,7 +43,9 @@ fn sample_words(pixel: u32, i: u32) -> [u32; 2] {
     // seed's low bits, where the hash's products mix least: reversed, they
     // are its best-mixed high bits (the streams' first points fell in one
     // cell of 16 x 16 half as often as independent points do, unreversed).
-    let seeds = pcg4d([pixel, stream, 0, SCRAMBLE_KEY]).map(u32::reverse_bits);
+    let seeds = Stream::PixelScramble
+        .words(pixel, stream, 0)
+        .map(u32::reverse_bits);
     [
         owen_scramble(index.reverse_bits(), seeds[0]),
         owen_scramble(sobol_second(index), seeds[1]),

@@ -6,7 +6,7 @@
 
 use glam::DVec3;
 
-use super::bounce::{bounce_numbers, cosine_direction, roulette, ROULETTE_AFTER};
+use super::bounce::{cosine_direction, roulette, ROULETTE_AFTER};
 use super::path_signature::{PathSignature, RayKind};
 use super::pixel_samples::pixel_sample;
 use super::secondary_rays::{children, facing_normal, offset_epsilon, offset_origin};
@@ -14,6 +14,7 @@ use crate::camera::View;
 use crate::cpu::intersect::{Accel, Hit, Ray};
 use crate::cpu::lighting::{shade_visible, Surface};
 use crate::cpu::surface::hit_tint;
+use crate::random_streams::{Draw, Sampler};
 use crate::rt_scene::{sample_grid, Primitive, RayStats, RtScene};
 use crate::scene::{Material, PointLight};
 
@@ -159,8 +160,8 @@ impl<'a> Tracer<'a> {
 
     /// The value of the ray tree rooted at `ray` (weight 1, depth 0), and
     /// the object the root ray hit. Counts every ray but the root. `key`
-    /// (the pixel's index `y * width + x`, the sample's) seeds its diffuse
-    /// bounces.
+    /// (the pixel's index `y * width + x`, the sample's) starts the
+    /// sampler its diffuse bounces draw from.
     pub fn trace(
         &self,
         ray: Ray,
@@ -170,6 +171,7 @@ impl<'a> Tracer<'a> {
     ) -> (DVec3, Option<u32>) {
         let scene = self.accel.scene;
         let settings = scene.render;
+        let sampler = Sampler::start_pixel_sample(key.0, key.1);
         let mut stack = Vec::with_capacity(settings.depth as usize + 1);
         stack.push(Pending {
             ray,
@@ -208,7 +210,7 @@ impl<'a> Tracer<'a> {
             // Pushed first, so traced after the mirror and glass children.
             if pending.bounces < settings.bounces && albedo != DVec3::ZERO {
                 let geometry = (p, hit.normal, hit.geometric_normal);
-                let numbers = bounce_numbers(key.0, key.1, pending.depth);
+                let numbers = sampler.at_level(pending.depth);
                 if let Some(child) =
                     self.bounce(&pending, geometry, (albedo, cone_width), numbers, stats)
                 {
@@ -269,7 +271,8 @@ impl<'a> Tracer<'a> {
     }
 
     /// The diffuse bounce of `pending`'s hit at `p` (normals `n`, `ng`;
-    /// albedo `albedo`; a cone `cone_width` wide), drawn with `numbers`:
+    /// albedo `albedo`; a cone `cone_width` wide), drawn with `numbers`
+    /// (its direction's two, then its roulette's):
     /// `None` where Russian roulette ends the path or the direction leaves
     /// below the surface's geometric side.
     fn bounce(
@@ -277,9 +280,11 @@ impl<'a> Tracer<'a> {
         pending: &Pending,
         (p, n, ng): (DVec3, DVec3, DVec3),
         (albedo, cone_width): (DVec3, f64),
-        [u0, u1, u2]: [f64; 3],
+        mut numbers: Draw,
         stats: &mut RayStats,
     ) -> Option<Pending> {
+        let [u0, u1] = numbers.get_2d();
+        let u2 = numbers.get_1d();
         let mut weight = pending.weight * albedo;
         if pending.bounces >= ROULETTE_AFTER {
             let Some(kept) = roulette(weight, u2) else {

@@ -55,29 +55,12 @@ pub const QUERY_SET: u32 = 1;
 pub const QUERY_BINDINGS: &[(u32, vk::DescriptorType)] =
     &[(0, vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)];
 
-/// Entries of the BVH traversal stack in raytrace.comp.glsl (its
-/// `BVH_STACK_SIZE`; tests/cpu/shader_interface.rs holds the two equal). The
-/// walk stacks one far child per inner node on its path, so a tree `d`
-/// nodes deep needs fewer than `d` entries.
-pub const BVH_STACK_SIZE: usize = 64;
-
-/// Object counts up to which lavapipe unrolls the shader's loops over
-/// them (a trip count of at most 32 and a body of at most 832 instructions
-/// in all), so that each record is read at a constant index, once for the
-/// whole subgroup. A longer list goes into the BVH, where a ray tests only
-/// the objects whose boxes it enters. The shader's arrays of the listed
-/// objects have these sizes (its `UNROLLED_*`; tests/cpu/shader_interface.rs
-/// holds the two equal).
-pub const UNROLLED_SPHERES: usize = 16;
-pub const UNROLLED_PLANES: usize = 12;
-pub const UNROLLED_BOXES: usize = 6;
-
-/// Material counts up to which the shader reads a scene's materials once
-/// per invocation and picks a hit's by selects (its `UNROLLED_MATERIALS`;
-/// tests/cpu/shader_interface.rs holds the two equal): a comparison and 10
-/// blends per material, where a lane's own read is 10 loads per lane with
-/// their bounds checks.
-pub const UNROLLED_MATERIALS: usize = 8;
+// The kernels' sizes: the shaders are built with the same constants,
+// through build.rs (`kernel_sizes` says what each is).
+pub use super::kernel_sizes::{
+    BVH_STACK_SIZE, ITEM_PACKETS, UNROLLED_BOXES, UNROLLED_MATERIALS, UNROLLED_PLANES,
+    UNROLLED_SPHERES, WORKGROUP_SIZE,
+};
 
 /// Whether the shader reads a scene of `count` materials once per
 /// invocation and picks by selects (its `MATERIALS_LISTED`): 1 to
@@ -86,14 +69,6 @@ pub const UNROLLED_MATERIALS: usize = 8;
 pub fn lists_materials(count: usize) -> bool {
     (1..=UNROLLED_MATERIALS).contains(&count)
 }
-
-/// Invocations in one of the ray tracer's workgroups (its `local_size_x`).
-pub const WORKGROUP_SIZE: u32 = 64;
-
-/// Pixels each lane traces per work item the shader takes from its queue
-/// (the shader's `ITEM_PACKETS`; tests/cpu/shader_interface.rs holds the two
-/// equal).
-pub const ITEM_PACKETS: u32 = 16;
 
 /// Workgroups to dispatch for a `width` x `height` image. The shader's
 /// subgroups take work from a queue until it is empty, so any count

@@ -8,7 +8,8 @@
 //! `forward` traces the other way, photons from the lights, over the same
 //! records and buffers. With diffuse bounces the ray tracer runs a range
 //! of samples per submission into fixed-point sums, as the forward tracer
-//! runs its photons (`batches`).
+//! runs its photons (`batches`). The kernels' sizes, which build.rs
+//! writes into their prelude, are `kernel_sizes`.
 
 mod accel;
 mod batches;
@@ -17,6 +18,7 @@ pub mod bvh;
 pub mod caustics;
 mod dispatch;
 pub mod forward;
+pub mod kernel_sizes;
 pub mod layout;
 mod records;
 mod renderer;

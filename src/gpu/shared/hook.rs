@@ -7,7 +7,7 @@
 //! so a sweep over many variants compiles each once.
 
 use crate::cache;
-use crate::gpu::shared::shader_catalog::{ShaderBlob, ShaderStage, INCLUDES};
+use crate::gpu::shared::shader_catalog::{reached_includes, ShaderBlob, ShaderStage, INCLUDES};
 use crate::gpu::vk::context::DeviceInfo;
 use crate::gpu::vk::error::GpuError;
 use crate::scene::LightingHook;
@@ -67,9 +67,10 @@ fn compiled(blob: &ShaderBlob, hook: &LightingHook, driver: &str) -> Result<Vec<
     Ok(words)
 }
 
-/// Whether the stage includes the formula (the others compile unchanged).
+/// Whether the stage includes the formula, itself or through another
+/// include (the compute kernels' prelude); the others compile unchanged.
 fn evaluates_formula(blob: &ShaderBlob) -> bool {
-    blob.source.contains("#include \"lighting.glsl\"")
+    reached_includes(blob.source, blob.defines).contains(&"lighting.glsl")
 }
 
 fn compile(blob: &ShaderBlob, hook: &LightingHook) -> Result<Vec<u32>, GpuError> {
@@ -187,6 +188,25 @@ mod tests {
         );
         assert_ne!(base, cache_key(&GOURAUD_VERT, &hook("a"), "nvidia"));
         assert_eq!(base, cache_key(&GOURAUD_VERT, &hook("a"), "llvmpipe"));
+    }
+
+    /// The compute kernels reach the formula through their prelude.
+    #[test]
+    fn every_stage_that_lights_takes_the_hook() {
+        use crate::gpu::shared::shader_catalog::{
+            CAUSTICS_COMP, FLAT_FRAG, FLAT_VERT, FORWARD_COMP, PHONG_FRAG, RAYTRACE_COMP,
+            RAYTRACE_QUERY_PATHS_COMP,
+        };
+        for blob in [
+            &RAYTRACE_COMP,
+            &RAYTRACE_QUERY_PATHS_COMP,
+            &FORWARD_COMP,
+            &CAUSTICS_COMP,
+        ] {
+            assert!(evaluates_formula(blob), "{}", blob.name);
+        }
+        assert!(evaluates_formula(&FLAT_VERT) && evaluates_formula(&PHONG_FRAG));
+        assert!(!evaluates_formula(&FLAT_FRAG));
     }
 
     #[test]

@@ -24,9 +24,9 @@ use crate::linear_image::LinearImage;
 use crate::scene::Scene;
 use crate::work_counter::WorkCounter;
 
-/// Pixels or photons each lane takes per work item (the shader's
-/// `PER_LANE`).
-pub const PER_LANE: u32 = 16;
+/// Pixels or photons each lane takes per work item (the shader is built
+/// with it, as `CAUSTIC_PER_LANE`).
+pub const PER_LANE: u32 = crate::gpu::raytrace::kernel_sizes::CAUSTIC_PER_LANE;
 
 /// The most workgroups one dimension of a dispatch takes (Vulkan's
 /// guaranteed minimum of `maxComputeWorkGroupCount`).

@@ -25,9 +25,8 @@ use crate::rt_scene::{LightShares, RtScene};
 use crate::scene::Scene;
 use crate::work_counter::WorkCounter;
 
-/// Photons each lane traces per work item (the shader's
-/// `PHOTONS_PER_LANE`).
-pub const PHOTONS_PER_LANE: u32 = 16;
+// Photons each lane traces per work item (the shader is built with it).
+pub use crate::gpu::raytrace::kernel_sizes::PHOTONS_PER_LANE;
 
 /// Photons per submission: about a second of lavapipe's time on the
 /// diffuse box, so that progress moves and a render can be stopped
