@@ -168,7 +168,7 @@ mod tests {
     /// The hash's words for a few counters, worked out by hand from its
     /// definition with Python's arbitrary-precision integers masked to 32
     /// bits (the GLSL twin is held to the same values through the images
-    /// `tests/path_trace.rs` compares).
+    /// `tests/gpu/path_trace.rs` compares).
     #[test]
     fn pcg4d_matches_its_definition() {
         assert_eq!(
