@@ -244,7 +244,7 @@ fn raster_pilot(scene: &Scene, shading: Shading) -> f64 {
         small.image.width = (scene.image.width / divisor).max(1);
         small.image.height = (scene.image.height / divisor).max(1);
         let started = Instant::now();
-        drop(cpu::raster::render(&small, mode));
+        drop(cpu::raster::render(&small, mode, &Default::default()));
         (pixels(&small), started.elapsed().as_secs_f64() * 1e3)
     };
     // Once untimed first: the first render starts the thread pool and

@@ -491,7 +491,7 @@ mod tests {
             attributed_vertices: 0,
             attributed_triangles: 0,
         };
-        for shading in Shading::ALL {
+        for shading in Shading::BY_DEFAULT {
             for backend in [Backend::Gpu, Backend::Cpu] {
                 let e = |s: &GeometrySize, px| estimate(s, px, shading, backend);
                 let base = e(&size, 100);

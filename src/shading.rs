@@ -11,13 +11,15 @@ pub enum Shading {
     Phong,
     Raytrace,
     /// Forward ray tracing: photons from the lights (`render.photons`).
-    /// Not in `ALL`, the modes every command runs by default: its image
+    /// Not in `BY_DEFAULT`, the modes every command runs by default: its image
     /// is an estimate with noise, and only of diffuse light.
     Forward,
 }
 
 impl Shading {
-    pub const ALL: [Shading; 4] = [
+    /// The modes a command runs when none is named: every one but forward
+    /// tracing (an estimate with noise, of diffuse light only).
+    pub const BY_DEFAULT: [Shading; 4] = [
         Shading::Flat,
         Shading::Gouraud,
         Shading::Phong,
@@ -25,7 +27,7 @@ impl Shading {
     ];
 
     /// Every mode there is, forward tracing included.
-    pub const EVERY: [Shading; 5] = [
+    pub const ALL: [Shading; 5] = [
         Shading::Flat,
         Shading::Gouraud,
         Shading::Phong,
@@ -54,7 +56,7 @@ impl FromStr for Shading {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Shading::EVERY
+        Shading::ALL
             .into_iter()
             .find(|m| m.name() == s)
             .ok_or_else(|| {

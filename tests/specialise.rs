@@ -58,7 +58,7 @@ fn specialising_before_the_driver_changes_no_pixel() {
                 driver_specialises,
                 ..TraceOptions::default()
             };
-            raytrace::render_with(&context, &s, options)
+            crate::common::trace_gpu(&context, &s, options)
                 .unwrap_or_else(|e| panic!("{name}: {e}"))
                 .image
         };
@@ -72,7 +72,7 @@ fn specialising_before_the_driver_changes_no_pixel() {
         assert_eq!(differing, 0, "{name}: pixels that differ");
         // Traced again on a device of its own (the first keeps its
         // pipeline), the module comes from the cache folder: the same image.
-        let from_cache = raytrace::render_with(&gpu(), &s, raytrace::TraceOptions::default())
+        let from_cache = crate::common::trace_gpu(&gpu(), &s, raytrace::TraceOptions::default())
             .unwrap_or_else(|e| panic!("{name}: {e}"))
             .image;
         assert_eq!(from_cache.pixels, ours.pixels, "{name}: from the cache");

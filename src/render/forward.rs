@@ -43,7 +43,7 @@ impl Integrator for CpuForward {
     fn render(&self, work: &Work) -> Result<Rendered, Error> {
         let part = work.part;
         let started = Instant::now();
-        let out = crate::cpu::forward::render_job(work.scene, part, work.counter).expect(
+        let out = crate::cpu::forward::render(work.scene, part, work.counter).expect(
             "the plan lets only scenes with light through (refusals::forward_without_light)",
         );
         let pixels = out.film.width as usize * out.film.height as usize;

@@ -18,7 +18,7 @@ pub(super) struct GpuRaster<'d> {
 
 impl Integrator for GpuRaster<'_> {
     fn render(&self, work: &Work) -> Result<Rendered, Error> {
-        let out = raster::render_to(self.context, work.scene, self.mode, work.target)?;
+        let out = raster::render(self.context, work.scene, self.mode, work.target)?;
         Ok(Rendered::new(out.image, Timings::gpu(&out.timings)))
     }
 }
@@ -31,7 +31,7 @@ pub(super) struct CpuRaster {
 impl Integrator for CpuRaster {
     fn render(&self, work: &Work) -> Result<Rendered, Error> {
         let started = Instant::now();
-        let out = crate::cpu::raster::render_counted(work.scene, self.mode, work.counter);
+        let out = crate::cpu::raster::render(work.scene, self.mode, work.counter);
         let mut rendered = Rendered::new(out.image, Timings::cpu(started));
         // Flat shading's colour changes at every triangle edge; the other
         // modes' only at an object's.

@@ -22,8 +22,7 @@ impl Integrator for GpuRayTrace<'_> {
             every_feature: work.every_feature,
             ..raytrace::TraceOptions::default()
         };
-        let out =
-            raytrace::render_part(self.context, work.scene, options, work.part, work.counter)?;
+        let out = raytrace::render(self.context, work.scene, options, work.part, work.counter)?;
         let mut rendered = Rendered::new(out.image, Timings::gpu(&out.timings));
         rendered.ray_stats = out.stats;
         rendered.traversal = Some(out.traversal);
@@ -47,7 +46,7 @@ impl Integrator for CpuRayTrace {
     fn render(&self, work: &Work) -> Result<Rendered, Error> {
         let (scene, part) = (work.scene, work.part);
         let started = Instant::now();
-        let out = crate::cpu::raytrace::render_part(scene, part, work.counter);
+        let out = crate::cpu::raytrace::render(scene, part, work.counter);
         let timings = Timings {
             trace_ms: Some(out.trace_ms),
             ..Timings::cpu(started)

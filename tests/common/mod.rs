@@ -329,3 +329,40 @@ pub fn render_cpu(
 pub fn device(context: &Arc<GpuContext>) -> Device {
     Device::with_gpu(context.clone())
 }
+
+/// The GPU tracer's render of all of `scene`'s samples as `options` say.
+pub fn trace_gpu(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    options: shadelab::gpu::raytrace::TraceOptions,
+) -> Result<shadelab::gpu::raytrace::TraceOutput, shadelab::gpu::GpuError> {
+    let all = shadelab::film_sums::RenderPart::all(scene.render.samples);
+    shadelab::gpu::raytrace::render(context, scene, options, &all, &Default::default())
+}
+
+/// The GPU tracer's render of all of `scene`'s samples, counting rays
+/// where `count_rays`.
+pub fn trace_gpu_counting(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    count_rays: bool,
+) -> Result<shadelab::gpu::raytrace::TraceOutput, shadelab::gpu::GpuError> {
+    let options = shadelab::gpu::raytrace::TraceOptions {
+        count_rays,
+        ..Default::default()
+    };
+    trace_gpu(context, scene, options)
+}
+
+/// The CPU twin's trace of all of `scene`'s samples.
+pub fn trace_cpu(scene: &Scene) -> shadelab::cpu::raytrace::RayTraced {
+    let all = shadelab::film_sums::RenderPart::all(scene.render.samples);
+    shadelab::cpu::raytrace::render(scene, &all, &Default::default())
+}
+
+/// The CPU forward tracer's photons `0..photons` of `scene` (`None`: no
+/// light with power).
+pub fn forward_cpu(scene: &Scene, photons: u32) -> Option<shadelab::cpu::forward::ForwardImage> {
+    let all = shadelab::film_sums::RenderPart::all(photons);
+    shadelab::cpu::forward::render(scene, &all, &Default::default())
+}

@@ -146,10 +146,8 @@ fn the_gathered_caustic_under_a_glass_ball_is_the_forward_tracers() {
     use shadelab::cpu::caustics::{render_caustics, CausticSettings};
     let scene = scene_of(GLASS_BALL_ON_A_FLOOR);
     let width = scene.image.width as usize;
-    let forward = shadelab::cpu::forward::render(&scene, 1 << 23)
-        .unwrap()
-        .image();
-    let backward = shadelab::cpu::raytrace::render(&scene);
+    let forward = crate::common::forward_cpu(&scene, 1 << 23).unwrap().image();
+    let backward = crate::common::trace_cpu(&scene);
     let settings = CausticSettings {
         photons_per_pass: 1 << 18,
         passes: 128,

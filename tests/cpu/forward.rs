@@ -5,7 +5,6 @@
 
 use common::closed_sphere::{closed_sphere, expected};
 use glam::DVec3;
-use shadelab::cpu::forward;
 use shadelab::shading::Shading;
 use shadelab::LinearImage;
 
@@ -38,7 +37,8 @@ fn photons_in_a_closed_sphere_converge_to_the_series() {
         let want = expected(bounces);
         let mut errors = Vec::new();
         for photons in [1 << 16, 1 << 20] {
-            let out = forward::render(&closed_sphere(bounces), photons).expect("a light");
+            let out =
+                crate::common::forward_cpu(&closed_sphere(bounces), photons).expect("a light");
             let values = channel_values(&out.image());
             let (mean, error) = mean_and_error(&values);
             assert!(
@@ -80,7 +80,7 @@ fn forward_and_backward_agree_on_the_diffuse_box() {
         .unwrap()
         .0
         .image;
-    let forward = forward::render(&scene, 1 << 22).unwrap().image();
+    let forward = crate::common::forward_cpu(&scene, 1 << 22).unwrap().image();
     let quarter = |image: &LinearImage, qx: u32, qy: u32| {
         let mut sum = DVec3::ZERO;
         let (w, h) = (image.width / 2, image.height / 2);

@@ -9,9 +9,7 @@ use common::*;
 use glam::{DMat3, DVec3};
 use shadelab::cpu::intersect::Ray;
 use shadelab::cpu::lighting::{shade, Surface};
-use shadelab::cpu::raytrace::{
-    offset_epsilon, render as raytrace, sample_offsets, PathSignature, Tracer,
-};
+use shadelab::cpu::raytrace::{offset_epsilon, sample_offsets, PathSignature, Tracer};
 use shadelab::rt_scene::{RayStats, RtScene};
 use shadelab::scene::{tessellate, Material, Object, PointLight, Scene, Shape};
 use shadelab::shading::Shading;
@@ -416,9 +414,9 @@ fn four_samples_of_a_flat_coloured_scene_equal_one() {
         },
         material: 0,
     });
-    let one = raytrace(&s);
+    let one = crate::common::trace_cpu(&s);
     s.render.samples = 4;
-    let four = raytrace(&s);
+    let four = crate::common::trace_cpu(&s);
     assert_eq!(four.stats.primary, 4 * one.stats.primary);
     assert_eq!(one.image, four.image);
     assert_eq!(one.image.get(3, 5), [0.3, 0.5, 0.7]);
@@ -427,7 +425,7 @@ fn four_samples_of_a_flat_coloured_scene_equal_one() {
 #[test]
 fn path_signatures_change_at_shadow_and_silhouette_edges_only() {
     let s = shadow_scene(DVec3::new(0.0, 0.5, 0.0));
-    let out = raytrace(&s);
+    let out = crate::common::trace_cpu(&s);
     let distinct: std::collections::HashSet<u64> = out.path_signatures.iter().copied().collect();
     // Background; floor lit; floor in shadow; the sphere lit; the sphere's
     // lower half facing away from the light.
@@ -439,7 +437,10 @@ fn path_signatures_change_at_shadow_and_silhouette_edges_only() {
         "{marked} pixels near an edge"
     );
     // Deterministic: a second render gives the same signatures.
-    assert_eq!(raytrace(&s).path_signatures, out.path_signatures);
+    assert_eq!(
+        crate::common::trace_cpu(&s).path_signatures,
+        out.path_signatures
+    );
 }
 
 #[test]
@@ -447,7 +448,7 @@ fn default_scene_traces_every_kind_of_ray() {
     let mut s = shadelab::scene::default_scene();
     s.image.width = 80;
     s.image.height = 60;
-    let out = raytrace(&s);
+    let out = crate::common::trace_cpu(&s);
     let st = out.stats;
     assert_eq!(st.primary, 80 * 60);
     assert!(

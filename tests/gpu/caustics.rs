@@ -162,7 +162,7 @@ fn the_whole_image_under_a_glass_ball_is_the_forward_tracers() {
     let forward = crate::common::render_gpu(&context, &scene, Shading::Forward).unwrap();
     let report = whole.caustics.expect("the scene has glass");
     assert_eq!(report.passes, 64);
-    let objects = shadelab::cpu::raytrace::render(&scene).primary_object_ids;
+    let objects = crate::common::trace_cpu(&scene).primary_object_ids;
     let (mut backward, mut light) = (0.0, 0.0);
     for (i, object) in objects.iter().enumerate() {
         if *object == Some(0) {
@@ -400,7 +400,7 @@ fn with_bounces_the_caustic_lights_what_it_falls_on() {
     first_landing.render.bounces = 0;
     let unbounced = gpu_caustics(&context, &first_landing).image;
     let bounced = gpu_caustics(&context, &scene).image;
-    let objects = shadelab::cpu::raytrace::render(&first_landing).primary_object_ids;
+    let objects = crate::common::trace_cpu(&first_landing).primary_object_ids;
     let sum = |p: [f32; 3]| f64::from(p[0] + p[1] + p[2]);
     for (object, name) in [(0u32, "floor"), (2, "wall")] {
         let (mut ours, mut theirs, mut sent_on) = (0.0, 0.0, 0.0);

@@ -36,7 +36,7 @@ fn the_gpu_traces_the_twins_photons() {
     scene.render.photons = 1 << 20;
     let job = RenderPart::all(scene.render.photons);
     let gpu = forward::render(&context, &scene, &job, &WorkCounter::default()).unwrap();
-    let cpu = shadelab::cpu::forward::render(&scene, scene.render.photons).unwrap();
+    let cpu = crate::common::forward_cpu(&scene, scene.render.photons).unwrap();
     assert_eq!(gpu.stats.emitted, cpu.stats.emitted);
     let (g, c) = (gpu.film.image(), cpu.image());
     let mean = |i: &shadelab::LinearImage| {
@@ -133,7 +133,7 @@ fn films_are_the_same_bits_however_the_photons_are_split() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| shadelab::cpu::forward::render(&scene, total).unwrap().film)
+            .install(|| crate::common::forward_cpu(&scene, total).unwrap().film)
     };
     assert_eq!(twin_at(1), twin_at(2), "the twin at 1 and 2 threads");
 }

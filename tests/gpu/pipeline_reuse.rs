@@ -9,7 +9,6 @@ use std::path::Path;
 
 use common::*;
 use shadelab::gpu::raster::{self, ColorTarget};
-use shadelab::gpu::raytrace;
 use shadelab::scene::{default_scene, LightingHook, Scene};
 use shadelab::shading::RasterMode;
 
@@ -32,8 +31,8 @@ fn with_hook(mut s: Scene, file: &str) -> Scene {
 fn a_pipeline_is_reused_only_where_everything_that_built_it_matches() {
     let context = gpu();
     let kept = || context.pipelines_kept();
-    let trace = |s: &Scene| raytrace::render(&context, s, false).unwrap();
-    let draw = |s: &Scene, mode, target| raster::render_to(&context, s, mode, target).unwrap();
+    let trace = |s: &Scene| crate::common::trace_gpu_counting(&context, s, false).unwrap();
+    let draw = |s: &Scene, mode, target| raster::render(&context, s, mode, target).unwrap();
 
     let scene = small();
     let first = trace(&scene);
@@ -58,7 +57,7 @@ fn a_pipeline_is_reused_only_where_everything_that_built_it_matches() {
     assert_ne!(plain.image.pixels, first.image.pixels);
 
     // Counting rays is a constant of its own.
-    raytrace::render(&context, &scene, true).unwrap();
+    crate::common::trace_gpu_counting(&context, &scene, true).unwrap();
     assert_eq!(kept(), 4);
 
     // The raster modes: one pipeline per mode and target.

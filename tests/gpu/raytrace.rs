@@ -16,7 +16,8 @@ use shadelab::shading::Shading;
 use shadelab::LinearImage;
 
 fn trace(scene: &Scene) -> (LinearImage, RayStats) {
-    let out = raytrace::render(&gpu(), scene, true).unwrap_or_else(|e| panic!("{e}"));
+    let out =
+        crate::common::trace_gpu_counting(&gpu(), scene, true).unwrap_or_else(|e| panic!("{e}"));
     (out.image, out.stats.expect("counted"))
 }
 
@@ -463,7 +464,7 @@ fn every_feature_build_traces_the_same_image() {
                 every_feature,
                 ..TraceOptions::default()
             };
-            raytrace::render_with(&context, &s, options)
+            crate::common::trace_gpu(&context, &s, options)
                 .unwrap_or_else(|e| panic!("{e}"))
                 .image
         };
@@ -488,7 +489,8 @@ fn every_render_writes_every_pixel_of_its_own_image() {
             let background = backgrounds[round % 2];
             let mut s = scene(width, height, 30.0);
             s.image.background = background;
-            let out = raytrace::render(&context, &s, false).unwrap_or_else(|e| panic!("{e}"));
+            let out = crate::common::trace_gpu_counting(&context, &s, false)
+                .unwrap_or_else(|e| panic!("{e}"));
             for (i, p) in out.image.pixels.iter().enumerate() {
                 // Every ray misses: exactly the background, in f32.
                 assert_eq!(

@@ -268,7 +268,7 @@ where
             PathElement::new([(lx, ly), (lx + 18, ly)], pareto.stroke_width(2))
         });
 
-    for mode in Shading::EVERY {
+    for mode in Shading::ALL {
         let points: Vec<_> = report
             .variants
             .iter()

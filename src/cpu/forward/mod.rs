@@ -45,23 +45,18 @@ impl ForwardImage {
     }
 }
 
-/// Traces all `photons` photons through `scene` at its image size, split
-/// over its lights by power. `None` where the scene has no light with
-/// power.
-pub fn render(scene: &Scene, photons: u32) -> Option<ForwardImage> {
-    render_job(scene, &RenderPart::all(photons), &WorkCounter::default())
-}
-
-/// Traces `job`'s photons, counting them into `counter` as tasks finish
-/// (under a time budget, the tasks that start before it).
+/// Traces `part`'s photons through `scene` at its image size, split over
+/// its lights by power, counting them into `counter` as tasks finish
+/// (under a time budget, the tasks that start before it). `None` where the
+/// scene has no light with power.
 /// Each thread splats into a film of its own; the films' integer sums add
 /// up to the same bits in any order.
-pub fn render_job(scene: &Scene, job: &RenderPart, counter: &WorkCounter) -> Option<ForwardImage> {
+pub fn render(scene: &Scene, part: &RenderPart, counter: &WorkCounter) -> Option<ForwardImage> {
     let rt = RtScene::new(scene);
     let view = View::new(scene, scene.image.width, scene.image.height);
     let accel = Accel::new(&rt);
     let lights = photon::LightChoice::new(&rt)?;
-    let range = job.range.clone();
+    let range = part.range.clone();
     let tasks = (range.end.saturating_sub(range.start)).div_ceil(PHOTONS_PER_TASK);
     counter.begin("photons", u64::from(range.end.saturating_sub(range.start)));
     let fresh = || (Film::new(&view), PhotonStats::default());
@@ -70,13 +65,13 @@ pub fn render_job(scene: &Scene, job: &RenderPart, counter: &WorkCounter) -> Opt
         .fold(fresh, |(mut film, mut stats), task| {
             // The first task runs whatever the budget: an image of no
             // photon would be black, not an estimate.
-            if task > 0 && job.should_stop() {
+            if task > 0 && part.should_stop() {
                 return (film, stats);
             }
             let first = range.start + task * PHOTONS_PER_TASK;
             let end = first.saturating_add(PHOTONS_PER_TASK).min(range.end);
             for i in first..end {
-                trace_photon(&accel, &lights, i, job.total, &mut film, &mut stats);
+                trace_photon(&accel, &lights, i, part.total, &mut film, &mut stats);
             }
             counter.add(u64::from(end - first));
             (film, stats)

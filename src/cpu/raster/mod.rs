@@ -25,5 +25,5 @@ mod shade;
 mod triangle;
 
 pub use edge_marks::EDGE_MARGIN;
-pub use render::{render, render_counted, CpuRender};
+pub use render::{render, CpuRender};
 pub use shade::VANISHING_NORMAL;

@@ -47,12 +47,8 @@ struct Band {
 /// [`crate::msaa::positions`]): each sample covered and depth tested on its
 /// own, shaded once per pixel at its centre (or, per sample, at its own
 /// position), and the samples' linear values averaged.
-pub fn render(scene: &Scene, mode: RasterMode) -> CpuRender {
-    render_counted(scene, mode, &WorkCounter::default())
-}
-
-/// [`render`], counting its bands of rows into `counter` as they finish.
-pub fn render_counted(scene: &Scene, mode: RasterMode, counter: &WorkCounter) -> CpuRender {
+/// Its bands of rows are counted into `counter` as they finish.
+pub fn render(scene: &Scene, mode: RasterMode, counter: &WorkCounter) -> CpuRender {
     let (width, height) = (scene.image.width, scene.image.height);
     let view = View::new(scene, width, height);
     let triangles = setup_triangles(scene, &view, mode, counter);

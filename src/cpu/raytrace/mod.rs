@@ -21,7 +21,7 @@ mod tracer;
 pub use bounce::cosine_direction;
 pub use path_signature::{PathSignature, RayKind};
 pub use pixel_samples::pixel_sample;
-pub use render::{render, render_counted, render_part, RayTraced};
+pub use render::{render, RayTraced};
 pub(crate) use secondary_rays::children;
 pub use secondary_rays::{facing_normal, offset_epsilon, offset_origin};
 pub use tracer::{sample_offsets, PixelTrace, Tracer};

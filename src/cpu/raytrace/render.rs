@@ -43,23 +43,11 @@ fn add_stats(a: RayStats, b: RayStats) -> RayStats {
     }
 }
 
-/// Ray traces `scene` at its image size with its `[render]` settings.
-pub fn render(scene: &Scene) -> RayTraced {
-    render_counted(scene, &WorkCounter::default())
-}
-
-/// [`render`], counting its rows into `counter` as they finish.
-pub fn render_counted(scene: &Scene, counter: &WorkCounter) -> RayTraced {
-    render_part(
-        scene,
-        &RenderPart::all(scene.render.samples.max(1)),
-        counter,
-    )
-}
-
-/// [`render_counted`] of `part`'s samples of each pixel (all of them, or a
-/// shard's run; its time budget is not looked at).
-pub fn render_part(scene: &Scene, part: &RenderPart, counter: &WorkCounter) -> RayTraced {
+/// Ray traces `scene` at its image size with its `[render]` settings:
+/// `part`'s samples of each pixel (all of them, or a shard's run; its time
+/// budget is not looked at), counting its rows into `counter` as they
+/// finish.
+pub fn render(scene: &Scene, part: &RenderPart, counter: &WorkCounter) -> RayTraced {
     let (width, height) = (scene.image.width, scene.image.height);
     let samples = part.range.clone();
     let rt = RtScene::new(scene);

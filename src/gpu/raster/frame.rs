@@ -2,7 +2,7 @@
 //! and uniforms, the descriptors, the colour and depth images, the
 //! read-back buffer; made by `frame_resources`) and the commands that draw
 //! it (each pass: begin rendering, bind, the draws) and copy it back.
-//! `raster::render_to` runs the phases in order: geometry, pipeline, this
+//! `raster::render` runs the phases in order: geometry, pipeline, this
 //! frame's upload, its recording, the submission, the read-back.
 
 use std::sync::Arc;

@@ -17,5 +17,5 @@ mod samples;
 mod scene;
 mod target;
 
-pub use renderer::{render, render_to, renders_samples};
+pub use renderer::{render, renders_samples};
 pub use target::{ColorTarget, RasterOutput, DEPTH_FORMAT, SCALED_UNORM16_RANGE};

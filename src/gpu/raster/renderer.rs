@@ -28,17 +28,8 @@ pub fn renders_samples(info: &DeviceInfo, msaa: Msaa) -> bool {
     check_samples(info, msaa).is_ok()
 }
 
-/// Renders `scene` at its `image` size in `mode`, into the float target.
-pub fn render(
-    context: &Arc<GpuContext>,
-    scene: &Scene,
-    mode: RasterMode,
-) -> Result<RasterOutput, GpuError> {
-    render_to(context, scene, mode, ColorTarget::Float32)
-}
-
 /// Renders `scene` at its `image` size in `mode`, into `target`.
-pub fn render_to(
+pub fn render(
     context: &Arc<GpuContext>,
     scene: &Scene,
     mode: RasterMode,

@@ -24,6 +24,4 @@ mod records;
 mod renderer;
 pub mod wide_bvh;
 
-pub use renderer::{
-    engine_for, render, render_part, render_with, SampleSums, TraceOptions, TraceOutput,
-};
+pub use renderer::{engine_for, render, SampleSums, TraceOptions, TraceOutput};

@@ -223,33 +223,10 @@ pub(super) fn specialization(
     }
 }
 
-/// Ray traces `scene` at its `image` size; counts rays if `count_rays`.
+/// Ray traces `scene` at its `image` size as `options` say: `part`'s
+/// samples of each pixel (all of them, a shard's, or with diffuse bounces
+/// those before a time budget), counted into `counter` as batches finish.
 pub fn render(
-    context: &Arc<GpuContext>,
-    scene: &Scene,
-    count_rays: bool,
-) -> Result<TraceOutput, GpuError> {
-    let options = TraceOptions {
-        count_rays,
-        ..TraceOptions::default()
-    };
-    render_with(context, scene, options)
-}
-
-/// Ray traces `scene` at its `image` size as `options` say.
-pub fn render_with(
-    context: &Arc<GpuContext>,
-    scene: &Scene,
-    options: TraceOptions,
-) -> Result<TraceOutput, GpuError> {
-    let part = RenderPart::all(scene.render.samples);
-    render_part(context, scene, options, &part, &WorkCounter::default())
-}
-
-/// Ray traces `scene` as `render_with` does; with diffuse bounces, only
-/// `part`'s samples of each pixel (all of them, a shard's, or those
-/// before a time budget), counted into `counter` as batches finish.
-pub fn render_part(
     context: &Arc<GpuContext>,
     scene: &Scene,
     options: TraceOptions,

@@ -42,14 +42,14 @@ pub struct ForwardOutput {
     pub estimate: Option<f64>,
 }
 
-/// Traces `job`'s photons through `scene` at its image size, counting
+/// Traces `part`'s photons through `scene` at its image size, counting
 /// them into `counter` as batches finish; under a time budget, the batches
 /// that start before it (the film holds their sums: `stats.emitted` says
 /// how many photons that is).
 pub fn render(
     context: &Arc<GpuContext>,
     scene: &Scene,
-    job: &RenderPart,
+    part: &RenderPart,
     counter: &WorkCounter,
 ) -> Result<ForwardOutput, GpuError> {
     let _watch = crate::gpu::shared::watch::watch_render(scene);
@@ -82,7 +82,7 @@ pub fn render(
     let upload_ms = ms_since(upload_started);
 
     let codegen_started = Instant::now();
-    run_batch(context, &bound, None, PhotonBatch::zeroed_for(job.total))?;
+    run_batch(context, &bound, None, PhotonBatch::zeroed_for(part.total))?;
     let codegen_ms = ms_since(codegen_started);
 
     let work = batches::FilmWork {
@@ -95,13 +95,13 @@ pub fn render(
     let batches = batches::run(
         context,
         &work,
-        job,
+        part,
         counter,
         &mut |timestamps, first, end, _| {
             let batch = PhotonBatch {
                 first,
                 count: end - first,
-                total: job.total,
+                total: part.total,
                 unused: 0,
             };
             run_batch(context, &bound, Some(timestamps), batch)
