@@ -15,11 +15,11 @@ use shadelab::render::{Rendered, Timings};
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
-use super::args::RenderArgs;
-use super::image::{color_target, effective_settings, image_metadata};
-use super::scene::{apply_overrides, load_scene};
 use super::stats::{print_photons, print_stats};
-use crate::cli::failure::Failure;
+use crate::cli::common::batch::args::RenderArgs;
+use crate::cli::common::batch::image::{color_target, effective_settings, image_metadata};
+use crate::cli::common::batch::scene::{apply_overrides, load_scene};
+use crate::cli::common::failure::Failure;
 
 /// The GPU opened on a thread of its own while the scene loads (on a
 /// 2-core machine the two overlap): `ms` is how long the opening took.
@@ -253,7 +253,7 @@ fn render(
         (rendered, info.name.clone(), Some(info.driver.clone()))
     } else {
         let label = format!("{shading} on the CPU reference");
-        let (rendered, _) = crate::cli::progress::counted(&label, |counter| {
+        let (rendered, _) = crate::cli::common::progress::counted(&label, |counter| {
             shadelab::render::render_cpu_counted(scene, shading, counter)
         })?;
         (rendered, "CPU reference (f64)".to_string(), None)
@@ -278,10 +278,11 @@ fn render_film(
     } else {
         "CPU reference"
     };
-    let rendered = crate::cli::progress::counted(&format!("{shading} on the {on}"), |counter| {
-        let part = (&part, counter);
-        shadelab::render::render_film_part(context.as_ref(), scene, shading, part, args.stats)
-    })?;
+    let rendered =
+        crate::cli::common::progress::counted(&format!("{shading} on the {on}"), |counter| {
+            let part = (&part, counter);
+            shadelab::render::render_film_part(context.as_ref(), scene, shading, part, args.stats)
+        })?;
     if let Some(film) = &rendered.film {
         say_budget(args, shading, film, part.count());
     }

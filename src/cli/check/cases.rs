@@ -16,10 +16,10 @@ use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 use shadelab::work_counter::WorkCounter;
 
-use super::cases::in_order;
-use super::check_report::{CaseReport, KeepImages};
-use super::failure::Failure;
-use super::progress::Progress;
+use super::report::{CaseReport, KeepImages};
+use crate::cli::common::cases::in_order;
+use crate::cli::common::failure::Failure;
+use crate::cli::common::progress::Progress;
 
 /// A scene of the run (or why it could not be had) and its name, unique in
 /// the run.

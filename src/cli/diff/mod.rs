@@ -1,6 +1,9 @@
 //! `shadelab diff`: compare two image files, report every figure, and exit 1
 //! when a figure is over its threshold.
 
+mod folders;
+mod judging;
+
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -10,13 +13,11 @@ use shadelab::metrics::{
 };
 use shadelab::output::{self, ImageFormat};
 
-use super::diff_judging::{check_limit, compare_files, junit_case, PairOutcome};
+use judging::{check_limit, compare_files, junit_case, PairOutcome};
 // `golden` judges its images as `diff` does, and names the judging through
 // the command it follows.
-pub(super) use super::diff_judging::{
-    compare_images, parse_thresholds, Judging, Preset, EDGE_THRESHOLD,
-};
-use super::failure::Failure;
+use crate::cli::common::failure::Failure;
+pub(super) use judging::{compare_images, parse_thresholds, Judging, Preset, EDGE_THRESHOLD};
 
 #[derive(Args)]
 pub struct DiffArgs {
@@ -97,7 +98,7 @@ pub fn run(args: DiffArgs) -> Result<(), Failure> {
                     "--heatmap names one image; with two folders, compare the image pair that failed on its own to get its heat map".to_string(),
                 ));
             }
-            super::diff_folders::run(
+            folders::run(
                 &args.expected,
                 &args.actual,
                 args.junit.as_deref(),

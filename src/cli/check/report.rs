@@ -7,7 +7,7 @@ use shadelab::check::CheckOutcome;
 use shadelab::junit::TestCase;
 use shadelab::shading::Shading;
 
-use super::failure::Failure;
+use crate::cli::common::failure::Failure;
 
 /// Which case images `check` writes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]

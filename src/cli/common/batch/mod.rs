@@ -4,6 +4,11 @@
 //! judges it) and the results reported in the cases' order. A case that
 //! fails is reported and the others go on.
 
+pub(in crate::cli) mod args;
+pub(in crate::cli) mod image;
+pub(in crate::cli) mod plan;
+pub(in crate::cli) mod scene;
+
 use std::path::Path;
 use std::sync::Arc;
 
@@ -13,13 +18,13 @@ use shadelab::memory::MemoryLimit;
 use shadelab::output::ImageFormat;
 use shadelab::shading::Shading;
 
-use super::args::RenderArgs;
-use super::image::{color_target, effective_settings, image_metadata};
-use super::plan::{check_pattern, file_name, plan_case, plan_scenes, PlannedCase, PlannedScene};
-use super::scene::apply_overrides;
-use crate::cli::cases::{case_workers, in_order};
-use crate::cli::failure::Failure;
-use crate::cli::progress::Progress;
+use crate::cli::common::cases::{case_workers, in_order};
+use crate::cli::common::failure::Failure;
+use crate::cli::common::progress::Progress;
+use args::RenderArgs;
+use image::{color_target, effective_settings, image_metadata};
+use plan::{check_pattern, file_name, plan_case, plan_scenes, PlannedCase, PlannedScene};
+use scene::apply_overrides;
 
 /// A batch planned: its scenes loaded, its cases' backends chosen, the
 /// device opened if a case needs it.
@@ -101,7 +106,7 @@ impl Batch {
             for &shading in &modes {
                 order += 1;
                 let key = format!("{}/{shading}", scene.name);
-                if !crate::cli::shards::on_shard(&key, args.shard) {
+                if !crate::cli::common::shards::on_shard(&key, args.shard) {
                     continue;
                 }
                 let (planned, choice) = plan_case(args, scene, shading, memory);

@@ -9,13 +9,13 @@ use shadelab::linear_image::LinearImage;
 use shadelab::metrics::{self, Comparison, Settings, Thresholds, Verdict};
 use shadelab::output::{self, ImageFormat};
 
-use super::failure::Failure;
+use crate::cli::common::failure::Failure;
 
 /// The `--edge-threshold` default: a step of 0.1 in linear intensity between
 /// neighbours counts as an edge (see `metrics::edges::gradient_mask`).
-pub(super) const EDGE_THRESHOLD: f64 = 0.1;
+pub(in crate::cli) const EDGE_THRESHOLD: f64 = 0.1;
 
-pub(super) fn check_limit(name: &str, value: f64) -> Result<f64, Failure> {
+pub(in crate::cli) fn check_limit(name: &str, value: f64) -> Result<f64, Failure> {
     if value.is_finite() && value >= 0.0 {
         Ok(value)
     } else {
@@ -30,7 +30,7 @@ pub(super) fn check_limit(name: &str, value: f64) -> Result<f64, Failure> {
     Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
 )]
 #[serde(rename_all = "kebab-case")]
-pub(super) enum Preset {
+pub(in crate::cli) enum Preset {
     /// A GPU render against a reference renderer's image of the same
     /// scene: `Thresholds::default()`.
     GpuVsReference,
@@ -64,7 +64,7 @@ impl Preset {
 
 /// `--threshold`'s entries (`FIGURE=X,...` or a bare X for flip_mean) on
 /// top of `base`.
-pub(super) fn parse_thresholds(
+pub(in crate::cli) fn parse_thresholds(
     base: Thresholds,
     entries: &[String],
 ) -> Result<Thresholds, Failure> {
@@ -107,7 +107,7 @@ pub(super) fn parse_thresholds(
 
 /// How two images are judged: the limits, the per-pixel threshold and the
 /// step that marks an edge, from the command line.
-pub(super) struct Judging {
+pub(in crate::cli) struct Judging {
     pub thresholds: Thresholds,
     pub settings: Settings,
     pub edge_threshold: f64,
@@ -115,7 +115,7 @@ pub(super) struct Judging {
 
 /// One pair of images compared: every figure, each thresholded one's
 /// verdict, the failed ones, and a note where the formats differ.
-pub(super) struct PairOutcome {
+pub(in crate::cli) struct PairOutcome {
     pub comparison: Comparison,
     pub verdicts: Vec<Verdict>,
     pub failures: Vec<String>,
@@ -123,7 +123,7 @@ pub(super) struct PairOutcome {
 }
 
 /// Reads both images and compares them as `judging` says.
-pub(super) fn compare_files(
+pub(in crate::cli) fn compare_files(
     expected: &Path,
     actual: &Path,
     judging: &Judging,
@@ -143,7 +143,7 @@ pub(super) fn compare_files(
 
 /// Compares two images as `judging` says; the error is why they cannot
 /// be compared (sizes that differ).
-pub(super) fn compare_images(
+pub(in crate::cli) fn compare_images(
     expected: &LinearImage,
     actual: &LinearImage,
     judging: &Judging,
@@ -175,7 +175,7 @@ fn formats_differ(expected: &Path, actual: &Path) -> Option<String> {
 }
 
 /// A JUnit case for one image: failed with `failures`, passed without.
-pub(super) fn junit_case(name: &str, failures: &[String], time_s: f64) -> TestCase {
+pub(in crate::cli) fn junit_case(name: &str, failures: &[String], time_s: f64) -> TestCase {
     TestCase {
         classname: "shadelab diff".to_string(),
         name: name.to_string(),

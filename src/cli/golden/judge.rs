@@ -10,12 +10,13 @@ use shadelab::linear_image::LinearImage;
 use shadelab::metrics;
 use shadelab::output::{self, ImageFormat, ImageMetadata};
 
-use super::diff::{compare_images, Judging};
-use super::failure::Failure;
-use super::golden_args::GoldenArgs;
-use super::golden_case::{Judged, Pictures, Status};
-use super::golden_keys;
-use super::render::{image_metadata, non_finite_failure, CaseView, Made};
+use super::args::GoldenArgs;
+use super::case::{Judged, Pictures, Status};
+use super::keys;
+use crate::cli::common::batch::image::image_metadata;
+use crate::cli::common::batch::{non_finite_failure, CaseView, Made};
+use crate::cli::common::failure::Failure;
+use crate::cli::diff::{compare_images, Judging};
 
 /// Where a case's reference is: this driver's, then the shared one.
 fn find_reference(references: &Path, key: &str, file: &str) -> Option<(PathBuf, &'static str)> {
@@ -364,7 +365,7 @@ fn why_else_it_differs(made: &Made, reference_bytes: &[u8]) -> Option<String> {
     let reference_settings = made_with(reference_bytes);
     let mut hints = Vec::new();
     if let Some(settings) = &reference_settings {
-        let differences = golden_keys::settings_differences(settings, &made.settings);
+        let differences = keys::settings_differences(settings, &made.settings);
         if !differences.is_empty() {
             hints.push(format!(
                 "the reference was made with other settings ({}): run with the reference's, or accept this render with --bless",

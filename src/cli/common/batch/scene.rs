@@ -9,8 +9,8 @@ use shadelab::scene::{self, Scene};
 use shadelab::shading::Shading;
 
 use super::args::RenderArgs;
-use crate::cli::failure::Failure;
-use crate::cli::ignored::{self, Backends};
+use crate::cli::common::failure::Failure;
+use crate::cli::common::ignored::{self, Backends};
 
 /// Loads `path` (the default scene when `None`), refusing a glTF file whose
 /// geometry alone would exceed `memory`, and returns it with its name.
@@ -31,7 +31,7 @@ pub fn load_scene(path: Option<&Path>, memory: &MemoryLimit) -> Result<(Scene, S
 /// Applies the command-line overrides to the scene, checking their ranges as
 /// the scene loader checks the file's; warns once (`warn`) of ray-tracing
 /// flags that no mode in `modes` uses.
-pub(super) fn apply_overrides(
+pub(in crate::cli) fn apply_overrides(
     scene: &mut Scene,
     args: &RenderArgs,
     modes: &[Shading],

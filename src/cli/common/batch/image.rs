@@ -12,7 +12,7 @@ use shadelab::shading::Shading;
 /// What the image was made with, overrides applied: `--json`'s
 /// `settings` and the PNG's `shadelab:settings` text. The ray tracer's
 /// settings only where it ran.
-pub(super) fn effective_settings(
+pub(in crate::cli) fn effective_settings(
     scene_path: Option<&Path>,
     shading: Shading,
     scene: &Scene,
@@ -55,7 +55,10 @@ pub(super) fn effective_settings(
 }
 
 /// The raster modes' colour target for an output `format`.
-pub(super) fn color_target(scene: &Scene, format: shadelab::output::ImageFormat) -> ColorTarget {
+pub(in crate::cli) fn color_target(
+    scene: &Scene,
+    format: shadelab::output::ImageFormat,
+) -> ColorTarget {
     // A PNG holds 8-bit sRGB: the raster modes render straight into it.
     // A lighting hook is the user's code, and may return NaN: the float
     // target keeps it to be counted, where the 8-bit one turns it into a

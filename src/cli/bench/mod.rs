@@ -6,6 +6,9 @@
 //! optional feature in, against the one specialised to the scene. Shared
 //! machines are noisy: compare ratios, not milliseconds.
 
+mod time_to_image;
+mod timing;
+
 use std::ffi::OsString;
 use std::path::PathBuf;
 
@@ -16,11 +19,11 @@ use shadelab::memory::MemoryLimit;
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
-use super::args::{check_runs, ImageSize, ModeList, SceneFlags};
-use super::bench_timing::{measure, Row, Timing};
-use super::failure::Failure;
-use super::ignored;
-use super::render::load_scene;
+use crate::cli::common::args::{check_runs, ImageSize, ModeList, SceneFlags};
+use crate::cli::common::batch::scene::load_scene;
+use crate::cli::common::failure::Failure;
+use crate::cli::common::ignored;
+use timing::{measure, Row, Timing};
 
 #[derive(Args)]
 pub struct BenchArgs {
@@ -60,7 +63,7 @@ pub struct BenchArgs {
     #[arg(long)]
     json: bool,
     #[command(flatten)]
-    pub machine: super::args::MachineArgs,
+    pub machine: crate::cli::common::args::MachineArgs,
 }
 
 impl BenchArgs {

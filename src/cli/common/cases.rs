@@ -16,7 +16,11 @@ use super::failure::Failure;
 /// code generation, FLIP, PNG encoding), so a second case fills the other
 /// core: on a fresh machine, whose code generation is most of the time,
 /// the cases' pipelines are generated two at a time.
-pub(super) fn case_workers(cases: usize, largest_estimate: u64, memory: &MemoryLimit) -> usize {
+pub(in crate::cli) fn case_workers(
+    cases: usize,
+    largest_estimate: u64,
+    memory: &MemoryLimit,
+) -> usize {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let fits_two = largest_estimate.saturating_mul(2) <= memory.bytes;
     if cases >= 2 && cores >= 2 && fits_two {
@@ -32,7 +36,7 @@ pub(super) fn case_workers(cases: usize, largest_estimate: u64, memory: &MemoryL
 /// and hands each result to `report` in the jobs' order as soon as those
 /// before it are in. An error from `report` stops the workers after their
 /// current job and is returned.
-pub(super) fn in_order<C: Sync, J: Copy + Sync, T: Send>(
+pub(in crate::cli) fn in_order<C: Sync, J: Copy + Sync, T: Send>(
     context: &C,
     open_another: impl Fn() -> Option<C> + Sync,
     jobs: &[J],

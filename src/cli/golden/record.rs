@@ -10,18 +10,18 @@ use std::time::Instant;
 use shadelab::junit;
 use shadelab::output;
 
-use super::diff::Preset;
-use super::failure::Failure;
-use super::golden_args::GoldenArgs;
-use super::golden_case::Status;
-use super::golden_report::{junit_from_json, write_page, PageHead};
-use super::shards;
+use super::args::GoldenArgs;
+use super::case::Status;
+use super::report::{junit_from_json, write_page, PageHead};
+use crate::cli::common::failure::Failure;
+use crate::cli::common::shards;
+use crate::cli::diff::Preset;
 
 /// What a golden run (or a shard of one) was, beside its cases: the
 /// record's head in `golden.json`, and the page's.
 pub(super) struct RunRecord {
     pub(super) shard: Option<(usize, usize)>,
-    /// The whole run's settings and their digest (`run_digest.rs`).
+    /// The whole run's settings and their digest (`common/run_digest.rs`).
     pub(super) identity: serde_json::Value,
     pub(super) references: PathBuf,
     /// The driver's folder of references; `None` for a shard that had no

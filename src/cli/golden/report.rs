@@ -13,9 +13,9 @@ use shadelab::metrics::format_figure;
 use shadelab::output::write_atomically;
 use shadelab::shading::Shading;
 
-use super::failure::Failure;
-use super::golden_case::{Judged, Status};
-use super::render::CaseView;
+use super::case::{Judged, Status};
+use crate::cli::common::batch::CaseView;
+use crate::cli::common::failure::Failure;
 
 /// A case as the report shows it.
 pub(super) struct ReportCase {
@@ -296,7 +296,7 @@ pub(super) fn write_page(
 }
 
 /// A JUnit case as a shard record keeps it, and back.
-pub(super) fn junit_json(t: &TestCase) -> serde_json::Value {
+pub(in crate::cli) fn junit_json(t: &TestCase) -> serde_json::Value {
     serde_json::json!({
         "classname": t.classname,
         "name": t.name,
@@ -307,7 +307,7 @@ pub(super) fn junit_json(t: &TestCase) -> serde_json::Value {
     })
 }
 
-pub(super) fn junit_from_json(v: &serde_json::Value) -> TestCase {
+pub(in crate::cli) fn junit_from_json(v: &serde_json::Value) -> TestCase {
     let text = |k: &str| v.get(k).and_then(|x| x.as_str()).map(str::to_string);
     TestCase {
         classname: text("classname").unwrap_or_default(),

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use shadelab::metrics::{Comparison, Verdict};
 
-use super::failure::Failure;
+use crate::cli::common::failure::Failure;
 
 /// What a case came to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]

@@ -14,7 +14,7 @@ use std::time::Instant;
 use shadelab::compare::run::median_and_spread;
 use shadelab::shading::Shading;
 
-use super::failure::Failure;
+use crate::cli::common::failure::Failure;
 
 /// The whole command's wall clock, in milliseconds, medians.
 #[derive(Debug, Clone, Copy, serde::Serialize)]

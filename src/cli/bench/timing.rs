@@ -15,8 +15,8 @@ use shadelab::gpu::{raster, raytrace, GpuContext, GpuTimings};
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
-use super::failure::Failure;
 use super::time_to_image::{self, TimeToImage};
+use crate::cli::common::failure::Failure;
 
 /// What to time, and on what.
 pub(super) struct Timing<'a> {

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use shadelab::junit;
 use shadelab::output::write_atomically;
 
-use super::failure::Failure;
+use crate::cli::common::failure::Failure;
 
 /// The record a shard of `check` leaves in its --out for `--merge`.
 pub(super) const RECORD: &str = "check.json";
@@ -23,14 +23,14 @@ pub(super) fn merge(
     if let Some(path) = junit {
         shadelab::output::prepare_output_path(path)?;
     }
-    let shards = super::shards::read_shards(dirs, RECORD)?;
+    let shards = crate::cli::common::shards::read_shards(dirs, RECORD)?;
     shadelab::output::prepare_output_folder(out)?;
-    let cases = super::shards::merged_cases(&shards);
+    let cases = crate::cli::common::shards::merged_cases(&shards);
     copy_images(&shards, out)?;
     if let Some(path) = junit {
         let junit: Vec<_> = cases
             .iter()
-            .map(|v| super::golden_report::junit_from_json(&v["junit"]))
+            .map(|v| crate::cli::golden::report::junit_from_json(&v["junit"]))
             .collect();
         write_atomically(path, junit::render("shadelab check", &junit).as_bytes())?;
     }
@@ -84,7 +84,7 @@ fn copy_images(shards: &[(PathBuf, serde_json::Value)], out: &Path) -> Result<()
                         .map_or_else(String::new, |n| n.to_string_lossy().into_owned())
                 ));
                 if dir.join(&name).is_file() {
-                    super::shards::copy_into(dir, out, &name)?;
+                    crate::cli::common::shards::copy_into(dir, out, &name)?;
                 }
             }
         }

@@ -8,8 +8,8 @@ use std::path::Path;
 use shadelab::junit::{self, TestCase};
 use shadelab::metrics::format_figure;
 
-use super::diff_judging::{compare_files, junit_case, Judging};
-use super::failure::Failure;
+use super::judging::{compare_files, junit_case, Judging};
+use crate::cli::common::failure::Failure;
 
 /// The image files (`.png`, `.exr`) directly in `dir`, by name.
 fn image_names(dir: &Path) -> Result<BTreeSet<String>, Failure> {

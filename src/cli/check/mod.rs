@@ -2,6 +2,10 @@
 //! reference; images for CI to keep, a verdict line per case, optionally a
 //! JUnit report; exit status 1 when any case fails.
 
+mod cases;
+mod merge;
+mod report;
+
 use std::path::{Path, PathBuf};
 
 use clap::Args;
@@ -13,13 +17,13 @@ use shadelab::msaa::Msaa;
 use shadelab::output::write_atomically;
 use shadelab::shading::Shading;
 
-use super::args::{DepthArg, ImageSize, LightingArg, ModeList, MsaaArg, TraversalArg};
-use super::cases::case_workers;
-use super::check_cases::{run_cases, Cases, Job, NamedScene};
-use super::check_merge::{merge, RECORD};
-use super::check_report::{CaseReport, KeepImages};
-use super::failure::Failure;
-use super::render::load_scene;
+use crate::cli::common::args::{DepthArg, ImageSize, LightingArg, ModeList, MsaaArg, TraversalArg};
+use crate::cli::common::batch::scene::load_scene;
+use crate::cli::common::cases::case_workers;
+use crate::cli::common::failure::Failure;
+use cases::{run_cases, Cases, Job, NamedScene};
+use merge::{merge, RECORD};
+use report::{CaseReport, KeepImages};
 
 #[derive(Args)]
 pub struct CheckArgs {
@@ -66,7 +70,7 @@ pub struct CheckArgs {
     /// scene's path and mode so that a case stays on its shard when others
     /// are added; the shard's record (check.json) goes into --out. `auto`
     /// reads I and N from the CI's own variables (docs/golden.md).
-    #[arg(long, value_name = "I/N", value_parser = super::shards::parse_shard)]
+    #[arg(long, value_name = "I/N", value_parser = crate::cli::common::shards::parse_shard)]
     shard: Option<(usize, usize)>,
     /// Join the records of these shard folders (each a shard's --out) into
     /// one report: the images copied into --out, check.json, --junit and
@@ -74,7 +78,7 @@ pub struct CheckArgs {
     #[arg(long, num_args = 1.., value_name = "DIR", conflicts_with_all = ["scenes", "shard"])]
     merge: Vec<PathBuf>,
     #[command(flatten)]
-    pub machine: super::args::MachineArgs,
+    pub machine: crate::cli::common::args::MachineArgs,
 }
 
 pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
@@ -84,15 +88,15 @@ pub fn run(args: CheckArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resul
     let modes = args.modes.modes();
     check_flags(&args)?;
     let (scenes, largest_estimate) = load_scenes(&args, &modes, memory);
-    let ignoring = super::ignored::Run {
+    let ignoring = crate::cli::common::ignored::Run {
         modes: &modes,
-        backends: super::ignored::Backends::Both,
+        backends: crate::cli::common::ignored::Backends::Both,
         caustics: scenes
             .iter()
             .any(|(scene, _)| scene.as_ref().is_ok_and(|s| s.render.caustics.on())),
     };
-    super::ignored::warn(
-        &super::ignored::scene_flags_given(&args.traversal, &args.msaa, &args.depth),
+    crate::cli::common::ignored::warn(
+        &crate::cli::common::ignored::scene_flags_given(&args.traversal, &args.msaa, &args.depth),
         ignoring,
     );
     let (orders, jobs) = plan_cases(&args, scenes.len(), &modes)?;
@@ -216,12 +220,12 @@ fn plan_cases(
     scene_count: usize,
     modes: &[Shading],
 ) -> Result<(Vec<usize>, Vec<Job>), Failure> {
-    let keys = super::golden_keys::scene_keys(&args.scenes, None)?;
+    let keys = crate::cli::golden::keys::scene_keys(&args.scenes, None)?;
     Ok((0..scene_count)
         .flat_map(|i| modes.iter().map(move |&shading| (i, shading)))
         .enumerate()
         .filter(|(_, (i, shading))| {
-            super::shards::on_shard(&format!("{}/{shading}", keys[*i]), args.shard)
+            crate::cli::common::shards::on_shard(&format!("{}/{shading}", keys[*i]), args.shard)
         })
         .unzip())
 }
@@ -243,7 +247,7 @@ fn write_shard_record(
         .map(|((v, t), order)| {
             let mut v = v.clone();
             v["order"] = (*order).into();
-            v["junit"] = super::golden_report::junit_json(t);
+            v["junit"] = crate::cli::golden::report::junit_json(t);
             v
         })
         .collect();
@@ -258,23 +262,26 @@ fn write_shard_record(
     Ok(())
 }
 
-/// What the whole run is, for its shards' records (`run_digest.rs`): every
+/// What the whole run is, for its shards' records (`common/run_digest.rs`): every
 /// case, each scene's and the hook's contents, the flags and limits; not
 /// where it wrote (`--out`, `--junit`), which differ between shards.
 fn run_identity(args: &CheckArgs, modes: &[Shading]) -> Result<serde_json::Value, Failure> {
-    let keys = super::golden_keys::scene_keys(&args.scenes, None)?;
-    let (cases, scenes) = super::run_digest::cases_and_scenes(&keys, &args.scenes, modes);
-    Ok(super::run_digest::run_identity(serde_json::json!({
-        "cases": cases,
-        "scenes": scenes,
-        "width": args.size.width,
-        "height": args.size.height,
-        "flags": super::run_digest::scene_flags(&args.lighting, &args.traversal, &args.msaa, &args.depth),
-        "interior_max_abs": args.interior_max_abs,
-        "edge_fraction": args.edge_fraction,
-        "flip_mean": args.flip_mean,
-        "images": format!("{:?}", args.images),
-    })))
+    let keys = crate::cli::golden::keys::scene_keys(&args.scenes, None)?;
+    let (cases, scenes) =
+        crate::cli::common::run_digest::cases_and_scenes(&keys, &args.scenes, modes);
+    Ok(crate::cli::common::run_digest::run_identity(
+        serde_json::json!({
+            "cases": cases,
+            "scenes": scenes,
+            "width": args.size.width,
+            "height": args.size.height,
+            "flags": crate::cli::common::run_digest::scene_flags(&args.lighting, &args.traversal, &args.msaa, &args.depth),
+            "interior_max_abs": args.interior_max_abs,
+            "edge_fraction": args.edge_fraction,
+            "flip_mean": args.flip_mean,
+            "images": format!("{:?}", args.images),
+        }),
+    ))
 }
 
 /// The run in one JSON object (`--json`), or the count of cases that passed.

@@ -11,7 +11,7 @@ use shadelab::memory::MemoryLimit;
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
-use super::failure::Failure;
+use crate::cli::common::failure::Failure;
 
 /// The variants `--variants` names, or, where it names none, the list
 /// chosen for the scene; refused when the list is empty or names one twice.

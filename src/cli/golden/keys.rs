@@ -7,7 +7,7 @@
 
 use std::path::{Component, Path, PathBuf};
 
-use super::failure::Failure;
+use crate::cli::common::failure::Failure;
 
 /// Each scene's `{scene}` in reference names: its path relative to `root`
 /// (or to the deepest folder holding every scene), without its extension,
@@ -93,7 +93,7 @@ pub fn first_clash(cases: &[(String, String)]) -> Option<(&str, &str, &str)> {
 }
 
 /// The settings that change a render's pixels, as `render` records them
-/// in a PNG's `shadelab:settings` (`render::image::effective_settings`),
+/// in a PNG's `shadelab:settings` (`common::batch::image::effective_settings`),
 /// plus the reference's key and the hook's source digest that `golden`
 /// adds.
 const PIXEL_SETTINGS: [&str; 15] = [

@@ -2,6 +2,10 @@
 //! measured against the CPU reference of the same variant and against the
 //! scene's reference image; or `--merge` of shard folders into one report.
 
+mod folders;
+mod table;
+mod variants;
+
 use std::path::{Path, PathBuf};
 
 use clap::Args;
@@ -14,13 +18,13 @@ use shadelab::memory::MemoryLimit;
 use shadelab::output::write_atomically;
 use shadelab::shading::Shading;
 
-use super::args::{check_runs, DepthArg, ImageSize, MsaaArg, WatchdogArg};
-use super::compare_folders::{clear_earlier_run, merge_folders, same_folder};
-use super::compare_table::{budget_line, print_table};
-use super::compare_variants::{modes_of, over_the_limit, rendered_by, variants_of};
-use super::failure::Failure;
-use super::render::load_scene;
-use super::run_digest::content_digest;
+use crate::cli::common::args::{check_runs, DepthArg, ImageSize, MsaaArg, WatchdogArg};
+use crate::cli::common::batch::scene::load_scene;
+use crate::cli::common::failure::Failure;
+use crate::cli::common::run_digest::content_digest;
+use folders::{clear_earlier_run, merge_folders, same_folder};
+use table::{budget_line, print_table};
+use variants::{modes_of, over_the_limit, rendered_by, variants_of};
 
 #[derive(Args)]
 pub struct CompareArgs {
@@ -39,7 +43,7 @@ pub struct CompareArgs {
     runs: i64,
     /// Render only part I of N of the variant list, e.g. 2/4; `auto` reads
     /// I and N from the CI's own variables (docs/golden.md).
-    #[arg(long, value_name = "I/N", value_parser = super::shards::parse_shard)]
+    #[arg(long, value_name = "I/N", value_parser = crate::cli::common::shards::parse_shard)]
     shard: Option<(usize, usize)>,
     /// Join the reports in these shard folders into one report in --out.
     #[arg(long, num_args = 1.., value_name = "DIR", conflicts_with_all = ["scene", "variants", "shard"])]
@@ -71,7 +75,7 @@ pub struct CompareArgs {
     #[arg(long)]
     json: bool,
     #[command(flatten)]
-    pub machine: super::args::MachineArgs,
+    pub machine: crate::cli::common::args::MachineArgs,
 }
 
 /// The exit status of a comparison that finished without some of its
@@ -228,14 +232,17 @@ fn render_variants(
     args.msaa.apply(&mut scene)?;
     args.watchdog.apply(&mut scene)?;
     let variants = variants_of(&args.variants, &scene)?;
-    let given =
-        super::ignored::scene_flags_given(&Default::default(), &args.msaa, &DepthArg::default());
-    let ignoring = super::ignored::Run {
+    let given = crate::cli::common::ignored::scene_flags_given(
+        &Default::default(),
+        &args.msaa,
+        &DepthArg::default(),
+    );
+    let ignoring = crate::cli::common::ignored::Run {
         modes: &modes_of(&variants),
-        backends: super::ignored::Backends::Gpu,
+        backends: crate::cli::common::ignored::Backends::Gpu,
         caustics: scene.render.caustics.on(),
     };
-    super::ignored::warn(&given, ignoring);
+    crate::cli::common::ignored::warn(&given, ignoring);
     // The references alone must fit: without them no variant is measured.
     memory.check(&name, &scene, &[], &[Shading::Raytrace])?;
     let skip = over_the_limit(&scene, &name, &variants, memory)?;
@@ -247,7 +254,7 @@ fn render_variants(
     } else {
         variants
     };
-    let progress = super::progress::Progress::new("compare", 0);
+    let progress = crate::cli::common::progress::Progress::new("compare", 0);
     let compare_options = CompareOptions {
         runs,
         shard: args.shard,
@@ -289,7 +296,7 @@ fn render_variants(
 }
 
 /// What the whole comparison is, for its shards' reports
-/// (`run_digest.rs`): the scene's contents, every variant of every shard,
+/// (`common/run_digest.rs`): the scene's contents, every variant of every shard,
 /// the runs, size and samples. Not the plot's reference, metric or budget,
 /// which a merge may choose afresh.
 fn run_identity(args: &CompareArgs, variants: &[shadelab::compare::Variant]) -> serde_json::Value {
@@ -297,7 +304,7 @@ fn run_identity(args: &CompareArgs, variants: &[shadelab::compare::Variant]) -> 
         .scene
         .as_deref()
         .map_or_else(|| "built-in default scene".to_string(), content_digest);
-    super::run_digest::run_identity(serde_json::json!({
+    crate::cli::common::run_digest::run_identity(serde_json::json!({
         "scene": scene,
         "variants": variants.iter().map(ToString::to_string).collect::<Vec<_>>(),
         "runs": args.runs,

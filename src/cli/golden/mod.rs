@@ -5,10 +5,19 @@
 //! changed. References are kept per driver where one needs its own, found
 //! before the shared ones.
 //!
-//! This file runs the steps in order; `golden_args.rs` is the command
-//! line, `golden_judge.rs` judges one case into a `golden_case.rs`
-//! outcome, `golden_record.rs` writes the run's files and gives its exit
-//! status, `golden_report.rs` says each case, `golden_keys.rs` names them.
+//! This file runs the steps in order; `args.rs` is the command line,
+//! `judge.rs` judges one case into a `case.rs` outcome, `record.rs` writes
+//! the run's files and gives its exit status, `report.rs` says each case,
+//! `keys.rs` names them.
+
+mod args;
+mod case;
+mod judge;
+pub(in crate::cli) mod keys;
+mod record;
+pub(in crate::cli) mod report;
+
+pub use args::GoldenArgs;
 
 use std::time::Instant;
 
@@ -17,20 +26,20 @@ use shadelab::memory::MemoryLimit;
 use shadelab::metrics::{Settings, Thresholds};
 use shadelab::output;
 
-use super::diff::{parse_thresholds, Judging, Preset, EDGE_THRESHOLD};
-use super::failure::Failure;
-use super::golden_args::GoldenArgs;
-use super::golden_case::Judged;
-use super::golden_judge::Plan;
-use super::golden_keys;
-use super::golden_record::{conclude, merge, RunRecord};
-use super::golden_report::{
+use crate::cli::common::batch::args::RenderArgs;
+use crate::cli::common::batch::plan::file_name;
+use crate::cli::common::batch::{Batch, CaseView, Made};
+use crate::cli::common::failure::Failure;
+use crate::cli::diff::{parse_thresholds, Judging, Preset, EDGE_THRESHOLD};
+use case::Judged;
+use judge::Plan;
+use record::{conclude, merge, RunRecord};
+use report::{
     case_figure_html, case_json, case_row_html, junit_cases, junit_json, print_case, ReportCase,
 };
-use super::render::{file_name, Batch, CaseView, Made, RenderArgs};
 
 /// Plan the batch, judge each case as it is rendered, then write the
-/// record and reports (`golden_record.rs`); `--merge` joins shards instead.
+/// record and reports (`record.rs`); `--merge` joins shards instead.
 pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
     if !args.merge.is_empty() {
         return merge(&args);
@@ -93,7 +102,7 @@ pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
     conclude(&args, &run, records, first_error)
 }
 
-/// What the whole run is, for its shards' records (`run_digest.rs`): every
+/// What the whole run is, for its shards' records (`common/run_digest.rs`): every
 /// case of every shard, each scene's and the hook's contents, the flags,
 /// the references and limits. Not where it ran or wrote (the device,
 /// `--out`, `--junit`), which differ between the shards of one run.
@@ -105,9 +114,10 @@ fn run_identity(
 ) -> serde_json::Value {
     let keys = render_args.scene_names.as_deref().unwrap_or_default();
     let modes = args.modes.modes();
-    let (cases, scenes) = super::run_digest::cases_and_scenes(keys, &args.scenes, &modes);
+    let (cases, scenes) =
+        crate::cli::common::run_digest::cases_and_scenes(keys, &args.scenes, &modes);
     let flags = &args.settings;
-    super::run_digest::run_identity(serde_json::json!({
+    crate::cli::common::run_digest::run_identity(serde_json::json!({
         "cases": cases,
         "scenes": scenes,
         "name": args.name,
@@ -119,7 +129,7 @@ fn run_identity(
         "per_driver": args.per_driver,
         "width": args.size.width,
         "height": args.size.height,
-        "flags": super::run_digest::scene_flags(&flags.lighting, &flags.traversal, &flags.msaa, &flags.depth),
+        "flags": crate::cli::common::run_digest::scene_flags(&flags.lighting, &flags.traversal, &flags.msaa, &flags.depth),
     }))
 }
 
@@ -175,7 +185,7 @@ fn render_args(args: &GoldenArgs) -> Result<RenderArgs, Failure> {
         error_budget: None,
         merge: Vec::new(),
         machine: args.machine.clone(),
-        scene_names: Some(golden_keys::scene_keys(&args.scenes, args.root.as_deref())?),
+        scene_names: Some(keys::scene_keys(&args.scenes, args.root.as_deref())?),
         shard: args.shard,
     })
 }
@@ -267,7 +277,7 @@ fn refuse_shared_references(args: &RenderArgs) -> Result<(), Failure> {
             cases.push((file, format!("{scene} ({shading})")));
         }
     }
-    match golden_keys::first_clash(&cases) {
+    match keys::first_clash(&cases) {
         Some((file, first, second)) => Err(Failure::usage(format!(
             "{first} and {second} would share the reference {file}; give each scene its own path below --root (or its own file name)"
         ))),

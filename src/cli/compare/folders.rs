@@ -6,8 +6,8 @@ use std::path::{Component, Path, PathBuf};
 use shadelab::compare::run::merge;
 use shadelab::compare::Report;
 
-use super::failure::Failure;
-use super::run_digest::run_difference;
+use crate::cli::common::failure::Failure;
+use crate::cli::common::run_digest::run_difference;
 
 /// Whether two paths name one folder.
 pub(super) fn same_folder(a: &Path, b: &Path) -> bool {

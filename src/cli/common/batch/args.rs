@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::Args;
 use shadelab::shading::Shading;
 
-use crate::cli::args::{ImageSize, SceneFlags};
+use crate::cli::common::args::{ImageSize, SceneFlags};
 
 #[derive(Args)]
 pub struct RenderArgs {
@@ -71,7 +71,7 @@ pub struct RenderArgs {
     /// machines: trace only the I-th of N runs of the photons or of each
     /// pixel's samples, and write its film to --out FILE.film for --merge.
     /// `auto` reads I and N from the CI's own variables (docs/golden.md).
-    #[arg(long = "shard", value_name = "I/N", value_parser = crate::cli::shards::parse_shard)]
+    #[arg(long = "shard", value_name = "I/N", value_parser = crate::cli::common::shards::parse_shard)]
     pub(in crate::cli) render_shard: Option<(usize, usize)>,
     /// Add the films of shards 1 to N of one render (each a --shard's
     /// --out) into --out: the image one render of all the photons or
@@ -79,7 +79,7 @@ pub struct RenderArgs {
     #[arg(long, num_args = 1.., value_name = "FILE.film", conflicts_with_all = ["scenes", "render_shard"])]
     pub(in crate::cli) merge: Vec<PathBuf>,
     #[command(flatten)]
-    pub machine: crate::cli::args::MachineArgs,
+    pub machine: crate::cli::common::args::MachineArgs,
     /// A batch: each scene's `{scene}` in file names, given by the caller
     /// (`golden`'s keys), in place of the file's stem made unique.
     #[arg(skip)]
@@ -109,7 +109,7 @@ impl RenderArgs {
     }
 
     /// More than one image, `--out-dir` or `--name`: a batch.
-    pub(super) fn is_batch(&self) -> bool {
+    pub(in crate::cli) fn is_batch(&self) -> bool {
         self.scenes.len() > 1
             || self.modes().len() > 1
             || self.out_dir.is_some()

@@ -12,7 +12,7 @@ use shadelab::shading::Shading;
 
 use super::args::RenderArgs;
 use super::scene::{apply_overrides, load_scene};
-use crate::cli::failure::Failure;
+use crate::cli::common::failure::Failure;
 
 /// One scene of the batch: loaded with the overrides applied, or why not.
 pub(super) struct PlannedScene {

@@ -5,9 +5,9 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::args::{ImageSize, ModeList, SceneFlags};
-use super::diff::Preset;
-use super::shards;
+use crate::cli::common::args::{ImageSize, ModeList, SceneFlags};
+use crate::cli::common::shards;
+use crate::cli::diff::Preset;
 
 #[derive(Args)]
 pub struct GoldenArgs {
@@ -80,7 +80,7 @@ pub struct GoldenArgs {
     #[command(flatten)]
     pub(super) settings: SceneFlags,
     #[command(flatten)]
-    pub machine: super::args::MachineArgs,
+    pub machine: crate::cli::common::args::MachineArgs,
 }
 
 impl GoldenArgs {
