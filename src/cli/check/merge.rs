@@ -30,7 +30,7 @@ pub(super) fn merge(
     if let Some(path) = junit {
         let junit: Vec<_> = cases
             .iter()
-            .map(|v| crate::cli::golden::report::junit_from_json(&v["junit"]))
+            .map(|v| shadelab::junit::TestCase::from_json(&v["junit"]))
             .collect();
         write_atomically(path, junit::render("shadelab check", &junit).as_bytes())?;
     }

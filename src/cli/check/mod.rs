@@ -220,7 +220,7 @@ fn plan_cases(
     scene_count: usize,
     modes: &[Shading],
 ) -> Result<(Vec<usize>, Vec<Job>), Failure> {
-    let keys = crate::cli::golden::keys::scene_keys(&args.scenes, None)?;
+    let keys = shadelab::golden::keys::scene_keys(&args.scenes, None)?;
     Ok((0..scene_count)
         .flat_map(|i| modes.iter().map(move |&shading| (i, shading)))
         .enumerate()
@@ -247,7 +247,7 @@ fn write_shard_record(
         .map(|((v, t), order)| {
             let mut v = v.clone();
             v["order"] = (*order).into();
-            v["junit"] = crate::cli::golden::report::junit_json(t);
+            v["junit"] = t.to_json();
             v
         })
         .collect();
@@ -266,7 +266,7 @@ fn write_shard_record(
 /// case, each scene's and the hook's contents, the flags and limits; not
 /// where it wrote (`--out`, `--junit`), which differ between shards.
 fn run_identity(args: &CheckArgs, modes: &[Shading]) -> Result<serde_json::Value, Failure> {
-    let keys = crate::cli::golden::keys::scene_keys(&args.scenes, None)?;
+    let keys = shadelab::golden::keys::scene_keys(&args.scenes, None)?;
     let (cases, scenes) =
         crate::cli::common::run_digest::cases_and_scenes(&keys, &args.scenes, modes);
     Ok(crate::cli::common::run_digest::run_identity(

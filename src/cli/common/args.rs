@@ -4,12 +4,37 @@
 //! other bad input.
 
 use clap::Args;
+use shadelab::diff::Preset;
 use shadelab::scene::{
     check_caustic_radius, watchdog_limit, LightingHook, Scene, Traversal, MAX_DEPTH, MAX_RESOLUTION,
 };
 use shadelab::shading::Shading;
 
 use super::failure::Failure;
+
+/// `--preset` of `diff` and `golden`: the limits to start from, named by
+/// what they compare ([`Preset`], whose limits they are).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum PresetArg {
+    /// A GPU render against a reference renderer's image of the same
+    /// scene: `Thresholds::default()`.
+    GpuVsReference,
+    /// A render against a stored render of the same renderer and driver,
+    /// which repeats bit for bit: no pixel off by more than 0.01, a bit
+    /// over the largest one 8-bit sRGB step (0.0089, at the top of the
+    /// range), so a last-bit change that tips a pixel over one step
+    /// passes and anything of two steps fails.
+    StoredReference,
+}
+
+impl PresetArg {
+    pub fn preset(self) -> Preset {
+        match self {
+            PresetArg::GpuVsReference => Preset::GpuVsReference,
+            PresetArg::StoredReference => Preset::StoredReference,
+        }
+    }
+}
 
 /// The flags that override a scene's settings in every command that renders
 /// it whole (render, bench, warm, golden), applied in this order.

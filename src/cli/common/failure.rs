@@ -61,3 +61,22 @@ impl From<shadelab::output::OutputError> for Failure {
         shadelab::Error::from(e).into()
     }
 }
+
+// A golden case's error keeps the exit status it would give the command.
+impl From<Failure> for shadelab::golden::CaseError {
+    fn from(f: Failure) -> Self {
+        shadelab::golden::CaseError {
+            code: f.code,
+            message: f.message,
+        }
+    }
+}
+
+impl From<shadelab::golden::CaseError> for Failure {
+    fn from(e: shadelab::golden::CaseError) -> Self {
+        Failure {
+            code: e.code,
+            message: e.message,
+        }
+    }
+}

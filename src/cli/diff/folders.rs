@@ -5,10 +5,10 @@
 use std::collections::BTreeSet;
 use std::path::Path;
 
+use shadelab::diff::{compare_files, junit_case, Judging};
 use shadelab::junit::{self, TestCase};
 use shadelab::metrics::format_figure;
 
-use super::judging::{compare_files, junit_case, Judging};
 use crate::cli::common::failure::Failure;
 
 /// The image files (`.png`, `.exr`) directly in `dir`, by name.
@@ -131,7 +131,7 @@ fn judge_name(
                 Err(e) => Case {
                     name: name.to_string(),
                     status: "error",
-                    failures: vec![e.message],
+                    failures: vec![e.to_string()],
                     figures: None,
                     time_s: 0.0,
                 },

@@ -2,22 +2,21 @@
 //! when a figure is over its threshold.
 
 mod folders;
-mod judging;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Args;
+use shadelab::diff::{
+    check_limit, compare_files, junit_case, parse_thresholds, Judging, PairOutcome, EDGE_THRESHOLD,
+};
 use shadelab::metrics::{
     self, format_figure, Comparison, ErrorStats, Settings, Thresholds, Verdict,
 };
 use shadelab::output::{self, ImageFormat};
 
-use judging::{check_limit, compare_files, junit_case, PairOutcome};
-// `golden` judges its images as `diff` does, and names the judging through
-// the command it follows.
+use crate::cli::common::args::PresetArg;
 use crate::cli::common::failure::Failure;
-pub(super) use judging::{compare_images, parse_thresholds, Judging, Preset, EDGE_THRESHOLD};
 
 #[derive(Args)]
 pub struct DiffArgs {
@@ -34,7 +33,7 @@ pub struct DiffArgs {
     /// render against a stored render of the same renderer (one 8-bit step
     /// per pixel at most). --threshold and the flags below change them.
     #[arg(long, value_enum, default_value = "gpu-vs-reference")]
-    preset: Preset,
+    preset: PresetArg,
     /// Thresholds: `FIGURE=X[,FIGURE=X...]` for flip_mean, max_abs,
     /// p99_abs, rmse, fraction_over, count_over (ceilings) or psnr (a
     /// floor, dB), or a bare X for flip_mean. May be repeated; the flags
@@ -73,7 +72,7 @@ pub struct DiffArgs {
 
 /// The thresholds from the preset, `--threshold` and the per-figure flags.
 fn thresholds(args: &DiffArgs) -> Result<Thresholds, Failure> {
-    let mut t = parse_thresholds(args.preset.thresholds(), &args.threshold)?;
+    let mut t = parse_thresholds(args.preset.preset().thresholds(), &args.threshold)?;
     if let Some(v) = args.flip_mean {
         t.flip_mean = check_limit("--flip-mean", v)?;
     }
@@ -174,7 +173,7 @@ fn pair_json(args: &DiffArgs, judging: &Judging, pair: &PairOutcome) -> serde_js
         "pass": pair.failures.is_empty(),
         "failures": pair.failures,
         "verdicts": pair.verdicts,
-        "preset": args.preset,
+        "preset": args.preset.preset(),
         "thresholds": judging.thresholds,
         "settings": judging.settings,
         "edge_threshold": judging.edge_threshold,

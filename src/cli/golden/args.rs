@@ -5,9 +5,9 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use crate::cli::common::args::PresetArg;
 use crate::cli::common::args::{ImageSize, ModeList, SceneFlags};
 use crate::cli::common::shards;
-use crate::cli::diff::Preset;
 
 #[derive(Args)]
 pub struct GoldenArgs {
@@ -59,7 +59,7 @@ pub struct GoldenArgs {
     /// The limits to start from: stored-reference (no pixel off by more
     /// than 0.01, one 8-bit step) or gpu-vs-reference (diff's defaults).
     #[arg(long, value_enum, default_value = "stored-reference")]
-    pub(super) preset: Preset,
+    pub(super) preset: PresetArg,
     /// Thresholds on top of the preset, as diff's: `FIGURE=X[,FIGURE=X...]`
     /// for flip_mean, max_abs, p99_abs, rmse, fraction_over, count_over or
     /// psnr (a floor, dB).

@@ -11,32 +11,29 @@
 //! `keys.rs` names them.
 
 mod args;
-mod case;
-mod judge;
-pub(in crate::cli) mod keys;
+mod judging;
 mod record;
-pub(in crate::cli) mod report;
+mod report;
 
 pub use args::GoldenArgs;
 
 use std::time::Instant;
 
+use shadelab::diff::{parse_thresholds, Judging, Preset};
+use shadelab::golden::keys::{self, driver_key};
+use shadelab::golden::{JudgeOptions, Judged};
 use shadelab::gpu::GpuOptions;
 use shadelab::memory::MemoryLimit;
-use shadelab::metrics::{Settings, Thresholds};
+use shadelab::metrics::Thresholds;
 use shadelab::output;
 
 use crate::cli::common::batch::args::RenderArgs;
 use crate::cli::common::batch::plan::file_name;
 use crate::cli::common::batch::{Batch, CaseView, Made};
 use crate::cli::common::failure::Failure;
-use crate::cli::diff::{parse_thresholds, Judging, Preset, EDGE_THRESHOLD};
-use case::Judged;
-use judge::Plan;
+use judging::judge_case;
 use record::{conclude, merge, RunRecord};
-use report::{
-    case_figure_html, case_json, case_row_html, junit_cases, junit_json, print_case, ReportCase,
-};
+use report::{case_figure_html, case_json, case_row_html, junit_cases, print_case, ReportCase};
 
 /// Plan the batch, judge each case as it is rendered, then write the
 /// record and reports (`record.rs`); `--merge` joins shards instead.
@@ -64,23 +61,26 @@ pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
         .key
         .clone()
         .unwrap_or_else(|| driver_key(&device, &driver));
-    let plan = Plan {
-        args: &args,
-        judging,
-        bless,
+    let plan = JudgeOptions {
+        references: args.references().to_path_buf(),
         key,
+        judging,
+        create: args.create,
+        bless,
+        per_driver: args.per_driver,
+        out: args.out.clone(),
     };
     if !args.json {
         println!(
             "references {} (this driver's: {}); limits {}",
             args.references().display(),
             args.references().join(&plan.key).display(),
-            describe_limits(args.preset, &plan.judging.thresholds)
+            describe_limits(args.preset.preset(), &plan.judging.thresholds)
         );
     }
-    let cases = judge_cases(&plan, &batch, &render_args)?;
+    let cases = judge_cases(&plan, &args, &batch, &render_args)?;
 
-    let limits = describe_limits(args.preset, &plan.judging.thresholds);
+    let limits = describe_limits(args.preset.preset(), &plan.judging.thresholds);
     let records = case_records(&cases);
     // A shard with no cases opens no device, so has no driver key of its
     // own unless --key gives one: it records none, and merges with any.
@@ -92,13 +92,15 @@ pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
         key: key_known.then(|| plan.key.clone()),
         device,
         driver,
-        preset: args.preset,
+        preset: args.preset.preset(),
         thresholds: serde_json::to_value(plan.judging.thresholds).unwrap_or_default(),
         limits,
         bless,
         wall_ms: shadelab::gpu::ms_since(started),
     };
-    let first_error = cases.iter().find_map(|(_, c)| c.judged.error.clone());
+    let first_error = cases
+        .iter()
+        .find_map(|(_, c)| c.judged.error.clone().map(Failure::from));
     conclude(&args, &run, records, first_error)
 }
 
@@ -122,7 +124,7 @@ fn run_identity(
         "scenes": scenes,
         "name": args.name,
         "references": args.references(),
-        "preset": args.preset,
+        "preset": args.preset.preset(),
         "thresholds": thresholds,
         "create": args.create,
         "bless": bless,
@@ -135,12 +137,8 @@ fn run_identity(
 
 /// The limits: the preset's, with `--threshold` on top.
 fn judging(args: &GoldenArgs) -> Result<Judging, Failure> {
-    let thresholds: Thresholds = parse_thresholds(args.preset.thresholds(), &args.threshold)?;
-    Ok(Judging {
-        thresholds,
-        settings: Settings::default(),
-        edge_threshold: EDGE_THRESHOLD,
-    })
+    let thresholds = parse_thresholds(args.preset.preset().thresholds(), &args.threshold)?;
+    Ok(Judging::new(thresholds))
 }
 
 /// Refuses a `--key` that is not a folder name, and `--references` that is
@@ -193,14 +191,14 @@ fn render_args(args: &GoldenArgs) -> Result<RenderArgs, Failure> {
 /// Renders and judges every case, each printed as it comes (unless
 /// `--json`); the cases with their places in the whole run.
 fn judge_cases(
-    plan: &Plan,
+    plan: &JudgeOptions,
+    args: &GoldenArgs,
     batch: &Batch,
     render_args: &RenderArgs,
 ) -> Result<Vec<(usize, ReportCase)>, Failure> {
-    let args = plan.args;
     let mut cases: Vec<(usize, ReportCase)> = Vec::new();
     let handle =
-        |view: &CaseView, made: Result<Made, Failure>| plan.judge(view, made, Instant::now());
+        |view: &CaseView, made: Result<Made, Failure>| judge_case(plan, view, made, Instant::now());
     let report = |view: &CaseView, judged: Judged| {
         if !args.json {
             print_case(view, &judged, &args.out);
@@ -230,28 +228,12 @@ fn case_records(cases: &[(usize, ReportCase)]) -> Vec<serde_json::Value> {
         .map(|((order, c), t)| {
             let mut v = case_json(c);
             v["order"] = (*order).into();
-            v["junit"] = junit_json(t);
+            v["junit"] = t.to_json();
             v["html_row"] = case_row_html(c).into();
             v["html_figure"] = case_figure_html(c).into();
             v
         })
         .collect()
-}
-
-/// The folder name for a device's references: the device and driver
-/// names, lower case, each run of characters other than a-z, 0-9 and `.`
-/// made one `-` (`llvmpipe-llvm-15.0.6-256-bits-mesa-25.0.7-...`): the
-/// vector width and the Mesa version, which change the image, are in it.
-fn driver_key(device: &str, driver: &str) -> String {
-    let mut key = String::new();
-    for c in format!("{device} {driver}").to_lowercase().chars() {
-        if c.is_ascii_alphanumeric() || c == '.' {
-            key.push(c);
-        } else if !key.ends_with('-') {
-            key.push('-');
-        }
-    }
-    key.trim_matches('-').to_string()
 }
 
 /// `SHADELAB_BLESS` set to anything but empty, 0 or false.
@@ -305,29 +287,4 @@ fn describe_limits(preset: Preset, t: &Thresholds) -> String {
         parts.push(format!("psnr >= {psnr} dB"));
     }
     format!("{} ({})", preset.name(), parts.join(", "))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_driver_key_is_a_folder_name_holding_the_vector_width_and_the_version() {
-        let key = driver_key(
-            "llvmpipe (LLVM 15.0.6, 256 bits)",
-            "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)",
-        );
-        assert_eq!(
-            key,
-            "llvmpipe-llvm-15.0.6-256-bits-mesa-25.0.7-2-bpo12-1-llvm-15.0.6"
-        );
-        assert_ne!(
-            key,
-            driver_key(
-                "llvmpipe (LLVM 15.0.6, 128 bits)",
-                "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)"
-            )
-        );
-        assert_eq!(driver_key("A/B", ".."), "a-b-..");
-    }
 }

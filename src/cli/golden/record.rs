@@ -11,11 +11,11 @@ use shadelab::junit;
 use shadelab::output;
 
 use super::args::GoldenArgs;
-use super::case::Status;
-use super::report::{junit_from_json, write_page, PageHead};
+use super::report::{write_page, PageHead};
 use crate::cli::common::failure::Failure;
 use crate::cli::common::shards;
-use crate::cli::diff::Preset;
+use shadelab::diff::Preset;
+use shadelab::golden::Status;
 
 /// What a golden run (or a shard of one) was, beside its cases: the
 /// record's head in `golden.json`, and the page's.
@@ -55,7 +55,7 @@ pub(super) fn conclude(
     if let Some(path) = &args.junit {
         let junit: Vec<_> = records
             .iter()
-            .map(|v| junit_from_json(&v["junit"]))
+            .map(|v| junit::TestCase::from_json(&v["junit"]))
             .collect();
         let xml = junit::render("shadelab golden", &junit);
         output::write_atomically(path, xml.as_bytes())?;

@@ -13,9 +13,9 @@ use shadelab::metrics::format_figure;
 use shadelab::output::write_atomically;
 use shadelab::shading::Shading;
 
-use super::case::{Judged, Status};
 use crate::cli::common::batch::CaseView;
 use crate::cli::common::failure::Failure;
+use shadelab::golden::{Judged, Status};
 
 /// A case as the report shows it.
 pub(super) struct ReportCase {
@@ -293,28 +293,4 @@ pub(super) fn write_page(
     }
     h.push_str(PAGE_END);
     Ok(write_atomically(path, h.as_bytes())?)
-}
-
-/// A JUnit case as a shard record keeps it, and back.
-pub(in crate::cli) fn junit_json(t: &TestCase) -> serde_json::Value {
-    serde_json::json!({
-        "classname": t.classname,
-        "name": t.name,
-        "time_s": t.time_s,
-        "failure": t.failure,
-        "error": t.error,
-        "output": t.output,
-    })
-}
-
-pub(in crate::cli) fn junit_from_json(v: &serde_json::Value) -> TestCase {
-    let text = |k: &str| v.get(k).and_then(|x| x.as_str()).map(str::to_string);
-    TestCase {
-        classname: text("classname").unwrap_or_default(),
-        name: text("name").unwrap_or_default(),
-        time_s: v.get("time_s").and_then(|x| x.as_f64()).unwrap_or(0.0),
-        failure: text("failure"),
-        error: text("error"),
-        output: text("output").unwrap_or_default(),
-    }
 }

@@ -4,14 +4,29 @@
 
 use std::path::PathBuf;
 
-use shadelab::metrics::{Comparison, Verdict};
+use crate::metrics::{Comparison, Verdict};
 
-use crate::cli::common::failure::Failure;
+/// Why a case could not be judged, and the exit status it gives a run
+/// whose every case is such an error.
+#[derive(Debug, Clone)]
+pub struct CaseError {
+    pub code: u8,
+    pub message: String,
+}
+
+impl From<crate::Error> for CaseError {
+    fn from(e: crate::Error) -> Self {
+        CaseError {
+            code: e.exit_code() as u8,
+            message: e.to_string(),
+        }
+    }
+}
 
 /// What a case came to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
-pub(super) enum Status {
+pub enum Status {
     /// Within the limits of its reference.
     Pass,
     /// Over them (or of another size).
@@ -27,7 +42,7 @@ pub(super) enum Status {
 }
 
 impl Status {
-    pub(super) fn word(self) -> &'static str {
+    pub fn word(self) -> &'static str {
         match self {
             Status::Pass => "PASS",
             Status::Fail => "FAIL",
@@ -40,7 +55,7 @@ impl Status {
 }
 
 /// One case judged against its reference.
-pub(super) struct Judged {
+pub struct Judged {
     pub status: Status,
     /// The reference compared with, or written.
     pub reference: Option<PathBuf>,
@@ -51,7 +66,7 @@ pub(super) struct Judged {
     pub comparison: Option<Comparison>,
     /// Said with the failure: the reference was made on another driver.
     pub hint: Option<String>,
-    pub error: Option<Failure>,
+    pub error: Option<CaseError>,
     /// The images a person looks at, as PNG bytes: expected, actual and
     /// heat map, for the cases that did not pass (and the blessed ones).
     pub pictures: Option<Pictures>,
@@ -60,7 +75,7 @@ pub(super) struct Judged {
     pub time_s: f64,
 }
 
-pub(super) struct Pictures {
+pub struct Pictures {
     pub expected: Option<Vec<u8>>,
     pub actual: Vec<u8>,
     pub heatmap: Option<Vec<u8>>,
@@ -73,7 +88,7 @@ pub(super) struct Pictures {
 
 impl Judged {
     /// `status`, against `reference` (with its kind), nothing else yet.
-    pub(super) fn new(status: Status, reference: Option<(PathBuf, &'static str)>) -> Self {
+    pub fn new(status: Status, reference: Option<(PathBuf, &'static str)>) -> Self {
         let (reference, reference_kind) = reference.unzip();
         Judged {
             status,
@@ -90,9 +105,9 @@ impl Judged {
         }
     }
 
-    pub(super) fn error(failure: Failure, time_s: f64) -> Self {
+    pub fn error(error: CaseError, time_s: f64) -> Self {
         Judged {
-            error: Some(failure),
+            error: Some(error),
             time_s,
             ..Judged::new(Status::Error, None)
         }

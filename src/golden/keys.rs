@@ -3,17 +3,18 @@
 //! order of the scenes on the command line and two scenes of one file name
 //! in two folders cannot swap or share references; and what made a
 //! reference, read back from its PNG, to name the difference where a
-//! render fails against one made with other settings.
+//! render fails against one made with other settings; and the folder of a
+//! driver's own references.
 
 use std::path::{Component, Path, PathBuf};
 
-use crate::cli::common::failure::Failure;
+use crate::Error;
 
 /// Each scene's `{scene}` in reference names: its path relative to `root`
 /// (or to the deepest folder holding every scene), without its extension,
 /// folders joined by `/`. The built-in default scene (no scenes) is
 /// `default`. A scene outside `--root` is refused.
-pub fn scene_keys(scenes: &[PathBuf], root: Option<&Path>) -> Result<Vec<String>, Failure> {
+pub fn scene_keys(scenes: &[PathBuf], root: Option<&Path>) -> Result<Vec<String>, Error> {
     if scenes.is_empty() {
         return Ok(vec!["default".to_string()]);
     }
@@ -25,7 +26,7 @@ pub fn scene_keys(scenes: &[PathBuf], root: Option<&Path>) -> Result<Vec<String>
     let mut keys = Vec::with_capacity(scenes.len());
     for (given, path) in scenes.iter().zip(&paths) {
         let relative = path.strip_prefix(&root).map_err(|_| {
-            Failure::usage(format!(
+            Error::Usage(format!(
                 "the scene {} is not under --root {}",
                 given.display(),
                 root.display()
@@ -81,6 +82,22 @@ fn common_folder(paths: &[PathBuf]) -> PathBuf {
     common
 }
 
+/// The folder name for a device's references: the device and driver
+/// names, lower case, each run of characters other than a-z, 0-9 and `.`
+/// made one `-` (`llvmpipe-llvm-15.0.6-256-bits-mesa-25.0.7-...`): the
+/// vector width and the Mesa version, which change the image, are in it.
+pub fn driver_key(device: &str, driver: &str) -> String {
+    let mut key = String::new();
+    for c in format!("{device} {driver}").to_lowercase().chars() {
+        if c.is_ascii_alphanumeric() || c == '.' {
+            key.push(c);
+        } else if !key.ends_with('-') {
+            key.push('-');
+        }
+    }
+    key.trim_matches('-').to_string()
+}
+
 /// Two cases that would read and write one reference: the first pair, as
 /// `(file, first scene, second scene)`.
 pub fn first_clash(cases: &[(String, String)]) -> Option<(&str, &str, &str)> {
@@ -93,7 +110,7 @@ pub fn first_clash(cases: &[(String, String)]) -> Option<(&str, &str, &str)> {
 }
 
 /// The settings that change a render's pixels, as `render` records them
-/// in a PNG's `shadelab:settings` (`common::batch::image::effective_settings`),
+/// in a PNG's `shadelab:settings` (the CLI's `effective_settings`),
 /// plus the reference's key and the hook's source digest that `golden`
 /// adds.
 const PIXEL_SETTINGS: [&str; 15] = [
@@ -177,9 +194,9 @@ mod tests {
         );
         let outside = scene_keys(&[a], Some(&dir.path().join("b"))).unwrap_err();
         assert!(
-            outside.message.contains("is not under --root"),
+            outside.to_string().contains("is not under --root"),
             "{}",
-            outside.message
+            outside
         );
         assert_eq!(scene_keys(&[], None).unwrap(), ["default"]);
         let dotted = dir.path().join("a/../b/./x.toml");
@@ -222,5 +239,25 @@ mod tests {
             settings_differences(&hooked, &edited),
             ["lighting a/h.glsl -> a/h.glsl (its source changed)"]
         );
+    }
+
+    #[test]
+    fn the_driver_key_is_a_folder_name_holding_the_vector_width_and_the_version() {
+        let key = driver_key(
+            "llvmpipe (LLVM 15.0.6, 256 bits)",
+            "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)",
+        );
+        assert_eq!(
+            key,
+            "llvmpipe-llvm-15.0.6-256-bits-mesa-25.0.7-2-bpo12-1-llvm-15.0.6"
+        );
+        assert_ne!(
+            key,
+            driver_key(
+                "llvmpipe (LLVM 15.0.6, 128 bits)",
+                "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)"
+            )
+        );
+        assert_eq!(driver_key("A/B", ".."), "a-b-..");
     }
 }

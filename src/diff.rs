@@ -1,36 +1,36 @@
-//! How `diff` judges a pair of images, and what `golden` judges its images
-//! with: the limits named by purpose, `--threshold`'s entries, the edge
-//! step, and the figures and verdicts of one pair.
+//! Two images judged against limits, as `shadelab diff` judges a pair and
+//! `shadelab golden` each render against its reference: the limits named
+//! by purpose (presets), threshold entries (`FIGURE=X`), the step that
+//! marks an edge, and the figures and verdicts of one pair.
 
 use std::path::Path;
 
-use shadelab::junit::TestCase;
-use shadelab::linear_image::LinearImage;
-use shadelab::metrics::{self, Comparison, Settings, Thresholds, Verdict};
-use shadelab::output::{self, ImageFormat};
+use crate::junit::TestCase;
+use crate::linear_image::LinearImage;
+use crate::metrics::{self, Comparison, Settings, Thresholds, Verdict};
+use crate::output::{self, ImageFormat};
+use crate::Error;
 
-use crate::cli::common::failure::Failure;
-
-/// The `--edge-threshold` default: a step of 0.1 in linear intensity between
+/// The default edge step (`diff --edge-threshold`): a step of 0.1 in linear intensity between
 /// neighbours counts as an edge (see `metrics::edges::gradient_mask`).
-pub(in crate::cli) const EDGE_THRESHOLD: f64 = 0.1;
+pub const EDGE_THRESHOLD: f64 = 0.1;
 
-pub(in crate::cli) fn check_limit(name: &str, value: f64) -> Result<f64, Failure> {
+/// `value` as a limit named `name` (a flag, in the message): a finite
+/// number >= 0.
+pub fn check_limit(name: &str, value: f64) -> Result<f64, Error> {
     if value.is_finite() && value >= 0.0 {
         Ok(value)
     } else {
-        Err(Failure::usage(format!(
+        Err(Error::Usage(format!(
             "{name} {value} is invalid; expected a number >= 0"
         )))
     }
 }
 
-/// Limits named by what they compare (`--preset`).
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
-)]
+/// Limits named by what they compare (the commands' `--preset`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
-pub(in crate::cli) enum Preset {
+pub enum Preset {
     /// A GPU render against a reference renderer's image of the same
     /// scene: `Thresholds::default()`.
     GpuVsReference,
@@ -62,17 +62,14 @@ impl Preset {
     }
 }
 
-/// `--threshold`'s entries (`FIGURE=X,...` or a bare X for flip_mean) on
-/// top of `base`.
-pub(in crate::cli) fn parse_thresholds(
-    base: Thresholds,
-    entries: &[String],
-) -> Result<Thresholds, Failure> {
+/// Threshold entries, as `--threshold` takes them (`FIGURE=X,...` or a
+/// bare X for flip_mean), on top of `base`.
+pub fn parse_thresholds(base: Thresholds, entries: &[String]) -> Result<Thresholds, Error> {
     let mut t = base;
     for entry in entries.iter().flat_map(|e| e.split(',')) {
         let (figure, text) = entry.split_once('=').unwrap_or(("flip_mean", entry));
         let value = text.trim().parse::<f64>().map_err(|_| {
-            Failure::usage(format!(
+            Error::Usage(format!(
                 "--threshold {entry} is invalid; expected X or FIGURE=X with a number X"
             ))
         })?;
@@ -80,7 +77,7 @@ pub(in crate::cli) fn parse_thresholds(
             // dB: any finite number is a floor (a negative one lets
             // anything but a non-finite difference pass).
             if !value.is_finite() {
-                return Err(Failure::usage(format!(
+                return Err(Error::Usage(format!(
                     "--threshold {entry} is invalid; expected a finite number of dB"
                 )));
             }
@@ -96,7 +93,7 @@ pub(in crate::cli) fn parse_thresholds(
             "fraction_over" => t.fraction_over = Some(value),
             "count_over" => t.count_over = Some(value),
             other => {
-                return Err(Failure::usage(format!(
+                return Err(Error::Usage(format!(
                     "--threshold {entry}: unknown figure {other:?}; expected flip_mean, max_abs, p99_abs, rmse, fraction_over, count_over or psnr"
                 )))
             }
@@ -106,16 +103,29 @@ pub(in crate::cli) fn parse_thresholds(
 }
 
 /// How two images are judged: the limits, the per-pixel threshold and the
-/// step that marks an edge, from the command line.
-pub(in crate::cli) struct Judging {
+/// step that marks an edge.
+#[derive(Debug, Clone)]
+pub struct Judging {
     pub thresholds: Thresholds,
     pub settings: Settings,
     pub edge_threshold: f64,
 }
 
+impl Judging {
+    /// `thresholds`, with the default per-pixel threshold and edge step
+    /// (as `golden` judges).
+    pub fn new(thresholds: Thresholds) -> Self {
+        Judging {
+            thresholds,
+            settings: Settings::default(),
+            edge_threshold: EDGE_THRESHOLD,
+        }
+    }
+}
+
 /// One pair of images compared: every figure, each thresholded one's
 /// verdict, the failed ones, and a note where the formats differ.
-pub(in crate::cli) struct PairOutcome {
+pub struct PairOutcome {
     pub comparison: Comparison,
     pub verdicts: Vec<Verdict>,
     pub failures: Vec<String>,
@@ -123,15 +133,15 @@ pub(in crate::cli) struct PairOutcome {
 }
 
 /// Reads both images and compares them as `judging` says.
-pub(in crate::cli) fn compare_files(
+pub fn compare_files(
     expected: &Path,
     actual: &Path,
     judging: &Judging,
-) -> Result<PairOutcome, Failure> {
+) -> Result<PairOutcome, Error> {
     let expected_image = output::read_image(expected)?;
     let actual_image = output::read_image(actual)?;
     let mut outcome = compare_images(&expected_image, &actual_image, judging).map_err(|e| {
-        Failure::usage(format!(
+        Error::Usage(format!(
             "cannot compare {} with {}: {e}",
             expected.display(),
             actual.display()
@@ -143,7 +153,7 @@ pub(in crate::cli) fn compare_files(
 
 /// Compares two images as `judging` says; the error is why they cannot
 /// be compared (sizes that differ).
-pub(in crate::cli) fn compare_images(
+pub fn compare_images(
     expected: &LinearImage,
     actual: &LinearImage,
     judging: &Judging,
@@ -175,7 +185,7 @@ fn formats_differ(expected: &Path, actual: &Path) -> Option<String> {
 }
 
 /// A JUnit case for one image: failed with `failures`, passed without.
-pub(in crate::cli) fn junit_case(name: &str, failures: &[String], time_s: f64) -> TestCase {
+pub fn junit_case(name: &str, failures: &[String], time_s: f64) -> TestCase {
     TestCase {
         classname: "shadelab diff".to_string(),
         name: name.to_string(),

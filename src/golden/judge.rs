@@ -1,22 +1,19 @@
 //! `golden`'s judging of one case: its render encoded as its reference
 //! file would hold it, compared with the reference found (this driver's,
 //! then the shared one), and what a person needs to see a failure written
-//! into `--out`; references made (`--create`) or accepted (`--bless`).
+//! into the output folder; references made (`--create`) or accepted
+//! (`--bless`).
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
-use shadelab::linear_image::LinearImage;
-use shadelab::metrics;
-use shadelab::output::{self, ImageFormat, ImageMetadata};
+use crate::diff::{compare_images, Judging};
+use crate::linear_image::LinearImage;
+use crate::metrics;
+use crate::output::{self, ImageFormat, ImageMetadata};
+use crate::Error;
 
-use super::args::GoldenArgs;
-use super::case::{Judged, Pictures, Status};
+use super::case::{CaseError, Judged, Pictures, Status};
 use super::keys;
-use crate::cli::common::batch::image::image_metadata;
-use crate::cli::common::batch::{non_finite_failure, CaseView, Made};
-use crate::cli::common::failure::Failure;
-use crate::cli::diff::{compare_images, Judging};
 
 /// Where a case's reference is: this driver's, then the shared one.
 fn find_reference(references: &Path, key: &str, file: &str) -> Option<(PathBuf, &'static str)> {
@@ -45,7 +42,7 @@ fn beside(file: &str, what: &str, ext: &str) -> String {
     }
 }
 
-fn png_of(image: &LinearImage) -> Result<Vec<u8>, Failure> {
+fn png_of(image: &LinearImage) -> Result<Vec<u8>, Error> {
     Ok(output::encode_with(
         image,
         Path::new("picture.png"),
@@ -67,81 +64,80 @@ fn made_on(settings: &serde_json::Value) -> Option<String> {
     Some(format!("{device} ({driver})"))
 }
 
-/// What judging a case needs: the command line, the limits, whether
-/// renders are accepted, and this driver's folder of references.
-pub(super) struct Plan<'a> {
-    pub(super) args: &'a GoldenArgs,
-    pub(super) judging: Judging,
-    pub(super) bless: bool,
-    pub(super) key: String,
+/// What judging a case needs: where the references are and this
+/// driver's folder of them, the limits, what may be written (references
+/// made or accepted), and the folder a failure's pictures go to.
+#[derive(Debug, Clone)]
+pub struct JudgeOptions {
+    /// DIR/KEY/NAME (this driver's), then DIR/NAME (shared).
+    pub references: PathBuf,
+    /// This driver's folder of references (`keys::driver_key`).
+    pub key: String,
+    pub judging: Judging,
+    /// Make a missing reference from the render.
+    pub create: bool,
+    /// Accept the render: rewrite a reference it is over the limits of,
+    /// make a missing one.
+    pub bless: bool,
+    /// Write made and accepted references into this driver's folder.
+    pub per_driver: bool,
+    /// Where a case's render, heat map and scaled error go when it does
+    /// not pass.
+    pub out: PathBuf,
 }
 
-impl Plan<'_> {
+/// A case's render, as judging it needs it: the reference's file name,
+/// the image and what its file records of it, and where it was made.
+pub struct CaseRender<'a> {
+    /// The reference's file name (`.png` or `.exr`), below the folders.
+    pub file: &'a str,
+    pub image: &'a LinearImage,
+    /// Written into the render's file, as into a reference made from it.
+    pub metadata: &'a ImageMetadata,
+    /// The settings that made it (`shadelab:settings`), to name the ones
+    /// a reference was made with that differ.
+    pub settings: &'a serde_json::Value,
+    pub device: &'a str,
+    pub driver: Option<&'a str>,
+}
+
+/// Removes a case's pictures from an earlier run, which would be read as
+/// this run's: they come back only if this case fails.
+pub fn clear_pictures(out: &Path, file: &str) {
+    for stale in [
+        beside(file, "actual", "png"),
+        beside(file, "actual", "exr"),
+        beside(file, "diff", "png"),
+        beside(file, "error", "png"),
+    ] {
+        let _ = std::fs::remove_file(out.join(stale));
+    }
+}
+
+impl JudgeOptions {
     /// The path a made or blessed reference goes to.
     fn target(&self, file: &str, found: Option<&Path>) -> PathBuf {
-        match (self.args.per_driver, found) {
+        match (self.per_driver, found) {
             (false, Some(found)) => found.to_path_buf(),
-            (false, None) => self.args.references().join(file),
-            (true, _) => self.args.references().join(&self.key).join(file),
+            (false, None) => self.references.join(file),
+            (true, _) => self.references.join(&self.key).join(file),
         }
     }
 
-    /// Compares case `view`'s render with its reference; writes what a
-    /// person needs to see a failure, and the references made or blessed.
-    pub(super) fn judge(
-        &self,
-        view: &CaseView,
-        made: Result<Made, Failure>,
-        started: Instant,
-    ) -> Judged {
-        let time = || started.elapsed().as_secs_f64();
-        // A case's pictures from an earlier run would be read as this
-        // run's: they go, and come back only if this case fails.
-        let file = view.file_name;
-        for stale in [
-            beside(file, "actual", "png"),
-            beside(file, "actual", "exr"),
-            beside(file, "diff", "png"),
-            beside(file, "error", "png"),
-        ] {
-            let _ = std::fs::remove_file(self.args.out.join(stale));
-        }
-        let mut made = match made {
-            Ok(made) => made,
-            Err(failure) => return Judged::error(failure, time()),
-        };
-        // What made the reference, as it will say: its key and the hook's
-        // source, beside render's settings.
-        made.settings["golden_scene"] = view.name.into();
-        if let Some(source) = &made.hook_source {
-            made.settings["lighting_fnv1a"] = shadelab::digest::fnv1a_hex(source.as_bytes()).into();
-        }
-        made.metadata = image_metadata(view.name, &made.device, &made.settings);
-        // An image with NaN is never a reference, nor blessed into one.
-        if let Some(failure) = non_finite_failure(&made) {
-            return Judged::error(failure, time());
-        }
-        match self.judge_made(view, &made) {
-            Ok(mut judged) => {
-                // The render's time too: JUnit's time is the case's.
-                judged.time_s = time() + made.rendered.timings.total_ms / 1e3;
-                judged
-            }
-            Err(failure) => Judged::error(failure, time()),
-        }
-    }
-
-    fn judge_made(&self, view: &CaseView, made: &Made) -> Result<Judged, Failure> {
-        let file = view.file_name;
-        let render = Encoded::of(made, file)?;
-        let found = find_reference(self.args.references(), &self.key, file);
+    /// Compares a case's render with its reference; writes what a person
+    /// needs to see a failure, and the references made or blessed. The
+    /// case's time is left for the caller, who knows the render's.
+    pub fn judge(&self, made: &CaseRender) -> Result<Judged, Error> {
+        let file = made.file;
+        let render = Encoded::of(made)?;
+        let found = find_reference(&self.references, &self.key, file);
         let mut judged = Judged::new(Status::Pass, found.clone());
         let Some((reference_path, _)) = &found else {
             self.judge_missing(file, &render, &mut judged)?;
             return Ok(judged);
         };
         let reference_bytes = std::fs::read(reference_path).map_err(|e| {
-            Failure::usage(format!(
+            Error::Usage(format!(
                 "cannot read the reference {}: {e}",
                 reference_path.display()
             ))
@@ -193,23 +189,19 @@ impl Plan<'_> {
         file: &str,
         render: &Encoded,
         judged: &mut Judged,
-    ) -> Result<(), Failure> {
-        if self.args.create || self.bless {
+    ) -> Result<(), Error> {
+        if self.create || self.bless {
             let target = self.target(file, None);
             write_reference(&target, &render.bytes)?;
             judged.status = Status::Created;
             judged.reference = Some(target);
-            judged.reference_kind = Some(if self.args.per_driver {
-                "driver"
-            } else {
-                "shared"
-            });
+            judged.reference_kind = Some(if self.per_driver { "driver" } else { "shared" });
         } else {
             judged.status = Status::Missing;
             judged.failures.push(format!(
                 "no reference {} (nor {}); run with --create to make it from this render",
-                self.args.references().join(file).display(),
-                self.args.references().join(&self.key).join(file).display()
+                self.references.join(file).display(),
+                self.references.join(&self.key).join(file).display()
             ));
             judged.pictures =
                 Some(self.keep_pictures(file, render, None, None, &mut judged.written)?);
@@ -227,7 +219,7 @@ impl Plan<'_> {
         reference_bytes: &[u8],
         expected: &Result<LinearImage, String>,
         judged: &mut Judged,
-    ) -> Result<Pictures, Failure> {
+    ) -> Result<Pictures, Error> {
         let heat = judged
             .comparison
             .as_ref()
@@ -259,7 +251,7 @@ impl Plan<'_> {
         render: &Encoded,
         expected_read: bool,
         judged: &mut Judged,
-    ) -> Result<(), Failure> {
+    ) -> Result<(), Error> {
         if self.bless {
             let target = self.target(file, Some(reference_path));
             write_reference(&target, &render.bytes)?;
@@ -271,12 +263,15 @@ impl Plan<'_> {
                 Status::Created
             };
             judged.reference = Some(target);
-            if self.args.per_driver {
+            if self.per_driver {
                 judged.reference_kind = Some("driver");
             }
         } else if !expected_read {
             judged.status = Status::Error;
-            judged.error = Some(Failure::usage(judged.failures.join("; ")));
+            judged.error = Some(CaseError {
+                code: 2,
+                message: judged.failures.join("; "),
+            });
         } else {
             judged.status = Status::Fail;
         }
@@ -294,10 +289,10 @@ impl Plan<'_> {
         expected: Option<(Vec<u8>, Option<&LinearImage>)>,
         heat: Option<&LinearImage>,
         written: &mut Vec<PathBuf>,
-    ) -> Result<Pictures, Failure> {
+    ) -> Result<Pictures, Error> {
         let (format, actual_bytes, actual) = (render.format, &render.bytes, &render.image);
-        let mut keep = |what: &str, image: &LinearImage| -> Result<Vec<u8>, Failure> {
-            let path = self.args.out.join(beside(file, what, "png"));
+        let mut keep = |what: &str, image: &LinearImage| -> Result<Vec<u8>, Error> {
+            let path = self.out.join(beside(file, what, "png"));
             let bytes = png_of(image)?;
             output::write_atomically(&path, &bytes)?;
             written.push(path);
@@ -316,7 +311,7 @@ impl Plan<'_> {
             }
             None => None,
         };
-        let actual_path = self.args.out.join(beside(file, "actual", ext));
+        let actual_path = self.out.join(beside(file, "actual", ext));
         output::write_atomically(&actual_path, actual_bytes)?;
         written.insert(0, actual_path);
         let actual_png = match format {
@@ -345,11 +340,12 @@ struct Encoded {
 }
 
 impl Encoded {
-    fn of(made: &Made, file: &str) -> Result<Self, Failure> {
+    fn of(made: &CaseRender) -> Result<Self, Error> {
+        let file = made.file;
         let format = ImageFormat::from_path(Path::new(file))?;
-        let bytes = output::encode_with(&made.rendered.image, Path::new(file), &made.metadata)?;
+        let bytes = output::encode_with(made.image, Path::new(file), made.metadata)?;
         let image = output::decode_image(&bytes, format)
-            .map_err(|e| Failure::usage(format!("cannot decode the render of {file}: {e}")))?;
+            .map_err(|e| Error::Usage(format!("cannot decode the render of {file}: {e}")))?;
         Ok(Encoded {
             format,
             bytes,
@@ -361,11 +357,11 @@ impl Encoded {
 /// Why a render over its limits may differ from its reference, besides a
 /// change: the reference was made with other settings, or on another
 /// driver.
-fn why_else_it_differs(made: &Made, reference_bytes: &[u8]) -> Option<String> {
+fn why_else_it_differs(made: &CaseRender, reference_bytes: &[u8]) -> Option<String> {
     let reference_settings = made_with(reference_bytes);
     let mut hints = Vec::new();
     if let Some(settings) = &reference_settings {
-        let differences = keys::settings_differences(settings, &made.settings);
+        let differences = keys::settings_differences(settings, made.settings);
         if !differences.is_empty() {
             hints.push(format!(
                 "the reference was made with other settings ({}): run with the reference's, or accept this render with --bless",
@@ -374,11 +370,7 @@ fn why_else_it_differs(made: &Made, reference_bytes: &[u8]) -> Option<String> {
         }
     }
     if let Some(there) = reference_settings.as_ref().and_then(made_on) {
-        let here = format!(
-            "{} ({})",
-            made.device,
-            made.driver.as_deref().unwrap_or("no driver")
-        );
+        let here = format!("{} ({})", made.device, made.driver.unwrap_or("no driver"));
         if there != here {
             hints.push(format!(
                 "the reference was made on {there}, this render on {here}: where a driver's images differ, keep references per driver (--per-driver --bless)"
@@ -388,7 +380,7 @@ fn why_else_it_differs(made: &Made, reference_bytes: &[u8]) -> Option<String> {
     (!hints.is_empty()).then(|| hints.join("; "))
 }
 
-fn write_reference(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
+fn write_reference(path: &Path, bytes: &[u8]) -> Result<(), Error> {
     output::prepare_output_path(path)?;
     Ok(output::write_atomically(path, bytes)?)
 }

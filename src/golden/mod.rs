@@ -1,0 +1,14 @@
+//! Image regression tests (`shadelab golden`) without the command line:
+//! each render judged against its stored reference (this driver's, then the
+//! shared one), references made or accepted, and what names them.
+//!
+//! `keys` names the references (a scene's key, a driver's folder),
+//! `judge` judges one case's render into a `case` outcome. Rendering the
+//! cases, and printing and recording them, are the caller's.
+
+pub mod case;
+pub mod judge;
+pub mod keys;
+
+pub use case::{CaseError, Judged, Pictures, Status};
+pub use judge::{clear_pictures, CaseRender, JudgeOptions};
