@@ -3,12 +3,16 @@
 //! shared one), references made or accepted, and what names them.
 //!
 //! `keys` names the references (a scene's key, a driver's folder),
-//! `judge` judges one case's render into a `case` outcome. Rendering the
-//! cases, and printing and recording them, are the caller's.
+//! `judge` judges one case's render into a `case` outcome, `record` keeps
+//! a run's cases (`golden.json`), counts them into the run's verdict and
+//! joins shards' records. Rendering the cases, printing them and the
+//! report page are the caller's.
 
 pub mod case;
 pub mod judge;
 pub mod keys;
+pub mod record;
 
 pub use case::{CaseError, Judged, Pictures, Status};
 pub use judge::{clear_pictures, CaseRender, JudgeOptions};
+pub use record::RunRecord;

@@ -21,7 +21,7 @@ use std::time::Instant;
 
 use shadelab::diff::{parse_thresholds, Judging, Preset};
 use shadelab::golden::keys::{self, driver_key};
-use shadelab::golden::{JudgeOptions, Judged};
+use shadelab::golden::{JudgeOptions, Judged, RunRecord};
 use shadelab::gpu::GpuOptions;
 use shadelab::memory::MemoryLimit;
 use shadelab::metrics::Thresholds;
@@ -32,7 +32,7 @@ use crate::cli::common::batch::plan::file_name;
 use crate::cli::common::batch::{Batch, CaseView, Made};
 use crate::cli::common::failure::Failure;
 use judging::judge_case;
-use record::{conclude, merge, RunRecord};
+use record::{conclude, merge};
 use report::{case_figure_html, case_json, case_row_html, junit_cases, print_case, ReportCase};
 
 /// Plan the batch, judge each case as it is rendered, then write the
@@ -98,9 +98,7 @@ pub fn run(args: GoldenArgs, options: &GpuOptions, memory: &MemoryLimit) -> Resu
         bless,
         wall_ms: shadelab::gpu::ms_since(started),
     };
-    let first_error = cases
-        .iter()
-        .find_map(|(_, c)| c.judged.error.clone().map(Failure::from));
+    let first_error = cases.iter().find_map(|(_, c)| c.judged.error.clone());
     conclude(&args, &run, records, first_error)
 }
 

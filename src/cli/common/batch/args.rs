@@ -1,5 +1,6 @@
-//! `shadelab render`'s command line, which `golden` fills in too: the
-//! scenes and modes, the backend, the overrides, and where the images go.
+//! `shadelab render`'s command line, which `golden` fills in too (so it is
+//! shared, with the batch it describes): the scenes and modes, the
+//! backend, the overrides, and where the images go.
 
 use std::path::PathBuf;
 
