@@ -6,14 +6,15 @@
 //! before the shared ones.
 //!
 //! This file runs the steps in order; `args.rs` is the command line,
-//! `judge.rs` judges one case into a `case.rs` outcome, `record.rs` writes
-//! the run's files and gives its exit status, `report.rs` says each case,
-//! `keys.rs` names them.
+//! `judging.rs` hands each rendered case to the library's judging
+//! (`shadelab::golden`), `print.rs` says each case, `record.rs` writes the
+//! run's files (made by `shadelab::golden::record` and `report`) and gives
+//! its exit status.
 
 mod args;
 mod judging;
+mod print;
 mod record;
-mod report;
 
 pub use args::GoldenArgs;
 
@@ -21,6 +22,7 @@ use std::time::Instant;
 
 use shadelab::diff::{parse_thresholds, Judging, Preset};
 use shadelab::golden::keys::{self, driver_key};
+use shadelab::golden::report::{case_records, ReportCase};
 use shadelab::golden::{JudgeOptions, Judged, RunRecord};
 use shadelab::gpu::GpuOptions;
 use shadelab::memory::MemoryLimit;
@@ -32,8 +34,8 @@ use crate::cli::common::batch::plan::file_name;
 use crate::cli::common::batch::{Batch, CaseView, Made};
 use crate::cli::common::failure::Failure;
 use judging::judge_case;
+use print::print_case;
 use record::{conclude, merge};
-use report::{case_figure_html, case_json, case_row_html, junit_cases, print_case, ReportCase};
 
 /// Plan the batch, judge each case as it is rendered, then write the
 /// record and reports (`record.rs`); `--merge` joins shards instead.
@@ -214,24 +216,6 @@ fn judge_cases(
     };
     batch.run("golden", render_args, handle, report)?;
     Ok(cases)
-}
-
-/// Each case's record: its JSON, its place, its JUnit case and its rows of
-/// the page, as `golden.json` keeps them for `--merge`.
-fn case_records(cases: &[(usize, ReportCase)]) -> Vec<serde_json::Value> {
-    let junit = junit_cases(&cases.iter().map(|(_, c)| c).collect::<Vec<_>>());
-    cases
-        .iter()
-        .zip(&junit)
-        .map(|((order, c), t)| {
-            let mut v = case_json(c);
-            v["order"] = (*order).into();
-            v["junit"] = t.to_json();
-            v["html_row"] = case_row_html(c).into();
-            v["html_figure"] = case_figure_html(c).into();
-            v
-        })
-        .collect()
 }
 
 /// `SHADELAB_BLESS` set to anything but empty, 0 or false.

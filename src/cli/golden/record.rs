@@ -8,12 +8,12 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use shadelab::golden::record::{self, RunRecord, RECORD};
-use shadelab::golden::{CaseError, Status};
+use shadelab::golden::report::write_run_page;
+use shadelab::golden::CaseError;
 use shadelab::junit;
 use shadelab::output;
 
 use super::args::GoldenArgs;
-use super::report::{write_page, PageHead};
 use crate::cli::common::failure::Failure;
 use crate::cli::common::shards;
 
@@ -27,7 +27,7 @@ pub(super) fn conclude(
     first_error: Option<CaseError>,
 ) -> Result<(), Failure> {
     let html = args.out.join("report.html");
-    write_report_page(&html, run, &records)?;
+    write_run_page(&html, run, &records)?;
     if let Some(path) = &args.junit {
         let junit: Vec<_> = records
             .iter()
@@ -47,31 +47,6 @@ pub(super) fn conclude(
         );
     }
     Ok(record::verdict(&records, first_error)?)
-}
-
-/// `report.html` from the cases' rows and figures.
-fn write_report_page(
-    html: &Path,
-    run: &RunRecord,
-    records: &[serde_json::Value],
-) -> Result<(), Failure> {
-    let rows: Vec<String> = records
-        .iter()
-        .map(|v| v["html_row"].as_str().unwrap_or_default().to_string())
-        .collect();
-    let figures: Vec<String> = records
-        .iter()
-        .filter_map(|v| v["html_figure"].as_str().map(str::to_string))
-        .collect();
-    let head = PageHead {
-        references: &run.references,
-        key: run.key.as_deref().unwrap_or_default(),
-        device: &run.device,
-        driver: &run.driver,
-        limits: &run.limits,
-    };
-    let passed = record::count(records, Status::Pass);
-    write_page(html, &head, passed, &rows, &figures)
 }
 
 /// `--merge DIR...`: the shards' records joined into one report in

@@ -1,24 +1,24 @@
-//! `golden`'s reports: a case's lines on the terminal, the cases in JSON
-//! and JUnit, and `report.html`: every case in a table, then each one that
-//! did not pass (or was accepted) as its reference, its render and the FLIP
-//! heat map side by side. One self-contained page in `compare`'s style:
-//! images inline, no script, all text escaped.
+//! `golden`'s reports: the cases in JSON and JUnit, each case's record as
+//! `golden.json` keeps it, and `report.html`: every case in a table, then
+//! each one that did not pass (or was accepted) as its reference, its
+//! render and the FLIP heat map side by side. One self-contained page in
+//! `compare`'s style: images inline, no script, all text escaped.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
-use shadelab::compare::present::{escape, img, page_start, PAGE_END};
-use shadelab::junit::TestCase;
-use shadelab::metrics::format_figure;
-use shadelab::output::write_atomically;
-use shadelab::shading::Shading;
+use crate::compare::present::{escape, img, page_start, PAGE_END};
+use crate::junit::TestCase;
+use crate::metrics::format_figure;
+use crate::output::write_atomically;
+use crate::shading::Shading;
+use crate::Error;
 
-use crate::cli::common::batch::CaseView;
-use crate::cli::common::failure::Failure;
-use shadelab::golden::{Judged, Status};
+use super::case::{Judged, Status};
+use super::record::{count, RunRecord};
 
 /// A case as the report shows it.
-pub(super) struct ReportCase {
+pub struct ReportCase {
     pub scene: String,
     pub shading: Shading,
     /// The reference's file name.
@@ -51,65 +51,8 @@ fn figure_cells(j: &Judged) -> String {
     }
 }
 
-/// The case's lines on the terminal.
-pub(super) fn print_case(view: &CaseView, judged: &Judged, out: &Path) {
-    let label = format!("{}/{}", view.name, view.shading);
-    let word = judged.status.word();
-    let reference = judged
-        .reference
-        .as_ref()
-        .map(|p| p.display().to_string())
-        .unwrap_or_default();
-    match judged.status {
-        Status::Pass => {
-            let figures = judged
-                .comparison
-                .as_ref()
-                .map(|c| format!("max_abs {}", format_figure(c.stats.max_abs)))
-                .unwrap_or_default();
-            println!("{word:<8} {label}  {reference}  {figures}");
-        }
-        Status::Created if judged.failures.is_empty() => {
-            println!("{word:<8} {label}  {reference} (from this render)")
-        }
-        Status::Created => println!(
-            "{word:<8} {label}  {reference} (from this render; the shared one was: {})",
-            judged.failures.join("; ")
-        ),
-        Status::Updated => println!(
-            "{word:<8} {label}  {reference} (was: {})",
-            judged.failures.join("; ")
-        ),
-        Status::Error => println!(
-            "{word:<8} {label}  {}",
-            judged.error.as_ref().map_or("", |e| e.message.as_str())
-        ),
-        Status::Fail | Status::Missing => {
-            println!("{word:<8} {label}  {reference}");
-            for f in &judged.failures {
-                println!("         {f}");
-            }
-            if let Some(hint) = &judged.hint {
-                println!("         {hint}");
-            }
-            if !judged.written.is_empty() {
-                let names: Vec<String> = judged
-                    .written
-                    .iter()
-                    .map(|p| p.display().to_string())
-                    .collect();
-                println!(
-                    "         see {} and {}",
-                    names.join(", "),
-                    out.join("report.html").display()
-                );
-            }
-        }
-    }
-}
-
 /// The case in `--json`.
-pub(super) fn case_json(c: &ReportCase) -> serde_json::Value {
+pub fn case_json(c: &ReportCase) -> serde_json::Value {
     let j = &c.judged;
     serde_json::json!({
         "scene": c.scene,
@@ -129,7 +72,7 @@ pub(super) fn case_json(c: &ReportCase) -> serde_json::Value {
 }
 
 /// The cases in `--junit`.
-pub(super) fn junit_cases(cases: &[&ReportCase]) -> Vec<TestCase> {
+pub fn junit_cases(cases: &[&ReportCase]) -> Vec<TestCase> {
     cases
         .iter()
         .map(|c| {
@@ -163,7 +106,7 @@ pub(super) fn junit_cases(cases: &[&ReportCase]) -> Vec<TestCase> {
 }
 
 /// A case's row of the page's table.
-pub(super) fn case_row_html(c: &ReportCase) -> String {
+pub fn case_row_html(c: &ReportCase) -> String {
     let j = &c.judged;
     let class = if j.status == Status::Pass {
         ""
@@ -187,7 +130,7 @@ pub(super) fn case_row_html(c: &ReportCase) -> String {
 
 /// A case's pictures on the page (reference, render, FLIP, scaled error),
 /// for a case that has them: one that did not pass, or was accepted.
-pub(super) fn case_figure_html(c: &ReportCase) -> Option<String> {
+pub fn case_figure_html(c: &ReportCase) -> Option<String> {
     let j = &c.judged;
     let p = j.pictures.as_ref()?;
     let mut h = format!(
@@ -251,7 +194,7 @@ pub(super) fn case_figure_html(c: &ReportCase) -> Option<String> {
 }
 
 /// What the page's head says of the run.
-pub(super) struct PageHead<'a> {
+pub struct PageHead<'a> {
     pub references: &'a Path,
     pub key: &'a str,
     pub device: &'a str,
@@ -262,13 +205,13 @@ pub(super) struct PageHead<'a> {
 /// Writes the page to `path`: `passed` of `rows.len()` cases, each case's
 /// table row, then the figures of those that have them (a run's, or a
 /// merge of shards', in the whole run's order).
-pub(super) fn write_page(
+pub fn write_page(
     path: &Path,
     head: &PageHead,
     passed: usize,
     rows: &[String],
     figures: &[String],
-) -> Result<(), Failure> {
+) -> Result<(), Error> {
     let title = format!("shadelab golden: {passed} of {} cases passed", rows.len());
     let mut h = page_start(&title);
     let _ = writeln!(
@@ -293,4 +236,48 @@ pub(super) fn write_page(
     }
     h.push_str(PAGE_END);
     Ok(write_atomically(path, h.as_bytes())?)
+}
+
+/// Each case's record: its JSON, its place in the whole run (`order`), its
+/// JUnit case and its rows of the page, as `golden.json` keeps them for
+/// `--merge`.
+pub fn case_records(cases: &[(usize, ReportCase)]) -> Vec<serde_json::Value> {
+    let junit = junit_cases(&cases.iter().map(|(_, c)| c).collect::<Vec<_>>());
+    cases
+        .iter()
+        .zip(&junit)
+        .map(|((order, c), t)| {
+            let mut v = case_json(c);
+            v["order"] = (*order).into();
+            v["junit"] = t.to_json();
+            v["html_row"] = case_row_html(c).into();
+            v["html_figure"] = case_figure_html(c).into();
+            v
+        })
+        .collect()
+}
+
+/// `report.html` at `html` from the run's head and the cases' records
+/// (their rows and figures): a run's, or a merge of shards'.
+pub fn write_run_page(
+    html: &Path,
+    run: &RunRecord,
+    records: &[serde_json::Value],
+) -> Result<(), Error> {
+    let rows: Vec<String> = records
+        .iter()
+        .map(|v| v["html_row"].as_str().unwrap_or_default().to_string())
+        .collect();
+    let figures: Vec<String> = records
+        .iter()
+        .filter_map(|v| v["html_figure"].as_str().map(str::to_string))
+        .collect();
+    let head = PageHead {
+        references: &run.references,
+        key: run.key.as_deref().unwrap_or_default(),
+        device: &run.device,
+        driver: &run.driver,
+        limits: &run.limits,
+    };
+    write_page(html, &head, count(records, Status::Pass), &rows, &figures)
 }
