@@ -8,7 +8,12 @@ Fails (exit 1) when, anywhere in `src/` or `shaders/`:
   item of file B (a `use` or a path written out), and B, directly or
   through others, names one of A's;
 - a function outside tests is over 100 lines, from its `fn` line to its
-  closing brace.
+  closing brace;
+- a command of the CLI names an item of another command (a file under
+  `src/cli/<command>/`, or `src/cli/<command>.rs`, importing from another
+  command's), or `src/cli/common/`, which every command shares, names a
+  command's; or the library (`src/` outside `src/cli/` and `src/main.rs`)
+  names anything of `cli`.
 
 The same rules hold in `tests/` (`check_tests_folder`), for every
 function there, `#[test]` ones included, and for import loops within
@@ -314,6 +319,56 @@ def loops(edges):
     return out
 
 
+# The CLI's folder that every command may import: what they share.
+CLI_SHARED = "common"
+
+
+def command_imports(files, edges):
+    """Problems where the commands of `src/cli/` are not apart, or the
+    library leans on the CLI (docs/architecture.md, "A new command").
+
+    A command is a folder `src/cli/<command>/` or a file
+    `src/cli/<command>.rs`; it may import `src/cli/common/` and the library,
+    never another command: what two commands use is shared, or library
+    work. `src/cli/common/` imports no command, and `src/cli/mod.rs`, which
+    dispatches to every command, is neither. The library (every file of
+    `src/` outside `src/cli/`; `src/main.rs` is not read) names nothing of
+    `cli`, and declares no module `cli`: it must work without a command
+    line (a Python package calls it)."""
+    problems = []
+    for source, targets in sorted(edges.items()):
+        for target, line in sorted(targets.items(), key=lambda kv: kv[1]):
+            where = f"{files[source].relative_to(ROOT)}:{line}"
+            named = files[target].relative_to(ROOT)
+            if source[:1] != ("cli",):
+                if target[:1] == ("cli",):
+                    problems.append(f"{where}: the library imports the command line ({named})")
+                continue
+            if len(source) < 2 or len(target) < 2 or target[0] != "cli":
+                continue
+            own, other = source[1], target[1]
+            if other in (own, CLI_SHARED):
+                continue
+            if own == CLI_SHARED:
+                problems.append(
+                    f"{where}: src/cli/{CLI_SHARED}/ imports the command {other} ({named}); "
+                    "what the commands share depends on none of them"
+                )
+            else:
+                problems.append(
+                    f"{where}: the command {own} imports the command {other} ({named}); "
+                    f"move what both use into src/cli/{CLI_SHARED}/ or the library"
+                )
+    for module, path in sorted(files.items()):
+        if module[:1] == ("cli",):
+            continue
+        code = strip_comments_and_strings(path.read_text())
+        for m in re.finditer(r"^\s*(?:pub(?:\([^)]*\))?\s+)?mod\s+cli\b", code, re.M):
+            line = code.count("\n", 0, m.start()) + 1
+            problems.append(f"{path.relative_to(ROOT)}:{line}: the library declares the command line (mod cli)")
+    return problems
+
+
 def functions(path: Path, keep_tests: bool = False):
     """(name, first line, length in lines) of every function outside test
     modules and `#[test]` functions; with `keep_tests`, of every one."""
@@ -483,6 +538,7 @@ def main():
                 if b in edges[a]:
                     detail.append(f"{files[a].relative_to(ROOT)}:{edges[a][b]} -> {files[b].relative_to(ROOT)}")
         problems.append("import loop: " + ", ".join(names) + "\n    " + "\n    ".join(detail))
+    problems.extend(command_imports(files, edges))
 
     problems += check_tests_folder(args.list)
 
@@ -503,7 +559,8 @@ def main():
         sys.exit(1)
     print(
         f"layout-check: {len(sources)} files within {MAX_FILE_LINES} lines, "
-        f"{len(long_functions)} functions within {MAX_FUNCTION_LINES}, no import loop among {len(files)} files"
+        f"{len(long_functions)} functions within {MAX_FUNCTION_LINES}, no import loop among {len(files)} files, "
+        "no command importing another"
     )
 
 

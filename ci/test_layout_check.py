@@ -80,6 +80,64 @@ class LayoutCheck(unittest.TestCase):
         self.assertEqual(check(dict(CLEAN, **{"src/b.rs": exactly})).returncode, 0)
 
 
+
+# A binary with two commands and what they share, over a library.
+CLI = {
+    "src/lib.rs": "pub mod judge;\n",
+    "src/judge.rs": "pub struct Limits;\n",
+    "src/main.rs": "mod cli;\nfn main() { cli::run() }\n",
+    "src/cli/mod.rs": "mod common;\nmod golden;\nmod diff;\npub fn run() { golden::run(); diff::run() }\n",
+    "src/cli/common/mod.rs": "pub mod failure;\n",
+    "src/cli/common/failure.rs": "pub struct Failure;\n",
+    "src/cli/golden/mod.rs": "mod judge;\npub fn run() { judge::go() }\n",
+    "src/cli/golden/judge.rs": "use crate::cli::common::failure::Failure;\npub fn go() { let _ = Failure; }\n",
+    "src/cli/diff/mod.rs": "pub fn run() { let _ = crate::cli::common::failure::Failure; }\npub struct Judging;\n",
+}
+
+
+class CommandsApart(unittest.TestCase):
+    def test_commands_sharing_only_common_and_the_library_pass(self):
+        result = check(CLI)
+        self.assertEqual(result.returncode, 0, result.stdout)
+
+    def test_a_command_importing_another_commands_item_fails(self):
+        files = dict(CLI, **{
+            "src/cli/golden/judge.rs": "use crate::cli::diff::Judging;\npub fn go() { let _ = Judging; }\n",
+        })
+        result = check(files)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn(
+            "src/cli/golden/judge.rs:1: the command golden imports the command diff (src/cli/diff/mod.rs)",
+            result.stdout,
+        )
+
+    def test_a_command_in_one_file_is_a_command_too(self):
+        files = dict(CLI, **{
+            "src/cli/mod.rs": "mod common;\nmod golden;\nmod diff;\nmod info;\npub fn run() { info::run() }\n",
+            "src/cli/info.rs": "pub fn run() { super::golden::run() }\n",
+        })
+        result = check(files)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("the command info imports the command golden", result.stdout)
+
+    def test_what_commands_share_importing_a_command_fails(self):
+        files = dict(CLI, **{
+            "src/cli/common/failure.rs": "pub struct Failure(crate::cli::diff::Judging);\n",
+        })
+        result = check(files)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("src/cli/common/ imports the command diff", result.stdout)
+
+    def test_the_library_naming_the_cli_fails(self):
+        files = dict(CLI, **{"src/judge.rs": "pub struct Limits(crate::cli::common::failure::Failure);\n"})
+        result = check(files)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("src/judge.rs:1: the library imports the command line", result.stdout)
+        declared = dict(CLI, **{"src/lib.rs": "pub mod judge;\nmod cli;\n"})
+        result = check(declared)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("src/lib.rs:2: the library declares the command line (mod cli)", result.stdout)
+
 if __name__ == "__main__":
     unittest.main()
 

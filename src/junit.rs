@@ -21,6 +21,34 @@ pub struct TestCase {
     pub output: String,
 }
 
+impl TestCase {
+    /// The case as a shard's record keeps it (`golden --merge` and
+    /// `check --merge` join shards' cases into one report), and back.
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "classname": self.classname,
+            "name": self.name,
+            "time_s": self.time_s,
+            "failure": self.failure,
+            "error": self.error,
+            "output": self.output,
+        })
+    }
+
+    /// The case from `to_json`'s record; what is missing is empty.
+    pub fn from_json(v: &serde_json::Value) -> TestCase {
+        let text = |k: &str| v.get(k).and_then(|x| x.as_str()).map(str::to_string);
+        TestCase {
+            classname: text("classname").unwrap_or_default(),
+            name: text("name").unwrap_or_default(),
+            time_s: v.get("time_s").and_then(|x| x.as_f64()).unwrap_or(0.0),
+            failure: text("failure"),
+            error: text("error"),
+            output: text("output").unwrap_or_default(),
+        }
+    }
+}
+
 pub fn render(suite: &str, cases: &[TestCase]) -> String {
     let failures = cases.iter().filter(|c| c.failure.is_some()).count();
     let errors = cases.iter().filter(|c| c.error.is_some()).count();

@@ -15,7 +15,8 @@
 //! ```
 //!
 //! [`check`] and [`compare`] drive that whole path for a scene: both
-//! backends, then the figures.
+//! backends, then the figures; [`golden`] judges renders against stored
+//! references, with [`diff`]'s judging of two images.
 //!
 //! # Modules
 //!
@@ -39,6 +40,11 @@
 //!   against thresholds measured on the reference scenes (`shadelab check`).
 //! - [`compare`] runs one scene in many shader variants, each timed and
 //!   measured, and lays the results out as reports (`shadelab compare`).
+//! - [`diff`] judges two images against limits named by purpose (presets,
+//!   `FIGURE=X` entries): the figures, each limit's verdict, the failures
+//!   (`shadelab diff`, and `golden`'s judging).
+//! - [`golden`] judges renders against stored references, finds, makes and
+//!   accepts the references, and names them (`shadelab golden`).
 //! - [`memory`] estimates the memory a render will take before anything large
 //!   is allocated, and holds it to a limit.
 //!
@@ -92,10 +98,12 @@ pub mod camera;
 pub mod check;
 pub mod compare;
 pub mod cpu;
+pub mod diff;
 pub mod digest;
 pub mod error;
 pub mod error_budget;
 pub mod film_sums;
+pub mod golden;
 pub mod gpu;
 pub mod huge_sphere;
 pub mod junit;

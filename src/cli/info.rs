@@ -3,7 +3,7 @@
 use clap::Args;
 use shadelab::gpu::{list_devices, GpuContext, GpuOptions};
 
-use super::failure::Failure;
+use crate::cli::common::failure::Failure;
 
 #[derive(Args)]
 pub struct InfoArgs {
@@ -11,7 +11,7 @@ pub struct InfoArgs {
     #[arg(long)]
     json: bool,
     #[command(flatten)]
-    pub machine: super::args::MachineArgs,
+    pub machine: crate::cli::common::args::MachineArgs,
 }
 
 pub fn run(args: InfoArgs, options: &GpuOptions) -> Result<(), Failure> {

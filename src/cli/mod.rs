@@ -1,36 +1,15 @@
-//! Argument parsing and dispatch to one module per subcommand.
+//! Argument parsing and dispatch to one folder per subcommand; what more
+//! than one command uses is in `common/`, and each command's work that is
+//! not about the command line is in the library.
 
-mod args;
 mod bench;
-mod bench_timing;
-mod cases;
 mod check;
-mod check_cases;
-mod check_merge;
-mod check_report;
+mod common;
 mod compare;
-mod compare_folders;
-mod compare_table;
-mod compare_variants;
 mod diff;
-mod diff_folders;
-mod diff_judging;
-mod failure;
 mod golden;
-mod golden_args;
-mod golden_case;
-mod golden_judge;
-mod golden_keys;
-mod golden_record;
-mod golden_report;
-mod ignored;
 mod info;
-mod progress;
 mod render;
-mod run_digest;
-mod shard_env;
-mod shards;
-mod time_to_image;
 mod warm;
 
 use std::process::ExitCode;
@@ -49,7 +28,7 @@ use clap::{ArgMatches, CommandFactory, FromArgMatches, Parser, Subcommand};
 )]
 struct Cli {
     #[command(flatten)]
-    machine: args::MachineArgs,
+    machine: common::args::MachineArgs,
 
     #[command(subcommand)]
     command: Command,
@@ -58,7 +37,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene to a PNG (8-bit sRGB) or EXR (linear float) image.
-    Render(render::RenderArgs),
+    Render(common::batch::args::RenderArgs),
     /// Time each mode (medians, ratios to a baseline, rays per second).
     Bench(bench::BenchArgs),
     /// Render on the GPU and with the CPU reference, and compare.
@@ -66,7 +45,7 @@ enum Command {
     /// Render scenes and compare each with its stored reference image
     /// (image regression tests): --create makes missing references,
     /// --bless accepts changed ones.
-    Golden(golden_args::GoldenArgs),
+    Golden(golden::GoldenArgs),
     /// One scene in many shader variants: speed against error.
     Compare(compare::CompareArgs),
     /// Compare two images (PNG or EXR): error figures, FLIP, an optional heat
@@ -188,10 +167,10 @@ pub fn run() -> ExitCode {
         Command::Golden(a) => a.machine.clone(),
         Command::Info(a) => a.machine.clone(),
         Command::Warm(a) => a.machine.clone(),
-        Command::Diff(_) => args::MachineArgs::default(),
+        Command::Diff(_) => common::args::MachineArgs::default(),
     };
     let machine = own.or(&cli.machine);
-    progress::set_quiet(machine.quiet);
+    common::progress::set_quiet(machine.quiet);
     let mut gpu_options = shadelab::gpu::GpuOptions::from_env();
     if machine.device.is_some() {
         gpu_options.device = machine.device;

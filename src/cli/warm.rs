@@ -14,9 +14,9 @@ use shadelab::gpu::GpuOptions;
 use shadelab::memory::MemoryLimit;
 use shadelab::render::{render, Device, RenderRequest};
 
-use super::args::{ModeList, SceneFlags};
-use super::failure::Failure;
-use super::render::load_scene;
+use crate::cli::common::args::{ModeList, SceneFlags};
+use crate::cli::common::batch::scene::load_scene;
+use crate::cli::common::failure::Failure;
 
 /// The size each scene is rendered at: the pipelines are the same at any.
 const WARM_SIZE: u32 = 16;
@@ -30,7 +30,7 @@ pub struct WarmArgs {
     #[command(flatten)]
     settings: SceneFlags,
     #[command(flatten)]
-    pub machine: super::args::MachineArgs,
+    pub machine: crate::cli::common::args::MachineArgs,
 }
 
 pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result<(), Failure> {
@@ -59,13 +59,13 @@ pub fn run(args: WarmArgs, options: &GpuOptions, memory: &MemoryLimit) -> Result
     }
     // Said once the flags are known to be valid: a bad one is the answer.
     let s = &args.settings;
-    let ignoring = super::ignored::Run {
+    let ignoring = crate::cli::common::ignored::Run {
         modes: &modes,
-        backends: super::ignored::Backends::Gpu,
+        backends: crate::cli::common::ignored::Backends::Gpu,
         caustics: scenes.iter().any(|(scene, _)| scene.render.caustics.on()),
     };
-    super::ignored::warn(
-        &super::ignored::scene_flags_given(&s.traversal, &s.msaa, &s.depth),
+    crate::cli::common::ignored::warn(
+        &crate::cli::common::ignored::scene_flags_given(&s.traversal, &s.msaa, &s.depth),
         ignoring,
     );
     let device = Device::open(options)?;

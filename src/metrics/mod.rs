@@ -2,8 +2,9 @@
 //! masks, and the thresholds a comparison passes or fails.
 //!
 //! Works on `LinearImage` values only. Nothing here reads or writes a file,
-//! knows about Vulkan, prints or exits; `shadelab diff` (src/cli/diff.rs) does
-//! that around it. One job per file:
+//! knows about Vulkan, prints or exits: `src/diff.rs` reads the files and
+//! judges a pair against limits, and `shadelab diff` (`src/cli/diff/`)
+//! prints it. One job per file:
 //!
 //! - `stats.rs`: pixel-wise figures (max, mean, RMSE, PSNR, 99th percentile)
 //! - `flip.rs`: NVIDIA's FLIP through the `nv-flip` crate

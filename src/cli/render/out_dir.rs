@@ -9,10 +9,10 @@ use shadelab::gpu::GpuOptions;
 use shadelab::memory::MemoryLimit;
 use shadelab::shading::Shading;
 
-use super::args::RenderArgs;
-use super::batch::{non_finite_failure, Batch, CaseView, Made};
 use super::stats::print_stats;
-use crate::cli::failure::Failure;
+use crate::cli::common::batch::args::RenderArgs;
+use crate::cli::common::batch::{non_finite_failure, Batch, CaseView, Made};
+use crate::cli::common::failure::Failure;
 
 /// What one case came to: the JSON object, the line for people, the ray
 /// statistics to print, and the failure if it failed.

@@ -15,12 +15,12 @@ use shadelab::output::ImageFormat;
 use shadelab::render::{Device, Plan, Portion, RenderRequest};
 use shadelab::shading::Shading;
 
-use super::args::RenderArgs;
-use super::image::{effective_settings, image_metadata};
-use super::scene::{apply_overrides, load_scene};
 use super::stats::print_photons;
-use crate::cli::failure::Failure;
-use crate::cli::run_digest::first_difference;
+use crate::cli::common::batch::args::RenderArgs;
+use crate::cli::common::batch::image::{effective_settings, image_metadata};
+use crate::cli::common::batch::scene::{apply_overrides, load_scene};
+use crate::cli::common::failure::Failure;
+use crate::cli::common::run_digest::first_difference;
 use shadelab::digest::fnv1a_hex;
 
 /// The settings a film's header records that say where it ran or by what
@@ -68,7 +68,7 @@ pub(super) fn run_shard(
     let total = plan.part.total;
     let job = plan.part.clone();
     let label = format!("{shading}, shard {i} of {n}");
-    let rendered = crate::cli::progress::counted(&label, |counter| {
+    let rendered = crate::cli::common::progress::counted(&label, |counter| {
         let request = RenderRequest {
             progress: Some(counter),
             ..request.clone()

@@ -15,11 +15,11 @@ use shadelab::render::{Device, FilmRender, Plan, RenderRequest, Rendered, Techni
 use shadelab::scene::Scene;
 use shadelab::shading::Shading;
 
-use super::args::RenderArgs;
-use super::image::{color_target, effective_settings, image_metadata};
-use super::scene::{apply_overrides, load_scene};
 use super::stats::{print_photons, print_stats};
-use crate::cli::failure::Failure;
+use crate::cli::common::batch::args::RenderArgs;
+use crate::cli::common::batch::image::{color_target, effective_settings, image_metadata};
+use crate::cli::common::batch::scene::{apply_overrides, load_scene};
+use crate::cli::common::failure::Failure;
 
 /// The GPU opened on a thread of its own while the scene loads (on a
 /// 2-core machine the two overlap): `ms` is how long the opening took.
@@ -242,7 +242,7 @@ fn render(
     // Progress where there is some to show: the CPU reference's, and a
     // film's photons or samples (a GPU image in one dispatch has none).
     let counts = backend == Backend::Cpu || Technique::of(scene, shading).sums_in_film();
-    let rendered = crate::cli::progress::counted(&format!("{shading} on the {on}"), |counter| {
+    let rendered = crate::cli::common::progress::counted(&format!("{shading} on the {on}"), |counter| {
         let request = RenderRequest {
             target,
             count_rays: args.stats,
