@@ -418,8 +418,8 @@ def glsl_functions(path: Path):
 
 # The test files (tests/): the same limits as src/, and every function
 # counts, `#[test]` ones too. Each test binary is its own crate, so import
-# loops are looked for within one binary: `tests/NAME.rs` alone, or
-# `tests/NAME/main.rs` and the modules under `tests/NAME/`, with
+# loops are looked for within one binary: a `.rs` file directly in `tests/`
+# alone, or a folder's `main.rs` and the modules under that folder, with
 # `tests/common/` as the module `common` of every binary that declares it.
 
 TEST_ROOT_COMMON = re.compile(r"^\s*(?:#\[path\s*=\s*\"[^\"]*\"\]\s*)?(?:pub\s+)?mod\s+common\s*;", re.M)

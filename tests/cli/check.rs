@@ -1,6 +1,6 @@
 //! `shadelab check` from the command line: its images and JUnit report,
-//! exit 1 over a threshold, bad input refused before rendering, and every
-//! case it can run run, the others reported once as errors.
+//! exit 1 over a threshold, bad input refused before rendering, and each
+//! case it can run is run, the others reported once as JUnit errors.
 
 use std::path::Path;
 
