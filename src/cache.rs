@@ -83,7 +83,13 @@ fn write_keyed(path: &Path, key: &str, words: &[u32]) {
     bytes.extend_from_slice(key.as_bytes());
     bytes.push(b'\n');
     bytes.extend(words.iter().flat_map(|w| w.to_le_bytes()));
-    let temp = path.with_extension(format!("tmp{}", std::process::id()));
+    // A name of this writer's own, process and write: two threads of one
+    // process (the test binaries run many renders side by side) writing
+    // the same key would otherwise share a temporary file, and one's rename
+    // could publish the other's half-written bytes.
+    static WRITES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let write = WRITES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let temp = path.with_extension(format!("tmp{}-{write}", std::process::id()));
     if std::fs::write(&temp, &bytes).is_ok() && std::fs::rename(&temp, path).is_err() {
         let _ = std::fs::remove_file(&temp);
     }
