@@ -242,7 +242,8 @@ fn render(
     // Progress where there is some to show: the CPU reference's, and a
     // film's photons or samples (a GPU image in one dispatch has none).
     let counts = backend == Backend::Cpu || Technique::of(scene, shading).sums_in_film();
-    let rendered = crate::cli::common::progress::counted(&format!("{shading} on the {on}"), |counter| {
+    let label = format!("{shading} on the {on}");
+    let rendered = crate::cli::common::progress::counted(&label, |counter| {
         let request = RenderRequest {
             target,
             count_rays: args.stats,
