@@ -6,18 +6,8 @@
 //! [`Device`] keeps the Vulkan context and its pipelines between renders.
 //! [`render`] is the three in order.
 //!
-//! ```no_run
-//! use shadelab::render::{render, Device, RenderRequest};
-//! use shadelab::shading::Shading;
-//! # fn main() -> Result<(), shadelab::error::Error> {
-//! let scene = shadelab::scene::default_scene();
-//! let device = Device::open(&shadelab::gpu::GpuOptions::from_env())?;
-//! let gpu = render(&device, &scene, &RenderRequest::gpu(Shading::Phong))?;
-//! let cpu = render(&device, &scene, &RenderRequest::cpu(Shading::Phong))?;
-//! # let _ = (gpu, cpu);
-//! # Ok(())
-//! # }
-//! ```
+//! The crate's front page has the example: a scene rendered on the GPU
+//! and with the CPU reference on one device, and the two measured.
 
 pub mod caustics;
 mod coverage;
