@@ -11,6 +11,12 @@ use std::process::{Command, Output};
 /// the most): `\`
 /// continuations joined, comments kept (they carry the expected status).
 pub fn section_commands(text: &str, heading: &str) -> Vec<String> {
+    section_blocks(text, heading).concat()
+}
+
+/// [`section_commands`], block by block: the command lines of each `sh`
+/// block of the section, in order.
+pub fn section_blocks(text: &str, heading: &str) -> Vec<Vec<String>> {
     let start = text
         .find(heading)
         .unwrap_or_else(|| panic!("no section {heading:?}"));
@@ -23,11 +29,12 @@ pub fn section_commands(text: &str, heading: &str) -> Vec<String> {
         .min()
         .map_or(rest.len(), |i| i + 3);
     let section = &rest[..end];
-    let mut commands = Vec::new();
+    let mut blocks = Vec::new();
     for (k, block) in section.split("```").enumerate() {
         if k % 2 == 0 || !block.starts_with("sh\n") {
             continue;
         }
+        let mut commands = Vec::new();
         let mut line = String::new();
         for part in block[3..].lines() {
             line.push_str(part.trim_end_matches('\\'));
@@ -38,8 +45,9 @@ pub fn section_commands(text: &str, heading: &str) -> Vec<String> {
                 line.clear();
             }
         }
+        blocks.push(commands);
     }
-    commands
+    blocks
 }
 
 /// The exit status a command's comment asks for: 1 where it says `exit 1`.
