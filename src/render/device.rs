@@ -11,7 +11,7 @@ use crate::gpu::{GpuContext, GpuError, GpuOptions};
 
 /// The devices a render may run on: the GPU where one was opened, and the
 /// CPU reference.
-#[derive(Clone, Default)]
+#[derive(Clone)]
 pub struct Device {
     gpu: Option<Arc<GpuContext>>,
 }

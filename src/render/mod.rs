@@ -24,7 +24,6 @@ mod request;
 pub use device::Device;
 pub use integrator::{Integrator, Work};
 pub use plan::{warnings, Plan, Technique};
-pub use refusals::forward_blind_spots;
 pub use rendered::{CausticReport, Coverage, FilmRender, Rendered, Timings};
 pub use request::{Portion, RenderRequest};
 

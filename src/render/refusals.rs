@@ -109,7 +109,7 @@ pub(super) fn unsplittable(
 /// pinhole eye cannot be reached through a mirror or glass, so what those
 /// surfaces reflect or transmit is missing from the image (their own
 /// diffuse light still shows). `None` where no object has `kr` or `kt`.
-pub fn forward_blind_spots(scene: &Scene) -> Option<String> {
+pub(super) fn forward_blind_spots(scene: &Scene) -> Option<String> {
     let blind: Vec<String> = scene
         .objects
         .iter()
