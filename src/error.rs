@@ -21,6 +21,10 @@ pub enum Error {
     Metrics(#[from] MetricsError),
     #[error("{0}")]
     Usage(String),
+    /// A render whose estimate is over the memory limit (`memory`),
+    /// refused before anything large is allocated.
+    #[error("{0}")]
+    OverMemory(String),
     /// The caller set the request's cancel flag.
     #[error("the render was cancelled")]
     Cancelled,
@@ -35,7 +39,11 @@ impl Error {
 
     pub fn exit_code(&self) -> i32 {
         match self {
-            Error::Scene(_) | Error::Output(_) | Error::Metrics(_) | Error::Usage(_) => 2,
+            Error::Scene(_)
+            | Error::Output(_)
+            | Error::Metrics(_)
+            | Error::Usage(_)
+            | Error::OverMemory(_) => 2,
             Error::Gpu(e) if e.is_bad_input() => 2,
             Error::Gpu(_) => 3,
             // As a shell reports a command stopped by Ctrl-C (128 + SIGINT).

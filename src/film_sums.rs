@@ -282,12 +282,16 @@ impl RenderPart {
         ))
     }
 
+    /// Whether the caller cancelled: no more work starts, not even a
+    /// first batch (a cancelled render gives no image to be black).
+    pub fn cancelled(&self) -> bool {
+        (self.cancel.as_ref()).is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
+    }
+
     /// Whether to start no more work: the time budget is spent, or the
     /// caller cancelled.
     pub fn should_stop(&self) -> bool {
-        let cancelled =
-            (self.cancel.as_ref()).is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed));
-        cancelled
+        self.cancelled()
             || self
                 .deadline
                 .is_some_and(|d| std::time::Instant::now() >= d)

@@ -324,7 +324,7 @@ impl MemoryLimit {
         } else {
             String::new()
         };
-        Err(Error::Usage(format!(
+        Err(Error::OverMemory(format!(
             "{name}: {work} at {}x{} would take about {} ({} objects, {} triangles, {} vertices{textures}), over the memory limit of {} ({}); raise the limit with --max-memory or {LIMIT_ENV}, or lower the resolution or the geometry",
             scene.image.width,
             scene.image.height,

@@ -113,3 +113,14 @@ impl Judged {
         }
     }
 }
+
+/// What a golden case's image records of what made it, beside the
+/// render's settings (`render::described::effective_settings`): the case's
+/// key, and the lighting hook's source by its digest (a hook whose text
+/// changed made another image under the same file name).
+pub fn mark_settings(settings: &mut serde_json::Value, key: &str, hook_source: Option<&str>) {
+    settings["golden_scene"] = key.into();
+    if let Some(source) = hook_source {
+        settings["lighting_fnv1a"] = crate::digest::fnv1a_hex(source.as_bytes()).into();
+    }
+}

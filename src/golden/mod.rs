@@ -15,6 +15,6 @@ pub mod keys;
 pub mod record;
 pub mod report;
 
-pub use case::{CaseError, Judged, Pictures, Status};
+pub use case::{mark_settings, CaseError, Judged, Pictures, Status};
 pub use judge::{clear_pictures, CaseRender, JudgeOptions};
 pub use record::RunRecord;

@@ -11,9 +11,11 @@
 
 pub mod caustics;
 mod coverage;
+pub mod described;
 mod device;
 mod forward;
 mod integrator;
+pub mod overrides;
 mod plan;
 mod raster;
 mod raytrace;

@@ -48,6 +48,12 @@ pub enum SceneError {
     #[error("{file}: {message}")]
     TooLarge { file: String, message: String },
 
+    /// A scene given as a table of values (`from_table`): the key path
+    /// of the bad value, as the caller wrote it (`objects[2].radius`), or
+    /// empty for the whole table.
+    #[error("{}{message}", if key.is_empty() { String::new() } else { format!("{key}: ") })]
+    AtKey { key: String, message: String },
+
     /// A mesh file referenced by `[[objects]]` entry `object` (1-based) of a
     /// scene failed to load.
     #[error("{file} line {line}: object {object} (mesh): {source}")]

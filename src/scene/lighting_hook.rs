@@ -12,6 +12,16 @@ impl LightingHook {
             file: file.clone(),
             reason: e.to_string(),
         })?;
+        Self::from_source(file, source)
+    }
+
+    /// A hook from its source text; `label` names it in messages (a file's
+    /// path, or where a caller's text came from).
+    pub fn from_source(
+        label: impl Into<String>,
+        source: impl Into<String>,
+    ) -> Result<Self, SceneError> {
+        let (file, source) = (label.into(), source.into());
         // shadelab writes the hook into its own shader, after its
         // `#version`: one in the hook made glslang say only "'#version' :
         // must occur first".

@@ -5,9 +5,8 @@
 
 use clap::Args;
 use shadelab::diff::Preset;
-use shadelab::scene::{
-    check_caustic_radius, watchdog_limit, LightingHook, Scene, Traversal, MAX_DEPTH, MAX_RESOLUTION,
-};
+use shadelab::render::overrides::{self, Overrides};
+use shadelab::scene::{LightingHook, Scene};
 use shadelab::shading::Shading;
 
 use super::failure::Failure;
@@ -53,10 +52,18 @@ pub struct SceneFlags {
 impl SceneFlags {
     /// Sets them on `scene`: the hook read, the names and counts parsed.
     pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
-        self.lighting.apply(scene)?;
-        self.traversal.apply(scene)?;
-        self.msaa.apply(scene)?;
-        self.depth.apply(scene)
+        let mut o = Overrides::default();
+        self.fill(&mut o)?;
+        Ok(o.apply(scene)?)
+    }
+
+    /// Writes them into `o` (the hook's file read).
+    pub fn fill(&self, o: &mut Overrides) -> Result<(), Failure> {
+        self.lighting.fill(o)?;
+        self.traversal.fill(o);
+        self.msaa.fill(o);
+        self.depth.fill(o);
+        Ok(())
     }
 }
 
@@ -76,24 +83,20 @@ pub struct ImageSize {
 impl ImageSize {
     /// Refuses a size the scene loader would refuse.
     pub fn check(&self) -> Result<(), Failure> {
-        for (flag, value) in [("--width", self.width), ("--height", self.height)] {
-            if let Some(v) = value.filter(|&v| !(1..=MAX_RESOLUTION).contains(&v)) {
-                return Err(Failure::usage(format!(
-                    "{flag} {v} is out of range; expected 1 to {MAX_RESOLUTION} pixels"
-                )));
-            }
-        }
-        Ok(())
+        Ok(overrides::check_size(self.width, self.height)?)
     }
 
     /// Checks the size, then sets it on `scene`.
     pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
-        self.check()?;
-        // In range (checked): 1 to 16384 fits a u32.
-        let pixels = |v: Option<i64>, old: u32| v.map_or(old, |v| v as u32);
-        scene.image.width = pixels(self.width, scene.image.width);
-        scene.image.height = pixels(self.height, scene.image.height);
-        Ok(())
+        let mut o = Overrides::default();
+        self.fill(&mut o);
+        Ok(o.apply_size(scene)?)
+    }
+
+    /// Writes them into `o`.
+    pub fn fill(&self, o: &mut Overrides) {
+        o.width = self.width;
+        o.height = self.height;
     }
 }
 
@@ -115,10 +118,18 @@ pub struct LightingArg {
 impl LightingArg {
     /// Reads the hook's file into `scene`, and sets the watchdog.
     pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
+        let mut o = Overrides::default();
+        self.fill(&mut o)?;
+        Ok(o.apply(scene)?)
+    }
+
+    /// Reads the hook's file into `o`, with the watchdog.
+    pub fn fill(&self, o: &mut Overrides) -> Result<(), Failure> {
         if let Some(path) = &self.lighting {
-            scene.lighting_hook = Some(std::sync::Arc::new(LightingHook::load(path)?));
+            o.lighting = Some(std::sync::Arc::new(LightingHook::load(path)?));
         }
-        self.watchdog.apply(scene)
+        self.watchdog.fill(o);
+        Ok(())
     }
 }
 
@@ -137,11 +148,14 @@ pub struct WatchdogArg {
 impl WatchdogArg {
     /// Sets the limit on `scene`, refusing one out of range.
     pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
-        if let Some(seconds) = self.watchdog {
-            scene.render.watchdog =
-                watchdog_limit(seconds).map_err(|e| Failure::usage(format!("--watchdog {e}")))?;
-        }
-        Ok(())
+        let mut o = Overrides::default();
+        self.fill(&mut o);
+        Ok(o.apply(scene)?)
+    }
+
+    /// Writes it into `o`.
+    pub fn fill(&self, o: &mut Overrides) {
+        o.watchdog = self.watchdog;
     }
 }
 
@@ -218,12 +232,14 @@ impl MsaaArg {
     /// Sets the samples on `scene`; text that is not a count is a usage
     /// error (the device's counts are checked where it renders).
     pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
-        if let Some(text) = &self.msaa {
-            scene.render.msaa = text
-                .parse()
-                .map_err(|e: String| Failure::usage(format!("--msaa {e}")))?;
-        }
-        Ok(())
+        let mut o = Overrides::default();
+        self.fill(&mut o);
+        Ok(o.apply(scene)?)
+    }
+
+    /// Writes it into `o`.
+    pub fn fill(&self, o: &mut Overrides) {
+        o.msaa = self.msaa.clone();
     }
 }
 
@@ -263,104 +279,23 @@ pub struct DepthArg {
 }
 
 impl DepthArg {
-    /// Sets the depth and the bounces on `scene`, refusing either out of
-    /// range, or a depth asked for below the bounces (the scene's rule:
-    /// `RenderSettings::settle_depth`).
+    /// Sets the depth, bounces, photons and caustics on `scene`, each in
+    /// its range (`Overrides::apply`).
     pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
-        if let Some(d) = self.depth {
-            scene.render.depth = check_depth(d)?;
-            scene.render.depth_given = true;
-        }
-        if let Some(b) = self.bounces {
-            scene.render.bounces = u32::try_from(b)
-                .ok()
-                .filter(|&b| b <= MAX_DEPTH)
-                .ok_or_else(|| {
-                    Failure::usage(format!(
-                        "--bounces {b} is out of range; expected 0 to {MAX_DEPTH} (a bounce is a level of the ray tree, which --depth bounds)"
-                    ))
-                })?;
-        }
-        scene.render.settle_depth().map_err(|(depth, bounces)| {
-            let bounces_from = match self.bounces {
-                Some(_) => format!("--bounces {bounces}"),
-                None => format!("the scene's render.bounces = {bounces}"),
-            };
-            let depth_from = match self.depth {
-                Some(_) => format!("--depth is {depth}"),
-                None => format!("the scene's render.depth is {depth}"),
-            };
-            Failure::usage(format!(
-                "{bounces_from} needs a depth of {bounces} or more (each bounce is a level of the ray tree, which the depth bounds), and {depth_from}; give --depth {bounces} or more, or leave the depth out (it then follows the bounces)"
-            ))
-        })?;
-        if let Some(p) = self.photons {
-            scene.render.photons = check_photons(p)?;
-        }
-        self.apply_caustics(&mut scene.render.caustics)
+        let mut o = Overrides::default();
+        self.fill(&mut o);
+        Ok(o.apply(scene)?)
     }
 
-    /// `--caustics`, `--caustic-passes` and `--caustic-radius`, each in
-    /// its range, all the passes' photons numbered in 32 bits.
-    fn apply_caustics(
-        &self,
-        caustics: &mut shadelab::scene::CausticSettings,
-    ) -> Result<(), Failure> {
-        if let Some(n) = self.caustics {
-            caustics.photons_per_pass = u32::try_from(n).map_err(|_| {
-                Failure::usage(format!(
-                    "--caustics {n} is out of range; expected 0 to {} photons per pass",
-                    u32::MAX
-                ))
-            })?;
-        }
-        if let Some(p) = self.caustic_passes {
-            caustics.passes = u32::try_from(p)
-                .ok()
-                .filter(|p| (1..=1 << 20).contains(p))
-                .ok_or_else(|| {
-                    Failure::usage(format!(
-                        "--caustic-passes {p} is out of range; expected 1 to 1048576"
-                    ))
-                })?;
-        }
-        if let Some(r) = self.caustic_radius {
-            caustics.initial_radius = check_caustic_radius(r)
-                .map_err(|e| Failure::usage(format!("--caustic-radius {e}")))?;
-        }
-        if caustics.total_photons().is_none() {
-            return Err(Failure::usage(format!(
-                "--caustics {} times {} passes is past 4294967295 photons (photons are numbered in 32 bits); take fewer passes or photons per pass",
-                caustics.photons_per_pass, caustics.passes
-            )));
-        }
-        Ok(())
+    /// Writes them into `o`.
+    pub fn fill(&self, o: &mut Overrides) {
+        o.depth = self.depth;
+        o.bounces = self.bounces;
+        o.photons = self.photons;
+        o.caustics = self.caustics;
+        o.caustic_passes = self.caustic_passes;
+        o.caustic_radius = self.caustic_radius;
     }
-}
-
-/// `--photons`: 1 to 2^32 - 1 (a photon's number is 32 bits).
-pub fn check_photons(photons: i64) -> Result<u32, Failure> {
-    u32::try_from(photons)
-        .ok()
-        .filter(|&p| p > 0)
-        .ok_or_else(|| {
-            Failure::usage(format!(
-                "--photons {photons} is out of range; expected 1 to {} (photons are numbered in 32 bits; for more, add up shards)",
-                u32::MAX
-            ))
-        })
-}
-
-/// `--depth`: the ray tracer's maximum depth, 0 to `MAX_DEPTH`.
-pub fn check_depth(depth: i64) -> Result<u32, Failure> {
-    u32::try_from(depth)
-        .ok()
-        .filter(|&d| d <= MAX_DEPTH)
-        .ok_or_else(|| {
-            Failure::usage(format!(
-                "--depth {depth} is out of range; expected 0 to {MAX_DEPTH}"
-            ))
-        })
 }
 
 /// `--runs`: timed runs, 1 to 1000.
@@ -387,11 +322,13 @@ pub struct TraversalArg {
 impl TraversalArg {
     /// Sets the engine on `scene`; an unknown name is a usage error.
     pub fn apply(&self, scene: &mut Scene) -> Result<(), Failure> {
-        if let Some(name) = &self.traversal {
-            scene.render.traversal = name
-                .parse::<Traversal>()
-                .map_err(|e| Failure::usage(format!("--traversal: {e}")))?;
-        }
-        Ok(())
+        let mut o = Overrides::default();
+        self.fill(&mut o);
+        Ok(o.apply(scene)?)
+    }
+
+    /// Writes it into `o`.
+    pub fn fill(&self, o: &mut Overrides) {
+        o.traversal = self.traversal.clone();
     }
 }

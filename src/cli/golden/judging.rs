@@ -5,11 +5,11 @@
 
 use std::time::Instant;
 
-use shadelab::golden::{clear_pictures, CaseRender, JudgeOptions, Judged};
+use shadelab::golden::{clear_pictures, mark_settings, CaseRender, JudgeOptions, Judged};
 
-use crate::cli::common::batch::image::image_metadata;
 use crate::cli::common::batch::{non_finite_failure, CaseView, Made};
 use crate::cli::common::failure::Failure;
+use shadelab::render::described::image_metadata;
 
 /// Compares case `view`'s render with its reference; writes what a person
 /// needs to see a failure, and the references made or blessed.
@@ -27,10 +27,7 @@ pub(super) fn judge_case(
     };
     // What made the reference, as it will say: its key and the hook's
     // source, beside render's settings.
-    made.settings["golden_scene"] = view.name.into();
-    if let Some(source) = &made.hook_source {
-        made.settings["lighting_fnv1a"] = shadelab::digest::fnv1a_hex(source.as_bytes()).into();
-    }
+    mark_settings(&mut made.settings, view.name, made.hook_source.as_deref());
     made.metadata = image_metadata(view.name, &made.device, &made.settings);
     // An image with NaN is never a reference, nor blessed into one.
     if let Some(failure) = non_finite_failure(&made) {

@@ -17,11 +17,11 @@ use shadelab::shading::Shading;
 
 use super::stats::print_photons;
 use crate::cli::common::batch::args::RenderArgs;
-use crate::cli::common::batch::image::{effective_settings, image_metadata};
 use crate::cli::common::batch::scene::{apply_overrides, load_scene};
 use crate::cli::common::failure::Failure;
 use crate::cli::common::run_digest::first_difference;
 use shadelab::digest::fnv1a_hex;
+use shadelab::render::described::{effective_settings, image_metadata};
 
 /// The settings a film's header records that say where it ran or by what
 /// path its files were named, not which render it is a part of: the scene

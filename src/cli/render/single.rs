@@ -17,9 +17,9 @@ use shadelab::shading::Shading;
 
 use super::stats::{print_photons, print_stats};
 use crate::cli::common::batch::args::RenderArgs;
-use crate::cli::common::batch::image::{color_target, effective_settings, image_metadata};
 use crate::cli::common::batch::scene::{apply_overrides, load_scene};
 use crate::cli::common::failure::Failure;
+use shadelab::render::described::{color_target, effective_settings, image_metadata};
 
 /// The GPU opened on a thread of its own while the scene loads (on a
 /// 2-core machine the two overlap): `ms` is how long the opening took.

@@ -115,15 +115,23 @@ pub(super) fn run(
     let mut first = part.range.start;
     // Tightened after the first batch, which says how long one takes.
     let mut _tightened: Option<Guard> = None;
-    while first < part.range.end && (first == part.range.start || !part.should_stop()) {
-        // Under a time budget the first batch is one unit of work for the
-        // samples (a sample per pixel), so that a budget shorter than a
-        // batch overshoots it least.
-        let size = if first == part.range.start && part.deadline.is_some() {
-            first_batch_under_deadline(work, size)
-        } else {
-            size
-        };
+    // With a cancel flag, batches of about `CANCELLABLE_BATCH_S` each,
+    // from what the last one took: a cancel waits for the batch running.
+    let mut next = size;
+    while first < part.range.end
+        && !part.cancelled()
+        && (first == part.range.start || !part.should_stop())
+    {
+        // Under a time budget or a cancel flag the first batch is one unit
+        // of work for the samples (a sample per pixel), so that a budget
+        // shorter than a batch overshoots it least and a cancel is heard
+        // soon.
+        let size =
+            if first == part.range.start && (part.deadline.is_some() || part.cancel.is_some()) {
+                first_batch_under_deadline(work, size)
+            } else {
+                next
+            };
         let end = first.saturating_add(size).min(part.range.end);
         let count = end - first;
         let times = match (&mut budget, work.halves) {
@@ -136,6 +144,9 @@ pub(super) fn run(
             part.refuse_if_too_long(count, times.0 / 1e3, work.unit)
                 .map_err(GpuError::TooLong)?;
             _tightened = Some(tighten_watch(times.0, count, size));
+        }
+        if part.cancel.is_some() {
+            next = cancellable_batch(count, times.0, size);
         }
         run.submit_ms += times.0;
         run.gpu_ms += times.1;
@@ -167,6 +178,20 @@ fn tighten_watch(submit_ms: f64, count: u32, size: u32) -> Guard {
         limit: watchdog::tightened(now.limit, expected),
         cause: now.cause,
     })
+}
+
+/// How long a batch of a render that may be cancelled runs, about: what a
+/// cancel waits for at most (the Python package's Ctrl-C, within half a
+/// second).
+const CANCELLABLE_BATCH_S: f64 = 0.2;
+
+/// The next batch of a render that may be cancelled: as many units as
+/// ran in `CANCELLABLE_BATCH_S` at the last batch's rate (`count` units
+/// in `submit_ms`), at least 1, at most the usual `size`. The film's sums
+/// do not depend on how the units are batched.
+fn cancellable_batch(count: u32, submit_ms: f64, size: u32) -> u32 {
+    let per_unit_s = submit_ms.max(1e-3) / 1e3 / f64::from(count.max(1));
+    ((CANCELLABLE_BATCH_S / per_unit_s) as u32).clamp(1, size)
 }
 
 /// The size of a time budget's first batch.

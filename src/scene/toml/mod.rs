@@ -67,6 +67,7 @@
 
 mod camera_lights;
 mod checks;
+mod from_table;
 mod located_errors;
 mod materials;
 mod parse;
@@ -76,5 +77,6 @@ mod shapes;
 #[cfg(test)]
 mod test_support;
 
+pub use from_table::from_table;
 pub use parse::{parse, parse_within};
 pub use shapes::rotation_from_deg;

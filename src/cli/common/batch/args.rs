@@ -92,10 +92,17 @@ pub struct RenderArgs {
 }
 
 impl RenderArgs {
+    /// `--time` and `--error`.
+    pub(in crate::cli) fn budgets(&self) -> shadelab::render::overrides::Budgets {
+        shadelab::render::overrides::Budgets {
+            time: self.time,
+            error: self.error_budget,
+        }
+    }
+
     /// When `--time` runs out, counted from now: the render's start.
     pub(in crate::cli) fn deadline(&self) -> Option<std::time::Instant> {
-        self.time
-            .map(|s| std::time::Instant::now() + std::time::Duration::from_secs_f64(s))
+        self.budgets().deadline()
     }
 
     /// The modes asked for, each once, in the order first given.

@@ -5,7 +5,6 @@
 //! fails is reported and the others go on.
 
 pub(in crate::cli) mod args;
-pub(in crate::cli) mod image;
 pub(in crate::cli) mod plan;
 pub(in crate::cli) mod scene;
 
@@ -23,9 +22,9 @@ use crate::cli::common::cases::{case_workers, in_order};
 use crate::cli::common::failure::Failure;
 use crate::cli::common::progress::Progress;
 use args::RenderArgs;
-use image::{color_target, effective_settings, image_metadata};
 use plan::{check_pattern, file_name, plan_case, plan_scenes, PlannedCase, PlannedScene};
 use scene::apply_overrides;
+use shadelab::render::described::{color_target, effective_settings, image_metadata};
 
 /// A batch planned: its scenes loaded, its cases' backends chosen, the
 /// device opened if a case needs it.

@@ -1,23 +1,24 @@
-//! What one render and a batch share in making an image: the colour
-//! target the raster modes draw into, and what the image says of itself
-//! (the settings it was made with, as JSON and in the PNG's text).
+//! What a render's image says of itself, the same wherever it is made
+//! (`render`, a batch, `golden`, the Python package): the colour target
+//! the raster modes draw into for a file format, and the settings it was
+//! made with, as JSON and in the PNG's text.
 
 use std::path::Path;
 
-use shadelab::backend_choice::Backend;
-use shadelab::gpu::raster::ColorTarget;
-use shadelab::scene::Scene;
-use shadelab::shading::Shading;
+use crate::backend_choice::Backend;
+use crate::gpu::raster::ColorTarget;
+use crate::scene::Scene;
+use crate::shading::Shading;
 
 /// What the image was made with, overrides applied: `--json`'s
 /// `settings` and the PNG's `shadelab:settings` text. The ray tracer's
 /// settings only where it ran.
-pub(in crate::cli) fn effective_settings(
+pub fn effective_settings(
     scene_path: Option<&Path>,
     shading: Shading,
     scene: &Scene,
     backend: Backend,
-    rendered: &shadelab::render::Rendered,
+    rendered: &crate::render::Rendered,
     device: &str,
     driver: Option<&str>,
 ) -> serde_json::Value {
@@ -55,10 +56,7 @@ pub(in crate::cli) fn effective_settings(
 }
 
 /// The raster modes' colour target for an output `format`.
-pub(in crate::cli) fn color_target(
-    scene: &Scene,
-    format: shadelab::output::ImageFormat,
-) -> ColorTarget {
+pub fn color_target(scene: &Scene, format: crate::output::ImageFormat) -> ColorTarget {
     // A PNG holds 8-bit sRGB: the raster modes render straight into it.
     // A lighting hook is the user's code, and may return NaN: the float
     // target keeps it to be counted, where the 8-bit one turns it into a
@@ -77,8 +75,8 @@ pub fn image_metadata(
     stem: &str,
     device: &str,
     settings: &serde_json::Value,
-) -> shadelab::output::ImageMetadata {
-    shadelab::output::ImageMetadata::software()
+) -> crate::output::ImageMetadata {
+    crate::output::ImageMetadata::software()
         .with("Title", stem)
         .with("Source", device)
         .with("Comment", settings_line(settings))
