@@ -8,14 +8,18 @@
 # Safe to run again: it installs nothing that is already there, and runs no
 # apt-get update when nothing is missing.
 #
-# Usage: ci/install-deps.sh [--with-chromium] [--with-slurm]
+# Usage: ci/install-deps.sh [--with-chromium] [--with-slurm] [--with-python]
 #   --with-chromium  also Chromium, which tests/cpu/compare_present.rs renders
 #                    report.html in (ci/test.sh asks for it; building and
 #                    rendering do not need it).
 #   --with-slurm     also Slurm and MUNGE (slurm-wlm, munge), which
 #                    tests/cli/shards.rs runs a one-node cluster of, to shard
 #                    with --shard auto under a real scheduler (ci/test.sh
-#                    asks for it). Any other argument is an error.
+#                    asks for it).
+#   --with-python    also Python 3 with venv and pip (python3,
+#                    python3-venv), which the Python package's tests
+#                    (ci/python-tests.sh) build and run in. Any other
+#                    argument is an error.
 #
 # Lavapipe: the ray tracer runs about twice as fast on Mesa 24 or newer.
 # Debian 12 (bookworm) ships Mesa 22.3, so on bookworm, where lavapipe is
@@ -40,11 +44,13 @@ bpo_sources=/etc/apt/sources.list.d/bookworm-backports.sources
 
 with_chromium=0
 with_slurm=0
+with_python=0
 for arg in "$@"; do
     case "$arg" in
         --with-chromium) with_chromium=1 ;;
         --with-slurm) with_slurm=1 ;;
-        *) echo "ci/install-deps.sh: unknown argument '$arg' (usage: ci/install-deps.sh [--with-chromium] [--with-slurm])" >&2; exit 2 ;;
+        --with-python) with_python=1 ;;
+        *) echo "ci/install-deps.sh: unknown argument '$arg' (usage: ci/install-deps.sh [--with-chromium] [--with-slurm] [--with-python])" >&2; exit 2 ;;
     esac
 done
 
@@ -76,6 +82,12 @@ fi
 if [ "$with_slurm" = 1 ]; then
     command -v slurmctld >/dev/null || missing+=(slurm-wlm)
     command -v munged >/dev/null || missing+=(munge)
+fi
+if [ "$with_python" = 1 ]; then
+    # A venv with pip in it is what the package's tests need; Debian splits
+    # it off python3 (python3-venv). The package is abi3: no headers needed.
+    command -v python3 >/dev/null || missing+=(python3)
+    python3 -c 'import venv, ensurepip' 2>/dev/null || missing+=(python3-venv)
 fi
 
 # Version of the installed mesa-vulkan-drivers (native architecture), empty if none.

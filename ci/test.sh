@@ -2,12 +2,12 @@
 # The test suite, as CI runs it: formatting, lints, the API docs (rustdoc
 # warnings are errors), then every test in release mode with the Khronos
 # validation layer on (a validation message fails the test that caused it).
-# Chromium is installed too: tests/cpu/compare_present.rs renders report.html in
+# Python's venv is installed too (the package's tests); Chromium too: tests/cpu/compare_present.rs renders report.html in
 # it, and fails (does not skip) where it is missing; so are Slurm and MUNGE,
 # which tests/cli/shards.rs runs a one-node cluster of (--shard auto).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash ci/install-deps.sh --with-chromium --with-slurm
+bash ci/install-deps.sh --with-chromium --with-slurm --with-python
 rustup component list --installed 2>/dev/null | grep -q rustfmt || rustup component add rustfmt clippy 2>/dev/null || true
 cargo fmt --all -- --check
 # The code as a map (docs/architecture.md): no file over 800 lines, no
@@ -18,6 +18,10 @@ cargo clippy --release --workspace --all-targets -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps
 export SHADELAB_VALIDATION=1
 cargo test --release
+# The Python package (python/): built with maturin into a virtual
+# environment under target/, its pytest suite run with the validation layer
+# on (docs/python.md).
+bash ci/python-tests.sh
 # GPU against the CPU reference on every scene, as a CI job of a user's
 # would run it: images and a JUnit report are kept under target/check/.
 ./target/release/shadelab check --out target/check --junit target/check/default.xml

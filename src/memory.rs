@@ -218,6 +218,14 @@ impl MemoryLimit {
     /// container's limit is respected, under cgroup v2 (`memory.max`) or
     /// v1 (`memory.limit_in_bytes`). 8 GiB where neither can be read.
     pub fn machine_default() -> Self {
+        // Read once a process: a kept device resolves the limit at every
+        // render (the Python package), and the files do not change.
+        static MACHINE: std::sync::OnceLock<MemoryLimit> = std::sync::OnceLock::new();
+        MACHINE.get_or_init(Self::read_machine).clone()
+    }
+
+    /// [`MemoryLimit::machine_default`], read from the system's files.
+    fn read_machine() -> Self {
         let meminfo = std::fs::read_to_string("/proc/meminfo").ok();
         let own = std::fs::read_to_string("/proc/self/cgroup").unwrap_or_default();
         let group = control_group_files(&own)

@@ -18,8 +18,9 @@ use shadelab::render::{Plan, RenderRequest, Rendered};
 use shadelab::shading::Shading;
 use shadelab::work_counter::WorkCounter;
 
-use crate::errors::{internal, refusal, to_py, OrRaise};
+use crate::errors::{device_error, internal, refusal, OrRaise};
 use crate::image::Image;
+use crate::interrupt::{main_thread_cancel, may_take_sigint, run_with_sigint};
 use crate::options::{msaa_text, RenderOptions};
 use crate::scene::Scene;
 
@@ -200,9 +201,11 @@ impl Device {
         }
         let device = match choice {
             Choice::Cpu => shadelab::render::Device::cpu_only(),
+            // Whatever stops a device opening (none there, none of that
+            // name, no loader) is the device's error here.
             Choice::Gpu => py
                 .detach(|| shadelab::render::Device::open(&options))
-                .map_err(|e| to_py(py, e.into()))?,
+                .map_err(|e| device_error(py, e.to_string()))?,
             Choice::Auto => py
                 .detach(|| shadelab::render::Device::open(&options))
                 .unwrap_or_else(|_| shadelab::render::Device::cpu_only()),
@@ -333,7 +336,14 @@ impl Device {
             .and_then(|limit| limit.check(&given.name, &scene, &gpu, &cpu))
             .or_raise(py)?;
         let counter = WorkCounter::default();
-        let cancel = Arc::new(AtomicBool::new(false));
+        // The main thread's renders share one flag its SIGINT handler sets
+        // (`interrupt.rs`); the others' are their own.
+        let sigint = progress.is_none() && may_take_sigint(py)?;
+        let cancel = if sigint {
+            main_thread_cancel()
+        } else {
+            Arc::new(AtomicBool::new(false))
+        };
         let request = RenderRequest {
             target: color_target(&scene, ImageFormat::Exr),
             count_rays: stats,
@@ -350,16 +360,27 @@ impl Device {
                 warnings.call_method1("warn", (format!("shadelab: {warning}"),))?;
             }
         }
-        let mut progress = Progress::new(progress)?;
-        let unit = plan.technique.work_unit();
-        let rendered: Rendered = run_released(py, &cancel, &counter, unit, &mut progress, || {
+        let render = || {
             let _turn = (backend == Backend::Gpu)
                 .then(|| self.gpu_turn.lock().unwrap_or_else(|e| e.into_inner()));
             plan.render(&self.device, &scene)
-        })?;
+        };
+        let rendered: Rendered = match (progress, sigint) {
+            // On this thread: Ctrl-C heard by our own handler on the main
+            // thread; on another, no signal comes.
+            (None, true) => run_with_sigint(py, render)?.or_raise(py)?,
+            (None, false) => py.detach(render).or_raise(py)?,
+            // On a thread of its own, this one reporting progress (and
+            // running Python's signal handlers) meanwhile.
+            (Some(given), _) => {
+                let mut progress = Progress::new(Some(given))?;
+                let unit = plan.technique.work_unit();
+                run_released(py, &cancel, &counter, unit, &mut progress, render)?
+            }
+        };
         let (device, driver) = self.names(backend);
         let settings = effective_settings(
-            given.path.as_deref(),
+            given.origin.as_deref(),
             shading,
             &scene,
             backend,

@@ -81,6 +81,11 @@ pub fn internal(py: Python<'_>, what: &str) -> PyErr {
     )
 }
 
+/// A device that cannot be opened.
+pub fn device_error(py: Python<'_>, message: String) -> PyErr {
+    raise(py, "DeviceError", message, &[])
+}
+
 /// A usage error of the Python call itself.
 pub fn refusal(py: Python<'_>, message: impl Into<String>) -> PyErr {
     raise(py, "RefusalError", message.into(), &[])

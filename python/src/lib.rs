@@ -4,12 +4,13 @@
 //! releases the GIL and stops at Ctrl-C (`device.rs`), the image as a
 //! numpy array (`image.rs`), the comparisons (`tools.rs`), and the
 //! library's errors as the package's exception classes (`errors.rs`).
-//! The Python half of the package (`python/shadelab/`) holds the classes
+//! The Python half of the package (`python/package/shadelab/`) holds the classes
 //! Python code defines best: the exceptions and the pytest plugin.
 
 mod device;
 mod errors;
 mod image;
+mod interrupt;
 mod options;
 mod scene;
 mod tools;
@@ -34,5 +35,6 @@ fn _shadelab(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tools::compare, m)?)?;
     m.add_function(wrap_pyfunction!(tools::golden_case, m)?)?;
     m.add_function(wrap_pyfunction!(tools::driver_key, m)?)?;
+    m.add_function(wrap_pyfunction!(tools::read_image, m)?)?;
     Ok(())
 }

@@ -21,6 +21,9 @@ pub struct Scene {
     source: Option<toml::Table>,
     /// The file it was loaded from.
     pub(crate) path: Option<PathBuf>,
+    /// What images say made them (`settings["scene"]`): the file, or
+    /// `<dict>` or `<toml text>`; `None` for the built-in default scene.
+    pub(crate) origin: Option<PathBuf>,
     /// The name images and golden references take: the file's stem.
     pub(crate) name: String,
 }
@@ -71,6 +74,7 @@ impl Scene {
         Self {
             inner: Arc::new(inner),
             source,
+            origin: path.clone(),
             path,
             name,
         }
@@ -142,10 +146,12 @@ impl Scene {
         d: &Bound<'_, PyDict>,
         base_dir: Option<PathBuf>,
     ) -> PyResult<Scene> {
-        let table = to_table(d, "").map_err(|message| {
-            let key = message.split(':').next().unwrap_or_default().to_string();
-            let message = message[key.len()..].trim_start_matches(": ").to_string();
-            scene_error(py, &SceneError::AtKey { key, message })
+        let table = to_table(d).map_err(|bad| {
+            let error = SceneError::AtKey {
+                key: bad.key(),
+                message: bad.message().to_string(),
+            };
+            scene_error(py, &error)
         })?;
         let base = base_dir.unwrap_or_else(|| PathBuf::from("."));
         let inner = scene::toml::from_table(&table, &base).map_err(|e| scene_error(py, &e))?;
@@ -217,8 +223,8 @@ impl Scene {
 
     /// The file it was loaded from, if any.
     #[getter]
-    fn path(&self) -> Option<PathBuf> {
-        self.path.clone()
+    fn path(&self) -> Option<String> {
+        self.path.as_ref().map(|p| p.display().to_string())
     }
 
     /// What the loader found and let pass (degenerate triangles dropped, ...).

@@ -377,3 +377,16 @@ pub fn golden_case<'py>(
     record["key"] = options.key.clone().into();
     json_to_py(py, &record)
 }
+
+/// A PNG (8-bit sRGB, decoded to linear) or EXR (linear float) file as an
+/// H x W x 3 float32 array, as `diff` and `golden` read images.
+#[pyfunction]
+pub fn read_image<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+) -> PyResult<Bound<'py, numpy::PyArray3<f32>>> {
+    let image = py
+        .detach(|| shadelab::output::read_image(&path))
+        .map_err(|e| to_py(py, e.into()))?;
+    array_of(py, image)
+}

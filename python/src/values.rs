@@ -5,8 +5,46 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
-/// `obj` as a TOML value; `path` names it in an error.
-pub fn to_toml(obj: &Bound<'_, PyAny>, path: &str) -> Result<toml::Value, String> {
+/// Where in a dict a value has no TOML form, and why: the path is built
+/// on the way back up, so a dict that converts allocates none.
+pub struct BadValue {
+    /// The path's parts, innermost first (`radius`, `[2]`, `objects`).
+    parts: Vec<String>,
+    message: String,
+}
+
+impl BadValue {
+    fn new(message: String) -> Self {
+        Self {
+            parts: Vec::new(),
+            message,
+        }
+    }
+
+    fn under(mut self, part: String) -> Self {
+        self.parts.push(part);
+        self
+    }
+
+    /// `objects[2].radius`.
+    pub fn key(&self) -> String {
+        let mut key = String::new();
+        for part in self.parts.iter().rev() {
+            if !key.is_empty() && !part.starts_with('[') {
+                key.push('.');
+            }
+            key.push_str(part);
+        }
+        key
+    }
+
+    pub fn message(&self) -> &str {
+        &self.message
+    }
+}
+
+/// `obj` as a TOML value.
+pub fn to_toml(obj: &Bound<'_, PyAny>) -> Result<toml::Value, BadValue> {
     if obj.is_instance_of::<PyBool>() {
         return Ok(toml::Value::Boolean(obj.extract().unwrap_or(false)));
     }
@@ -14,7 +52,7 @@ pub fn to_toml(obj: &Bound<'_, PyAny>, path: &str) -> Result<toml::Value, String
         return obj
             .extract::<i64>()
             .map(toml::Value::Integer)
-            .map_err(|_| format!("{path}: the integer does not fit 64 bits"));
+            .map_err(|_| BadValue::new("the integer does not fit 64 bits".into()));
     }
     if obj.is_instance_of::<PyFloat>() {
         return Ok(toml::Value::Float(obj.extract().unwrap_or(f64::NAN)));
@@ -23,16 +61,16 @@ pub fn to_toml(obj: &Bound<'_, PyAny>, path: &str) -> Result<toml::Value, String
         return Ok(toml::Value::String(obj.extract().unwrap_or_default()));
     }
     if let Ok(dict) = obj.cast::<PyDict>() {
-        return Ok(toml::Value::Table(to_table(dict, path)?));
+        return Ok(toml::Value::Table(to_table(dict)?));
     }
     if obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>() {
         let items = obj
             .try_iter()
-            .map_err(|e| format!("{path}: {e}"))?
+            .map_err(|e| BadValue::new(e.to_string()))?
             .enumerate()
             .map(|(i, item)| {
-                let item = item.map_err(|e| format!("{path}[{i}]: {e}"))?;
-                to_toml(&item, &format!("{path}[{i}]"))
+                let item = item.map_err(|e| BadValue::new(e.to_string()))?;
+                to_toml(&item).map_err(|bad| bad.under(format!("[{i}]")))
             })
             .collect::<Result<Vec<_>, _>>()?;
         return Ok(toml::Value::Array(items));
@@ -40,7 +78,7 @@ pub fn to_toml(obj: &Bound<'_, PyAny>, path: &str) -> Result<toml::Value, String
     // numpy arrays and scalars: their Python values.
     if let Ok(plain) = obj.call_method0("tolist") {
         if !plain.is(obj) {
-            return to_toml(&plain, path);
+            return to_toml(&plain);
         }
     }
     let type_name = obj
@@ -48,28 +86,24 @@ pub fn to_toml(obj: &Bound<'_, PyAny>, path: &str) -> Result<toml::Value, String
         .name()
         .map(|n| n.to_string())
         .unwrap_or_default();
-    Err(format!(
-        "{path}: expected a number, a string, a bool, a list or a dict, not {type_name}"
-    ))
+    Err(BadValue::new(format!(
+        "expected a number, a string, a bool, a list or a dict, not {type_name}"
+    )))
 }
 
-/// A dict with string keys as a TOML table.
-pub fn to_table(dict: &Bound<'_, PyDict>, path: &str) -> Result<toml::Table, String> {
+/// A dict with string keys as a TOML table; a key set to `None` is left
+/// out (its default, as in a file that leaves it out).
+pub fn to_table(dict: &Bound<'_, PyDict>) -> Result<toml::Table, BadValue> {
     let mut table = toml::Table::new();
     for (key, value) in dict.iter() {
         let key: String = key
             .extract()
-            .map_err(|_| format!("{path}: a key that is not a string"))?;
-        let here = if path.is_empty() {
-            key.clone()
-        } else {
-            format!("{path}.{key}")
-        };
+            .map_err(|_| BadValue::new("a key that is not a string".into()))?;
         if value.is_none() {
-            // `None` leaves a key to its default, as leaving it out does.
             continue;
         }
-        table.insert(key, to_toml(&value, &here)?);
+        let value = to_toml(&value).map_err(|bad| bad.under(key.clone()))?;
+        table.insert(key, value);
     }
     Ok(table)
 }

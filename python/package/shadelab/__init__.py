@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import os
 import threading
-from typing import Any, Dict, List, Optional, Sequence, Union
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Sequence, Union
 
 from . import _shadelab
 from ._errors import (
@@ -29,7 +29,10 @@ from ._errors import (
     SceneError,
     ShadelabError,
 )
-from ._shadelab import Device, Image, Scene, check, compare, diff, driver_key
+from ._shadelab import Device, Image, Scene, check, compare, diff, driver_key, read_image
+
+if TYPE_CHECKING:
+    from ._shadelab import Shading
 
 __version__: str = _shadelab.__version__
 
@@ -50,6 +53,7 @@ __all__ = [
     "diff",
     "driver_key",
     "golden",
+    "read_image",
     "render",
 ]
 
@@ -66,7 +70,7 @@ def default_device() -> Device:
         return _default
 
 
-def render(scene: Any = None, shading: str = "phong", **settings: Any) -> Image:
+def render(scene: Any = None, shading: Shading = "phong", **settings: Any) -> Image:
     """Renders on the default device: ``default_device().render(...)``."""
     return default_device().render(scene, shading, **settings)
 
