@@ -18,7 +18,7 @@ use shadelab::render::{Plan, RenderRequest, Rendered};
 use shadelab::shading::Shading;
 use shadelab::work_counter::WorkCounter;
 
-use crate::errors::{device_error, internal, refusal, OrRaise};
+use crate::errors::{device_error, internal, refusal, released, OrRaise};
 use crate::image::Image;
 use crate::interrupt::{main_thread_cancel, may_take_sigint, run_with_sigint};
 use crate::options::{msaa_text, RenderOptions};
@@ -146,11 +146,13 @@ fn run_released<T: Send>(
             loop {
                 match finished.recv_timeout(Duration::from_millis(20)) {
                     Ok(outcome) => return outcome,
+                    // Once stopped, the render is only waited for.
+                    Err(mpsc::RecvTimeoutError::Timeout) if interrupted.is_some() => {}
                     Err(mpsc::RecvTimeoutError::Timeout) => Python::attach(|py| {
                         let polled = py
                             .check_signals()
                             .and_then(|()| progress.update(py, counter, unit));
-                        if let (Err(e), None) = (polled, &interrupted) {
+                        if let Err(e) = polled {
                             cancel.store(true, Ordering::Relaxed);
                             interrupted = Some(e);
                         }
@@ -162,6 +164,12 @@ fn run_released<T: Send>(
             }
         })
     });
+    // The last count, which the render reached after the last poll.
+    if interrupted.is_none() {
+        if let Err(e) = progress.update(py, counter, unit) {
+            interrupted = Some(e);
+        }
+    }
     progress.close(py);
     match (outcome, interrupted) {
         (_, Some(interrupt)) => Err(interrupt),
@@ -203,12 +211,14 @@ impl Device {
             Choice::Cpu => shadelab::render::Device::cpu_only(),
             // Whatever stops a device opening (none there, none of that
             // name, no loader) is the device's error here.
-            Choice::Gpu => py
-                .detach(|| shadelab::render::Device::open(&options))
-                .map_err(|e| device_error(py, e.to_string()))?,
-            Choice::Auto => py
-                .detach(|| shadelab::render::Device::open(&options))
-                .unwrap_or_else(|_| shadelab::render::Device::cpu_only()),
+            Choice::Gpu => released(py, "opening a device", || {
+                shadelab::render::Device::open(&options)
+            })?
+            .map_err(|e| device_error(py, e.to_string()))?,
+            Choice::Auto => released(py, "opening a device", || {
+                shadelab::render::Device::open(&options)
+            })?
+            .unwrap_or_else(|_| shadelab::render::Device::cpu_only()),
         };
         Ok(Self {
             device,
@@ -369,7 +379,7 @@ impl Device {
             // On this thread: Ctrl-C heard by our own handler on the main
             // thread; on another, no signal comes.
             (None, true) => run_with_sigint(py, render)?.or_raise(py)?,
-            (None, false) => py.detach(render).or_raise(py)?,
+            (None, false) => released(py, "a render", render)?.or_raise(py)?,
             // On a thread of its own, this one reporting progress (and
             // running Python's signal handlers) meanwhile.
             (Some(given), _) => {

@@ -91,6 +91,18 @@ pub fn refusal(py: Python<'_>, message: impl Into<String>) -> PyErr {
     raise(py, "RefusalError", message.into(), &[])
 }
 
+/// Runs library work with the GIL released: other Python threads run
+/// meanwhile, and a panic (a bug) comes back as `InternalError`, never
+/// across into Python.
+pub fn released<T: Send>(
+    py: Python<'_>,
+    what: &str,
+    work: impl FnOnce() -> T + Send,
+) -> PyResult<T> {
+    py.detach(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(work)))
+        .map_err(|_| internal(py, what))
+}
+
 /// A library result as a Python one.
 pub trait OrRaise<T> {
     fn or_raise(self, py: Python<'_>) -> PyResult<T>;

@@ -11,7 +11,7 @@ use shadelab::render::described::image_metadata;
 use shadelab::render::Rendered;
 use shadelab::LinearImage;
 
-use crate::errors::{refusal, to_py};
+use crate::errors::{refusal, released, to_py};
 use crate::values::json_to_py;
 
 #[pyclass(module = "shadelab", frozen)]
@@ -161,8 +161,10 @@ impl Image {
     fn save(&self, py: Python<'_>, path: std::path::PathBuf) -> PyResult<()> {
         let image = self.linear(py)?;
         let metadata = self.metadata();
-        py.detach(|| output::write_image_with(&image, &path, &metadata))
-            .map_err(|e| to_py(py, e.into()))
+        released(py, "writing an image", || {
+            output::write_image_with(&image, &path, &metadata)
+        })?
+        .map_err(|e| to_py(py, e.into()))
     }
 
     /// The image as a PNG (8-bit sRGB), for a notebook to show.

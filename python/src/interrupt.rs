@@ -67,11 +67,12 @@ pub fn run_with_sigint<T: Send>(py: Python<'_>, work: impl FnOnce() -> T + Send)
     let mut theirs: libc::sigaction = unsafe { std::mem::zeroed() };
     // SAFETY: both pointers are to live sigaction values of this frame.
     let installed = unsafe { libc::sigaction(libc::SIGINT, &ours, &mut theirs) } == 0;
-    let result = py.detach(work);
+    let result = py.detach(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(work)));
     if installed {
         // SAFETY: `theirs` is what sigaction gave back above: Python's.
         unsafe { libc::sigaction(libc::SIGINT, &theirs, std::ptr::null_mut()) };
     }
+    let result = result.map_err(|_| crate::errors::internal(py, "a render"))?;
     if SIGINT_SEEN.swap(false, Ordering::SeqCst) {
         // SAFETY: called with the GIL held (we have `py`); it marks SIGINT
         // as arrived for Python's handler, which check_signals runs.

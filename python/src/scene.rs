@@ -10,7 +10,7 @@ use pyo3::types::PyDict;
 use shadelab::memory::MemoryLimit;
 use shadelab::scene::{self, SceneError};
 
-use crate::errors::{refusal, scene_error, to_py};
+use crate::errors::{refusal, released, scene_error, to_py};
 use crate::values::{to_table, toml_to_py};
 
 /// A scene, validated: every rule of the TOML files holds (docs/interface.md).
@@ -114,8 +114,7 @@ impl Scene {
         let limits = MemoryLimit::resolve(None)
             .map_err(|e| to_py(py, e))?
             .load_limits();
-        let inner = py
-            .detach(|| scene::load_within(&path, &limits))
+        let inner = released(py, "loading a scene", || scene::load_within(&path, &limits))?
             .map_err(|e| scene_error(py, &e))?;
         let toml_file = path
             .extension()

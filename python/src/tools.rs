@@ -18,7 +18,7 @@ use shadelab::shading::Shading;
 use shadelab::LinearImage;
 
 use crate::device::Device;
-use crate::errors::{refusal, to_py, OrRaise};
+use crate::errors::{refusal, released, to_py, OrRaise};
 use crate::image::{array_of, linear_image_of, Image};
 use crate::options::{msaa_text, RenderOptions};
 use crate::scene::Scene;
@@ -80,9 +80,10 @@ pub fn diff<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let (judging, _) = judging(py, preset, thresholds)?;
     let (expected, actual) = (image_of(py, expected)?, image_of(py, actual)?);
-    let pair = py
-        .detach(|| compare_images(&expected, &actual, &judging))
-        .map_err(|e| refusal(py, format!("the images cannot be compared: {e}")))?;
+    let pair = released(py, "comparing images", || {
+        compare_images(&expected, &actual, &judging)
+    })?
+    .map_err(|e| refusal(py, format!("the images cannot be compared: {e}")))?;
     let out = PyDict::new(py);
     out.set_item("passed", pair.failures.is_empty())?;
     out.set_item("failures", pair.failures.clone())?;
@@ -147,9 +148,10 @@ pub fn check<'py>(
     for shading in modes_of(py, shading)? {
         let limits = CheckThresholds::for_render(shading, scene.render.msaa);
         let library = device.get().library();
-        let outcome = py
-            .detach(|| shadelab::check::check(library, &scene, &scene, shading, &limits))
-            .or_raise(py)?;
+        let outcome = released(py, "a check", || {
+            shadelab::check::check(library, &scene, &scene, shading, &limits)
+        })?
+        .or_raise(py)?;
         let judgement = &outcome.judgement;
         let record = PyDict::new(py);
         record.set_item("shading", shading.to_string())?;
@@ -235,19 +237,18 @@ pub fn compare<'py>(
         skip: Default::default(),
     };
     let library = device.get().library();
-    let report = py
-        .detach(|| {
-            run(
-                library,
-                scene,
-                &given.get().name,
-                &variants,
-                &options,
-                &out,
-                |_, _, _| {},
-            )
-        })
-        .or_raise(py)?;
+    let report = released(py, "a comparison", || {
+        run(
+            library,
+            scene,
+            &given.get().name,
+            &variants,
+            &options,
+            &out,
+            |_, _, _| {},
+        )
+    })?
+    .or_raise(py)?;
     let points: Vec<(f64, f64)> = report
         .variants
         .iter()
@@ -363,7 +364,7 @@ pub fn golden_case<'py>(
         device: &device_name,
         driver: driver.as_deref(),
     };
-    let judged = py.detach(|| options.judge(&render)).or_raise(py)?;
+    let judged = released(py, "judging a golden case", || options.judge(&render))?.or_raise(py)?;
     let case = shadelab::golden::report::ReportCase {
         scene: key.clone(),
         shading: shading
@@ -385,8 +386,9 @@ pub fn read_image<'py>(
     py: Python<'py>,
     path: PathBuf,
 ) -> PyResult<Bound<'py, numpy::PyArray3<f32>>> {
-    let image = py
-        .detach(|| shadelab::output::read_image(&path))
-        .map_err(|e| to_py(py, e.into()))?;
+    let image = released(py, "reading an image", || {
+        shadelab::output::read_image(&path)
+    })?
+    .map_err(|e| to_py(py, e.into()))?;
     array_of(py, image)
 }

@@ -140,3 +140,24 @@ def test_a_path_relative_mesh_survives_to_dict(device, assets, small, tmp_path, 
     monkeypatch.chdir(tmp_path)
     image = device.render(shadelab.Scene.from_dict(d), "flat", **small)
     assert image.array.max() > 0
+
+
+def test_progress_true_draws_a_tqdm_bar(device, small, capsys):
+    device.render(None, "forward", photons=40_000_000, progress=True, **small)
+    err = capsys.readouterr().err
+    # tqdm's bar in the render's own unit, run to the end.
+    assert "photons" in err, err
+    assert "40000000/40000000" in err, err
+
+
+def test_an_exception_in_the_progress_callback_stops_the_render(device, small):
+    calls = []
+
+    def stop(done: int, total: int) -> None:
+        calls.append(done)
+        raise RuntimeError("enough")
+
+    with pytest.raises(RuntimeError, match="enough"):
+        device.render(None, "forward", photons=4_000_000_000, progress=stop, **small)
+    assert len(calls) == 1
+    assert device.render(None, "flat", **small).array.shape == (48, 64, 3)
