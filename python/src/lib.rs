@@ -18,6 +18,18 @@ mod values;
 
 use pyo3::prelude::*;
 
+/// Panics inside the guard every library call runs in (`errors::released`):
+/// for the test that shows a panic comes out as `InternalError`, not as
+/// pyo3's `PanicException` (a `BaseException` that `except Exception`
+/// misses). Not part of the API.
+#[pyfunction]
+#[pyo3(name = "_panic_at_the_border")]
+fn panic_at_the_border(py: Python<'_>) -> PyResult<()> {
+    errors::released(py, "a test of the border", || {
+        std::panic::panic_any("a test of the border")
+    })
+}
+
 #[pymodule]
 fn _shadelab(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // Before any device opens: the driver reads the cache folder's
@@ -36,5 +48,6 @@ fn _shadelab(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tools::golden_case, m)?)?;
     m.add_function(wrap_pyfunction!(tools::driver_key, m)?)?;
     m.add_function(wrap_pyfunction!(tools::read_image, m)?)?;
+    m.add_function(wrap_pyfunction!(panic_at_the_border, m)?)?;
     Ok(())
 }

@@ -63,17 +63,11 @@ pub fn to_toml(obj: &Bound<'_, PyAny>) -> Result<toml::Value, BadValue> {
     if let Ok(dict) = obj.cast::<PyDict>() {
         return Ok(toml::Value::Table(to_table(dict)?));
     }
-    if obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>() {
-        let items = obj
-            .try_iter()
-            .map_err(|e| BadValue::new(e.to_string()))?
-            .enumerate()
-            .map(|(i, item)| {
-                let item = item.map_err(|e| BadValue::new(e.to_string()))?;
-                to_toml(&item).map_err(|bad| bad.under(format!("[{i}]")))
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        return Ok(toml::Value::Array(items));
+    if let Ok(list) = obj.cast::<PyList>() {
+        return items_to_toml(list.iter());
+    }
+    if let Ok(tuple) = obj.cast::<PyTuple>() {
+        return items_to_toml(tuple.iter());
     }
     // numpy arrays and scalars: their Python values.
     if let Ok(plain) = obj.call_method0("tolist") {
@@ -89,6 +83,17 @@ pub fn to_toml(obj: &Bound<'_, PyAny>) -> Result<toml::Value, BadValue> {
     Err(BadValue::new(format!(
         "expected a number, a string, a bool, a list or a dict, not {type_name}"
     )))
+}
+
+/// A list's or tuple's items as a TOML array.
+fn items_to_toml<'py>(
+    items: impl Iterator<Item = Bound<'py, PyAny>>,
+) -> Result<toml::Value, BadValue> {
+    items
+        .enumerate()
+        .map(|(i, item)| to_toml(&item).map_err(|bad| bad.under(format!("[{i}]"))))
+        .collect::<Result<Vec<_>, _>>()
+        .map(toml::Value::Array)
 }
 
 /// A dict with string keys as a TOML table; a key set to `None` is left

@@ -67,3 +67,15 @@ def test_every_class_is_a_shadelab_error_and_the_builtin_kind():
     }
     for cls, builtin in kinds.items():
         assert issubclass(cls, shadelab.ShadelabError) and issubclass(cls, builtin)
+
+
+def test_a_panic_comes_out_as_internal_error_not_a_base_exception():
+    # Every call into the library runs in one guard; a panic there (a
+    # bug) is an InternalError, which `except Exception` catches: pyo3's
+    # own PanicException derives from BaseException.
+    from shadelab import _shadelab
+
+    with pytest.raises(shadelab.InternalError, match="this is a bug"):
+        _shadelab._panic_at_the_border()
+    # The process goes on.
+    assert shadelab.Device(backend="cpu").render(None, "flat", width=8, height=8).array.shape == (8, 8, 3)
