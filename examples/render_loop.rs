@@ -6,8 +6,12 @@
 //! against this one.
 //!
 //! ```text
-//! cargo run --release --example render_loop -- FRAMES WIDTH HEIGHT
+//! cargo run --release --example render_loop -- FRAMES WIDTH HEIGHT [table|light]
 //! ```
+//!
+//! `table` (the default) makes each frame's scene from the table with the
+//! light moved; `light` reads the scene once and moves its light
+//! (`Scene::with_light`, the package's `Scene.with_light`).
 //!
 //! Prints one JSON object: the frames, the loop's wall and CPU
 //! milliseconds, and the mean of the last frame's pixels (so the work
@@ -38,12 +42,19 @@ fn cpu_ms() -> f64 {
 }
 
 fn main() -> Result<(), Box<dyn Error>> {
-    let args: Vec<u32> = std::env::args()
-        .skip(1)
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let numbers: Vec<u32> = args
+        .iter()
+        .take(3)
         .map(|a| a.parse())
         .collect::<Result<_, _>>()?;
-    let [frames, width, height] = args[..] else {
-        return Err("usage: render_loop FRAMES WIDTH HEIGHT".into());
+    let (&[frames, width, height], way) = (&numbers[..], args.get(3).map(String::as_str)) else {
+        return Err("usage: render_loop FRAMES WIDTH HEIGHT [table|light]".into());
+    };
+    let by_light = match way {
+        None | Some("table") => false,
+        Some("light") => true,
+        Some(other) => return Err(format!("{other}: expected table or light").into()),
     };
     let device = Device::open(&GpuOptions::from_env())?;
     let mut table: toml::Table = DEFAULT_SCENE_TOML.parse()?;
@@ -62,9 +73,19 @@ fn main() -> Result<(), Box<dyn Error>> {
         height: Some(i64::from(height)),
         ..Overrides::default()
     };
+    let base = from_table(&table, Path::new("."))?;
     for frame in 0..frames {
         let angle = std::f64::consts::TAU * f64::from(frame) / f64::from(frames);
         let position = [5.0 * angle.cos(), 5.0, 5.0 * angle.sin()];
+        if by_light {
+            // The scene read once, its light moved (`Scene::with_light`).
+            let mut scene = base.with_light(0, Some(position), None)?;
+            size.apply(&mut scene)?;
+            let rendered = render(&device, &scene, &RenderRequest::gpu(Shading::Phong))?;
+            let pixels = &rendered.image.pixels;
+            mean = pixels.iter().map(|p| f64::from(p[0])).sum::<f64>() / pixels.len() as f64;
+            continue;
+        }
         let light = table["lights"][0]
             .as_table()
             .ok_or("the scene has a light")?;

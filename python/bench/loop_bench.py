@@ -2,8 +2,10 @@
 renders of one scene with a moving light (the default scene's first light
 around a circle, phong), three ways in interleaved rounds:
 
-- python: one ``shadelab.Device``, each frame ``Scene.from_dict`` and
-  ``device.render`` (the array read), in a process of its own as the Rust
+- python: one ``shadelab.Device``, each frame's scene made by
+  ``Scene.from_dict`` (``--way table``, the default) or by
+  ``scene.with_light`` (``--way light``), and ``device.render`` (the array
+  read), in a process of its own as the Rust
   loop is, the pipeline built before the clock starts;
 - rust: the library's own loop, ``cargo run --release --example
   render_loop`` (the same scene tables, the same device kept);
@@ -47,16 +49,28 @@ def light_at(frame: int, frames: int) -> List[float]:
     return [5 * math.cos(angle), 5.0, 5 * math.sin(angle)]
 
 
-def python_loop(device: shadelab.Device, frames: int, width: int, height: int) -> Dict[str, float]:
+def python_loop(device: shadelab.Device, frames: int, width: int, height: int, way: str) -> Dict[str, float]:
     """The loop's wall and CPU milliseconds (the process's CPU, every
-    thread's: the driver's included, as the Rust loop counts it)."""
+    thread's: the driver's included, as the Rust loop counts it). `way`:
+    each frame's scene made from the dict (`table`), or the scene read once
+    and its light moved (`light`)."""
     table = shadelab.Scene.default().to_dict()
+    base = shadelab.Scene.from_dict(table)
     # The pipeline built before the clock starts, as the Rust loop does.
-    device.render(shadelab.Scene.from_dict(table), "phong", width=width, height=height)
+    device.render(base, "phong", width=width, height=height).array.mean()
+    # numpy's OpenBLAS threads spin for about 0.1 s once numpy has loaded
+    # (84 ms of CPU over a second of `time.sleep` after `import numpy`, 6 ms
+    # with OPENBLAS_NUM_THREADS=1), taking a core from the driver: a cost
+    # of starting the interpreter, which the loop is not, so it is let pass.
+    time.sleep(0.3)
     started, cpu_started = time.perf_counter(), time.process_time()
     for frame in range(frames):
-        table["lights"][0]["position"] = light_at(frame, frames)
-        image = device.render(shadelab.Scene.from_dict(table), "phong", width=width, height=height)
+        if way == "light":
+            scene = base.with_light(0, position=light_at(frame, frames))
+        else:
+            table["lights"][0]["position"] = light_at(frame, frames)
+            scene = shadelab.Scene.from_dict(table)
+        image = device.render(scene, "phong", width=width, height=height)
         image.array[..., 0].mean()
     return {
         "wall_ms": (time.perf_counter() - started) * 1e3,
@@ -64,13 +78,13 @@ def python_loop(device: shadelab.Device, frames: int, width: int, height: int) -
     }
 
 
-def python_loop_alone(frames: int, width: int, height: int) -> Dict[str, float]:
+def python_loop_alone(frames: int, width: int, height: int, way: str) -> Dict[str, float]:
     """``python_loop`` in a process of its own, as the Rust loop runs: a
     process that has forked (this one, for every command it times) pays
     page faults on its next writes to its memory, which the loop's
     renders are."""
     out = subprocess.run(
-        [sys.executable, __file__, "--python-loop", str(frames), str(width), str(height)],
+        [sys.executable, __file__, "--python-loop", str(frames), str(width), str(height), way],
         check=True,
         capture_output=True,
         text=True,
@@ -78,9 +92,9 @@ def python_loop_alone(frames: int, width: int, height: int) -> Dict[str, float]:
     return {k: float(v) for k, v in json.loads(out.stdout).items()}
 
 
-def rust_loop(frames: int, width: int, height: int) -> Dict[str, float]:
+def rust_loop(frames: int, width: int, height: int, way: str) -> Dict[str, float]:
     binary = ROOT / "target" / "release" / "examples" / "render_loop"
-    out = subprocess.run([binary, str(frames), str(width), str(height)], check=True, capture_output=True, text=True)
+    out = subprocess.run([binary, str(frames), str(width), str(height), way], check=True, capture_output=True, text=True)
     figures = json.loads(out.stdout)
     return {"wall_ms": float(figures["wall_ms"]), "cpu_ms": float(figures["cpu_ms"])}
 
@@ -141,25 +155,27 @@ def main() -> int:
     parser.add_argument("--height", type=int, default=480)
     parser.add_argument("--memory-renders", type=int, default=1000)
     parser.add_argument("--json", type=Path, help="also write the figures here")
-    parser.add_argument("--python-loop", nargs=3, type=int, metavar=("FRAMES", "WIDTH", "HEIGHT"),
+    parser.add_argument("--way", choices=["table", "light"], default="table",
+                        help="each frame's scene made from the dict (table), or read once and its light moved (light)")
+    parser.add_argument("--python-loop", nargs=4, metavar=("FRAMES", "WIDTH", "HEIGHT", "WAY"),
                         help="(internal) time the Python loop in this process and print it as JSON")
     args = parser.parse_args()
     if args.python_loop:
-        frames, width, height = args.python_loop
-        print(json.dumps(python_loop(shadelab.Device(), frames, width, height)))
+        frames, width, height = (int(v) for v in args.python_loop[:3])
+        print(json.dumps(python_loop(shadelab.Device(), frames, width, height, args.python_loop[3])))
         return 0
     device = shadelab.Device()
     # Pipelines built and the driver's code generated before any timing,
     # for all three (the CLI's come from the same cache folder).
-    python_loop(device, 2, args.width, args.height)
+    python_loop(device, 2, args.width, args.height, args.way)
     times: Dict[str, List[float]] = {"python": [], "rust": [], "cli": []}
     cpu: Dict[str, List[float]] = {"python": [], "rust": []}
     with tempfile.TemporaryDirectory() as tmp:
         paths = write_frames(Path(tmp), args.frames)
         cli_loop(paths[:2], args.width, args.height, Path(tmp))
         loops = {
-            "python": lambda: python_loop_alone(args.frames, args.width, args.height),
-            "rust": lambda: rust_loop(args.frames, args.width, args.height),
+            "python": lambda: python_loop_alone(args.frames, args.width, args.height, args.way),
+            "rust": lambda: rust_loop(args.frames, args.width, args.height, args.way),
             "cli": lambda: cli_loop(paths, args.width, args.height, Path(tmp)),
         }
         for r in range(args.rounds):
@@ -178,6 +194,7 @@ def main() -> int:
     median = {k: statistics.median(v) for k, v in times.items()}
     figures: Dict[str, Any] = {
         "frames": args.frames,
+        "way": args.way,
         "size": f"{args.width}x{args.height}",
         "rounds": args.rounds,
         "device": device.name,
@@ -196,7 +213,7 @@ def main() -> int:
         ),
         "memory": memory(device, args.memory_renders),
     }
-    print(f"{args.frames} renders, phong {args.width}x{args.height}, moving light, median of {args.rounds} interleaved rounds on {device.name}:")
+    print(f"{args.frames} renders, phong {args.width}x{args.height}, moving light ({args.way}), median of {args.rounds} interleaved rounds on {device.name}:")
     for k in ("python", "rust", "cli"):
         spread = ", ".join(f"{t:.0f}" for t in times[k])
         print(f"  {k:6} {median[k]:8.0f} ms  ({spread})")

@@ -189,6 +189,61 @@ impl Scene {
         )
     }
 
+    /// This scene with light `index` (0-based) moved to `position` and/or
+    /// of `intensity` (a number or `[r, g, b]`): what an animation changes
+    /// between frames, without the TOML written and read again that
+    /// `from_dict` takes. The values are held to the file's rules; a bad
+    /// one raises `SceneError` naming `lights[i].position`.
+    #[pyo3(signature = (index, *, position=None, intensity=None))]
+    fn with_light(
+        &self,
+        py: Python<'_>,
+        index: usize,
+        position: Option<[f64; 3]>,
+        intensity: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Scene> {
+        let intensity = match intensity {
+            None => None,
+            Some(i) => Some(match i.extract::<f64>() {
+                Ok(v) => [v; 3],
+                Err(_) => i.extract::<[f64; 3]>().map_err(|_| {
+                    let message = "expected a number or [r, g, b]".to_string();
+                    let key = format!("lights[{index}].intensity");
+                    scene_error(py, &SceneError::AtKey { key, message })
+                })?,
+            }),
+        };
+        let inner = self
+            .inner
+            .with_light(index, position, intensity)
+            .map_err(|e| scene_error(py, &e))?;
+        // The table `to_dict` gives keeps up with the change.
+        let source = self.source.clone().map(|mut table| {
+            let light = table
+                .get_mut("lights")
+                .and_then(|l| l.as_array_mut())
+                .and_then(|l| l.get_mut(index))
+                .and_then(|l| l.as_table_mut());
+            if let Some(light) = light {
+                let array = |v: [f64; 3]| toml::Value::Array(v.map(toml::Value::Float).to_vec());
+                if let Some(p) = position {
+                    light.insert("position".into(), array(p));
+                }
+                if let Some(i) = intensity {
+                    light.insert("intensity".into(), array(i));
+                }
+            }
+            table
+        });
+        Ok(Scene {
+            inner: Arc::new(inner),
+            source,
+            path: self.path.clone(),
+            origin: self.origin.clone(),
+            name: self.name.clone(),
+        })
+    }
+
     /// The scene as a dict of the TOML files' schema, to change and give
     /// back to `Scene.from_dict` (file names made absolute). A glTF scene
     /// has no such form.

@@ -3,6 +3,8 @@ that say where."""
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 import pytest
 
@@ -124,3 +126,33 @@ def test_a_corrupt_gltf_is_a_scene_error(tmp_path):
     with pytest.raises(shadelab.SceneError) as caught:
         shadelab.Scene.load(broken)
     assert caught.value.path == str(broken)
+
+
+def test_with_light_moves_one_light_as_a_dict_would(device):
+    base = shadelab.Scene.from_dict(DICT)
+    moved = base.with_light(0, position=[-4.0, 6.0, 5.0])
+    d = copy.deepcopy(DICT)
+    d["lights"][0]["position"] = [-4.0, 6.0, 5.0]
+    # The same image as the scene written with the light there, and its
+    # dict says where the light is; the scene it came from is unchanged.
+    assert np.array_equal(device.render(moved, "phong").array, device.render(shadelab.Scene.from_dict(d), "phong").array)
+    assert moved.to_dict()["lights"][0]["position"] == [-4.0, 6.0, 5.0]
+    assert base.to_dict()["lights"][0]["position"] == [4, 6, 5]
+    brighter = base.with_light(0, intensity=16.0)
+    assert brighter.to_dict()["lights"][0]["intensity"] == [16.0, 16.0, 16.0]
+    assert device.render(brighter, "phong").array.mean() > device.render(base, "phong").array.mean()
+
+
+@pytest.mark.parametrize(
+    "index, settings, key",
+    [
+        (0, {"position": [float("nan"), 0, 0]}, "lights[0].position"),
+        (0, {"intensity": -1.0}, "lights[0].intensity"),
+        (0, {"intensity": "bright"}, "lights[0].intensity"),
+        (3, {"position": [0, 0, 0]}, "lights[3]"),
+    ],
+)
+def test_with_light_refuses_what_a_file_may_not_hold(index, settings, key):
+    with pytest.raises(shadelab.SceneError) as caught:
+        shadelab.Scene.from_dict(DICT).with_light(index, **settings)
+    assert caught.value.key == key, str(caught.value)

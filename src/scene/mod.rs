@@ -35,6 +35,7 @@
 use std::path::Path;
 
 pub mod defaults;
+mod edit;
 pub mod error;
 pub mod footprint;
 pub mod gltf;
