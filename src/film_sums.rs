@@ -282,19 +282,20 @@ impl RenderPart {
         ))
     }
 
-    /// Whether the caller cancelled: no more work starts, not even a
-    /// first batch (a cancelled render gives no image to be black).
-    pub fn cancelled(&self) -> bool {
-        (self.cancel.as_ref()).is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
-    }
-
-    /// Whether to start no more work: the time budget is spent, or the
-    /// caller cancelled.
-    pub fn should_stop(&self) -> bool {
-        self.cancelled()
-            || self
-                .deadline
+    /// Whether the next batch, pass or task may start (`first`: none has
+    /// yet): never once the caller cancelled (a cancelled render gives no
+    /// image, so none of its work is wanted); the first always under a
+    /// time budget (an image of no work would be black, not an estimate);
+    /// a later one only while the budget lasts. The GPU's batches and
+    /// passes and the CPU twin's tasks ask this one rule.
+    pub fn may_start(&self, first: bool) -> bool {
+        let cancelled =
+            (self.cancel.as_ref()).is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed));
+        let spent = || {
+            self.deadline
                 .is_some_and(|d| std::time::Instant::now() >= d)
+        };
+        !cancelled && (first || !spent())
     }
 
     /// Shard `i` of `n` (1-based) of `total` photons or samples: the

@@ -137,12 +137,12 @@ pub fn check<'py>(
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
     let given = Scene::coerce(py, scene)?;
     let mut scene = (*given.get().inner).clone();
-    let sized = RenderOptions {
+    let size = shadelab::render::overrides::Overrides {
         width,
         height,
-        ..RenderOptions::default()
+        ..Default::default()
     };
-    sized.overrides(py)?.apply_size(&mut scene).or_raise(py)?;
+    size.apply_size(&mut scene).or_raise(py)?;
     let device = device_or_new(py, device)?;
     let mut records = Vec::new();
     for shading in modes_of(py, shading)? {

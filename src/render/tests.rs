@@ -114,9 +114,9 @@ fn the_cpu_request_renders_with_coverage_and_no_film() {
     assert!(rendered.film.is_none());
 }
 
-/// A cancel flag set before the render stops the forward twin after its
-/// first task (of 16384 photons) instead of its 4 million, and the render
-/// answers `Cancelled`, not an image.
+/// A cancel flag set before the render stops the forward twin before its
+/// tasks (at most one, of 16384 photons, may have begun) instead of its 4
+/// million, and the render answers `Cancelled`, not an image.
 #[test]
 fn a_cancelled_render_stops_its_work_and_says_so() {
     let mut scene = default_scene();

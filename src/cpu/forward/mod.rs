@@ -63,9 +63,8 @@ pub fn render(scene: &Scene, part: &RenderPart, counter: &WorkCounter) -> Option
     let (film, stats) = (0..tasks)
         .into_par_iter()
         .fold(fresh, |(mut film, mut stats), task| {
-            // The first task runs whatever the budget: an image of no
-            // photon would be black, not an estimate.
-            if task > 0 && part.should_stop() {
+            // The first task runs whatever the budget (`may_start`).
+            if !part.may_start(task == 0) {
                 return (film, stats);
             }
             let first = range.start + task * PHOTONS_PER_TASK;

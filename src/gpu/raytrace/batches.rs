@@ -118,10 +118,7 @@ pub(super) fn run(
     // With a cancel flag, batches of about `CANCELLABLE_BATCH_S` each,
     // from what the last one took: a cancel waits for the batch running.
     let mut next = size;
-    while first < part.range.end
-        && !part.cancelled()
-        && (first == part.range.start || !part.should_stop())
-    {
+    while first < part.range.end && part.may_start(first == part.range.start) {
         // Under a time budget or a cancel flag the first batch is one unit
         // of work for the samples (a sample per pixel), so that a budget
         // shorter than a batch overshoots it least and a cancel is heard

@@ -108,7 +108,7 @@ pub fn render(
     let timestamps = Timestamps::new(context)?;
     let (mut submit_ms, mut gpu_ms, mut done) = (0.0, 0.0, 0u32);
     for pass in passes.range.clone() {
-        if passes.cancelled() || (done > 0 && passes.should_stop()) {
+        if !passes.may_start(done == 0) {
             break;
         }
         let push = CausticPass {
