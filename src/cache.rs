@@ -3,7 +3,8 @@
 //! `$SHADELAB_CACHE_DIR`, else `$XDG_CACHE_HOME/shadelab`, else
 //! `~/.cache/shadelab`. It holds SPIR-V modules that took work to make
 //! (`hooks/`: the shaders compiled with a user's lighting hook;
-//! `spirv/`: modules specialised to a scene) and, unless the user points
+//! `spirv/`: modules specialised to a scene; `bvh/`: the GPU's trees over
+//! big meshes, keyed by the triangles) and, unless the user points
 //! it elsewhere, Mesa's shader cache (`mesa-<configuration>/`: lavapipe's
 //! machine code, the costliest thing a fresh machine makes).
 //!
@@ -38,11 +39,29 @@ pub fn digest(value: &impl Hash) -> u64 {
 
 /// Where the module of `key` lives in `kind`'s subfolder.
 fn module_path(kind: &str, key: &str) -> Option<PathBuf> {
-    Some(
-        folder()?
-            .join(kind)
-            .join(format!("{:016x}.spv", digest(&key))),
-    )
+    entry_path(kind, key, "spv")
+}
+
+fn entry_path(kind: &str, key: &str, extension: &str) -> Option<PathBuf> {
+    Some(entry_in(&folder()?, kind, key, extension))
+}
+
+fn entry_in(folder: &Path, kind: &str, key: &str, extension: &str) -> PathBuf {
+    folder
+        .join(kind)
+        .join(format!("{:016x}.{extension}", digest(&key)))
+}
+
+/// The words of a data entry (not a module: `bvh/`) cached under `key` in
+/// `kind` of `folder`, if any. The caller checks what they hold.
+pub fn read_words(folder: &Path, kind: &str, key: &str) -> Option<Vec<u32>> {
+    read_keyed(&entry_in(folder, kind, key, "bin"), key)
+}
+
+/// Keeps the words of a data entry under `key` in `kind` of `folder`; best
+/// effort.
+pub fn write_words(folder: &Path, kind: &str, key: &str, words: &[u32]) {
+    write_keyed(&entry_in(folder, kind, key, "bin"), key, words);
 }
 
 /// The SPIR-V words cached under `key` in `kind`, if any.

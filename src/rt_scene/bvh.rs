@@ -3,24 +3,34 @@
 
 use glam::{DVec3, Vec3A};
 use obvhs::bvh2::Bvh2;
+use obvhs::triangle::Triangle;
 
 use super::primitives::RtTriangle;
 
 /// The tree over `triangles`, built from their f32-rounded positions.
 pub(super) fn build_bvh(triangles: &[RtTriangle]) -> Bvh2 {
-    if triangles.is_empty() {
-        return Bvh2::default();
-    }
-    let tris: Vec<obvhs::triangle::Triangle> = triangles
+    build_from(&f32_triangles(triangles))
+}
+
+/// The triangles' corners rounded to f32, as the tree is built over them.
+pub(super) fn f32_triangles(triangles: &[RtTriangle]) -> Vec<Triangle> {
+    triangles
         .iter()
         .map(|t| {
             let [v0, v1, v2] = t.positions.map(|p| Vec3A::from(p.as_vec3()));
-            obvhs::triangle::Triangle { v0, v1, v2 }
+            Triangle { v0, v1, v2 }
         })
-        .collect();
+        .collect()
+}
+
+/// The tree over f32 triangles (empty for none).
+pub(super) fn build_from(tris: &[Triangle]) -> Bvh2 {
+    if tris.is_empty() {
+        return Bvh2::default();
+    }
     let mut build_time = std::time::Duration::default();
     obvhs::bvh2::builder::build_bvh2_from_tris(
-        &tris,
+        tris,
         obvhs::BvhBuildParams::medium_build(),
         &mut build_time,
     )

@@ -11,11 +11,13 @@
 //! `primitives.rs` holds the primitive kinds (and `Primitive`, which of
 //! them a hit is on), `scene.rs` builds `RtScene` from a `Scene`, `bvh.rs`
 //! the tree over its triangles and the widening both tracers give its
-//! boxes, `rays.rs` what both tracers agree on per pixel (sample grid, ray
+//! boxes, `bvh_cache.rs` the GPU's copy of a big mesh's tree in the cache
+//! folder, `rays.rs` what both tracers agree on per pixel (sample grid, ray
 //! counts), `light_shares.rs` how forward tracing splits its photons
 //! over the lights.
 
 mod bvh;
+mod bvh_cache;
 mod light_shares;
 mod primitives;
 mod rays;

@@ -5,6 +5,7 @@ use glam::{DVec2, DVec3};
 use obvhs::bvh2::Bvh2;
 
 use super::bvh::build_bvh;
+use super::bvh_cache::cached_or_built;
 use super::primitives::{Primitive, RtBox, RtHugeSphere, RtPlane, RtSphere, RtTriangle};
 use crate::huge_sphere::{sphere_form, SphereForm};
 use crate::scene::{
@@ -54,13 +55,24 @@ struct MeshAttributes {
 
 impl RtScene {
     pub fn new(scene: &Scene) -> Self {
+        Self::with_tree(scene, build_bvh)
+    }
+
+    /// The same scene, its tree over a big mesh from the cache folder where
+    /// it holds one for these triangles (`bvh_cache`): the GPU's. The CPU
+    /// twin, the reference, builds its own.
+    pub fn with_cached_tree(scene: &Scene) -> Self {
+        Self::with_tree(scene, cached_or_built)
+    }
+
+    fn with_tree(scene: &Scene, build: fn(&[RtTriangle]) -> Bvh2) -> Self {
         let eye = scene.camera.position;
         let mut rt = RtScene::without_objects(scene, eye);
         let attributes = rt.reserve_triangles(scene);
         for (index, object) in scene.objects.iter().enumerate() {
             rt.add_object(object, index as u32, eye, attributes);
         }
-        rt.bvh = build_bvh(&rt.triangles);
+        rt.bvh = build(&rt.triangles);
         rt
     }
 

@@ -428,7 +428,7 @@ struct TracePlan {
 
 impl TracePlan {
     fn new(scene: &Scene, options: TraceOptions, traversal: Traversal) -> Result<Self, GpuError> {
-        let rt = RtScene::new(scene);
+        let rt = RtScene::with_cached_tree(scene);
         // Refuses what the records cannot hold before building the pipeline.
         let mut records = records(&rt)?;
         let meshes = match traversal {
