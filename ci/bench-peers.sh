@@ -124,6 +124,13 @@ twin_scenes=()
 for f in "$repo"/assets/*.toml; do twin_scenes+=("$f"); done
 twin_scenes+=(default "$repo/target/bench/mesh.toml")
 
+# Scanned meshes, whole command against the CPU twin's: the Stanford bunny (69k triangles) and
+# the ogre (124k), from alecjacobson/common-3d-test-models, made into scenes by
+# ci/make-scan-scene.py.
+scans=(bunny ogre)
+declare -A scan_obj=([bunny]=stanford-bunny.obj [ogre]=ogre.obj)
+scan_url=https://raw.githubusercontent.com/alecjacobson/common-3d-test-models/master/data
+
 define_jobs() {
     local seg s name scene sarg cpu=() uber=() spec=()
     [ "$bench_cpu" = 1 ] && cpu=(--cpu)
@@ -160,6 +167,14 @@ define_jobs() {
         # on the same sphere, the wgpu tracer on the four spheres.
         job "image-sphere${segs[0]}.mitsuba-llvm" python -- "$venv_py" "$src/first_image.py" "$runs" \
             "$src/mitsuba_peer.py" llvm_ad_rgb "$scenes/sphere-${segs[0]}.ply" "$size" 1
+        # The scanned meshes (issue 58), not in --smoke (they are downloaded on first use).
+        if [ "$smoke" = 0 ]; then
+            for scan in "${scans[@]}"; do
+                job "image-scan-$scan.shadelab" shadelab -- \
+                    "$bin" bench "$repo/target/bench/scan-$scan.toml" --shading raytrace --time-to-image \
+                    "${size_args[@]}"
+            done
+        fi
         job image-four-spheres.shadelab shadelab -- \
             "$bin" bench "$src/four-spheres.toml" --shading raytrace --time-to-image "${size_args[@]}"
         job image-four-spheres.wgpu python -- "$venv_py" "$src/first_image.py" "$runs" \
@@ -330,6 +345,21 @@ mesh=$repo/target/bench/mesh.toml
 if [ ! -f "$mesh" ] || [ "$repo/ci/make-bench-mesh.py" -nt "$mesh" ]; then
     python3 "$repo/ci/make-bench-mesh.py" >&2 || die "ci/make-bench-mesh.py failed"
 fi
+
+for scan in "${scans[@]}"; do
+    scene_file=$repo/target/bench/scan-$scan.toml
+    obj=$peers_dir/scans/${scan_obj[$scan]}
+    if [ "$smoke" = 1 ] || { [ -f "$scene_file" ] && [ "$scene_file" -nt "$repo/ci/make-scan-scene.py" ]; }; then
+        continue
+    fi
+    if [ -n "$only" ] && ! [[ "image-scan-$scan.shadelab" =~ $only ]]; then continue; fi
+    mkdir -p "$peers_dir/scans"
+    if [ ! -s "$obj" ]; then
+        curl -fsSL --retry 2 -o "$obj.part" "$scan_url/${scan_obj[$scan]}" && mv "$obj.part" "$obj" ||
+            { warn "could not download ${scan_obj[$scan]}: the $scan rows will be missing"; continue; }
+    fi
+    python3 "$repo/ci/make-scan-scene.py" "$scan" "$obj" >&2 || warn "ci/make-scan-scene.py $scan failed"
+done
 
 # --- run ------------------------------------------------------------------------------------
 # Run a copy of the binary, so that a rebuild during the run cannot mix two versions.
