@@ -55,25 +55,36 @@ struct MeshAttributes {
 
 impl RtScene {
     pub fn new(scene: &Scene) -> Self {
-        Self::with_tree(scene, build_bvh)
+        let mut rt = Self::without_tree(scene);
+        rt.bvh = build_bvh(&rt.triangles);
+        rt
     }
 
     /// The same scene, its tree over a big mesh from the cache folder where
     /// it holds one for these triangles (`bvh_cache`): the GPU's. The CPU
     /// twin, the reference, builds its own.
     pub fn with_cached_tree(scene: &Scene) -> Self {
-        Self::with_tree(scene, cached_or_built)
+        let mut rt = Self::without_tree(scene);
+        rt.add_cached_tree();
+        rt
     }
 
-    fn with_tree(scene: &Scene, build: fn(&[RtTriangle]) -> Bvh2) -> Self {
+    /// The scene's primitives with no tree over the triangles yet (`bvh`
+    /// empty): all a pipeline specialises on, known before the tree.
+    pub fn without_tree(scene: &Scene) -> Self {
         let eye = scene.camera.position;
         let mut rt = RtScene::without_objects(scene, eye);
         let attributes = rt.reserve_triangles(scene);
         for (index, object) in scene.objects.iter().enumerate() {
             rt.add_object(object, index as u32, eye, attributes);
         }
-        rt.bvh = build(&rt.triangles);
         rt
+    }
+
+    /// The tree over the triangles, from the cache folder for a big mesh
+    /// (`with_cached_tree`).
+    pub fn add_cached_tree(&mut self) {
+        self.bvh = cached_or_built(&self.triangles);
     }
 
     /// The scene's materials, lights (moved to camera-relative positions)

@@ -239,13 +239,8 @@ pub fn render(
     let traversal = check_and_choose_engine(context, scene)?;
     let view = View::new(scene, width, height);
 
-    let prepare_started = Instant::now();
-    let mut plan = TracePlan::new(scene, options, traversal)?;
-    let prepare_ms = ms_since(prepare_started);
-
-    let pipeline_started = Instant::now();
-    let pipeline = get_or_build_pipeline(context, scene, &plan, options)?;
-    let pipeline_ms = ms_since(pipeline_started);
+    let (mut plan, pipeline, prepare_ms, pipeline_ms) =
+        plan_and_pipeline(context, scene, options, traversal)?;
 
     let upload_started = Instant::now();
     if plan.spec.has_bvh != 0 && plan.records.bvh.root.is_none() {
@@ -427,15 +422,14 @@ struct TracePlan {
 }
 
 impl TracePlan {
-    fn new(scene: &Scene, options: TraceOptions, traversal: Traversal) -> Result<Self, GpuError> {
-        let rt = RtScene::with_cached_tree(scene);
-        // Refuses what the records cannot hold before building the pipeline.
+    /// The plan over `rt`, its tree built: the records, refused where they
+    /// cannot hold the scene (before the pipeline is waited for).
+    fn new(rt: RtScene, spec: TraceSpecialization, traversal: Traversal) -> Result<Self, GpuError> {
         let mut records = records(&rt)?;
         let meshes = match traversal {
             Traversal::Query => accel::group_by_mesh(&mut records),
             _ => Vec::new(),
         };
-        let spec = specialization(scene, &rt, options);
         Ok(Self {
             traversal,
             rt,
@@ -446,17 +440,95 @@ impl TracePlan {
     }
 }
 
-/// The pipeline `plan` needs, from the context's cache or built now.
+/// Primitives in the BVH from which its tree is taken to be walked 4-wide
+/// before it is built, so that the pipeline can be built meanwhile
+/// (`wide_bvh::widen` decides; where it does not widen such a tree, the
+/// binary walk's pipeline is built after). Far above `WIDE_MIN_INNER_NODES`
+/// nodes' worth: below it the tree takes under a millisecond.
+const WIDE_GUESS_MIN_PRIMITIVES: usize = 1024;
+
+/// The plan and its pipeline, with the time each took from this thread.
+/// For a big tree, whose build or read from the cache is tens of
+/// milliseconds, the pipeline (lavapipe's translation of the module, about
+/// 100 ms for the wide walk) is built on a thread of its own meanwhile:
+/// `prepare_ms` is then the plan's time and `pipeline_ms` the wait for the
+/// pipeline after it.
+fn plan_and_pipeline(
+    context: &Arc<GpuContext>,
+    scene: &Scene,
+    options: TraceOptions,
+    traversal: Traversal,
+) -> Result<(TracePlan, Arc<PipelineObjects>, f64, f64), GpuError> {
+    let started = Instant::now();
+    let mut rt = RtScene::without_tree(scene);
+    let spec = specialization(scene, &rt, options);
+    let paths = rt.render.bounces > 0;
+    let kinds = BvhKinds::of(&rt);
+    let count = |on: bool, n: usize| if on { n } else { 0 };
+    let in_bvh = rt.triangles.len()
+        + count(kinds.spheres, rt.spheres.len())
+        + count(kinds.planes, rt.planes.len())
+        + count(kinds.boxes, rt.boxes.len());
+    let build = |wide: bool| {
+        let choice = PipelineChoice {
+            traversal,
+            wide,
+            paths,
+        };
+        get_or_build_pipeline(context, scene, &spec, choice, options)
+    };
+    if traversal != Traversal::Bvh || in_bvh < WIDE_GUESS_MIN_PRIMITIVES {
+        rt.add_cached_tree();
+        let plan = TracePlan::new(rt, spec, traversal)?;
+        let prepare_ms = ms_since(started);
+        let pipeline_started = Instant::now();
+        let pipeline = build(plan.records.bvh.wide.is_some())?;
+        return Ok((plan, pipeline, prepare_ms, ms_since(pipeline_started)));
+    }
+    std::thread::scope(|threads| {
+        let early = threads.spawn(|| build(true));
+        rt.add_cached_tree();
+        let plan = TracePlan::new(rt, spec, traversal);
+        let prepare_ms = ms_since(started);
+        let pipeline_started = Instant::now();
+        let early = early
+            .join()
+            .unwrap_or_else(|p| std::panic::resume_unwind(p));
+        let plan = plan?;
+        let pipeline = if plan.records.bvh.wide.is_some() {
+            early?
+        } else {
+            build(false)?
+        };
+        Ok((plan, pipeline, prepare_ms, ms_since(pipeline_started)))
+    })
+}
+
+/// Which of the ray tracer's modules a pipeline is built from.
+#[derive(Clone, Copy)]
+struct PipelineChoice {
+    traversal: Traversal,
+    /// The 4-wide walk (`wide_bvh`).
+    wide: bool,
+    /// With diffuse bounces.
+    paths: bool,
+}
+
+/// The pipeline for `spec` and `choice`, from the context's cache or built
+/// now.
 fn get_or_build_pipeline(
     context: &Arc<GpuContext>,
     scene: &Scene,
-    plan: &TracePlan,
+    spec: &TraceSpecialization,
+    choice: PipelineChoice,
     options: TraceOptions,
 ) -> Result<Arc<PipelineObjects>, GpuError> {
-    let (traversal, spec) = (plan.traversal, &plan.spec);
+    let PipelineChoice {
+        traversal,
+        wide,
+        paths,
+    } = choice;
     let hook = scene.lighting_hook.as_deref();
-    let wide = plan.records.bvh.wide.is_some();
-    let paths = plan.rt.render.bounces > 0;
     let driver_specialises = options.driver_specialises;
     let key = format!(
         "raytrace {traversal:?} wide {wide} paths {paths} driver {driver_specialises} spec {:?} hook {:016x}",

@@ -141,7 +141,7 @@ pub(in crate::gpu::raytrace) struct PhotonScene {
 impl PhotonScene {
     /// The records of `scene`; refused where no light has power.
     pub fn prepare(scene: &Scene) -> Result<Self, GpuError> {
-        let rt = RtScene::new(scene);
+        let rt = RtScene::with_cached_tree(scene);
         let shares = LightShares::of(&rt).ok_or_else(|| {
             GpuError::NoLightToTraceFrom(if rt.lights.is_empty() {
                 "no light".into()
