@@ -131,6 +131,12 @@ fn variants() -> Vec<Variant> {
     };
     out.push(compute("RAYTRACE_COMP", &[]));
     out.push(compute("RAYTRACE_WIDE_COMP", &[("WIDE_BVH", None)]));
+    // Two eye rays a lane over the 4-wide walk, for the devices where it
+    // pays (gpu::raytrace::pairing).
+    out.push(compute(
+        "RAYTRACE_WIDE_PAIRED_COMP",
+        &[("WIDE_BVH", None), ("PAIRED", None)],
+    ));
     out.push(compute("RAYTRACE_QUERY_COMP", &[("RAY_QUERY", None)]));
     // Diffuse bounces (secondary illumination): modules of their own, so
     // that a Whitted render neither compiles nor carries them.

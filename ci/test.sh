@@ -50,6 +50,9 @@ bash ci/python-tests.sh
 # vectors (as on a CPU without AVX) runs subgroups of 4 lanes, not 8.
 LP_NATIVE_VECTOR_WIDTH=128 ./target/release/shadelab check assets/*.toml --shading raytrace,forward \
     --out target/check-4-lanes --junit target/check-4-lanes/assets.xml
+# Two eye rays a lane at 4 lanes too (the paired walk against the single
+# one, bit for bit).
+LP_NATIVE_VECTOR_WIDTH=128 cargo test --release --test gpu paired_rays
 # The peer benchmark's shadelab side at 64x64 with no peers, so that the
 # script and its report cannot rot (the full run is ci/bench-peers.sh), in
 # two rounds so that the merging of rounds is run too; and the checks of

@@ -87,6 +87,59 @@ void main() {
             break;
         }
         uvec2 origin = uvec2(item % items_across * ITEM_WIDTH, item / items_across * size);
+#ifdef PAIRED
+        // Two packets at a time: packet b's pixel and packet b + 1's are
+        // this lane's two rays, their eye rays' nearest hits found in one
+        // walk, then each one's ray tree in turn (a loop the driver does
+        // not unroll, its count read at run time, so that the tree is
+        // compiled once).
+        uint trees = 2u + (frame.image.w >> 31);  // the depth is below 2^31
+        for (uint b = 0u; b < ITEM_PACKETS; b += 2u) {
+            uvec2 pixel1 = origin + uvec2((b & 3u) * 4u, (b >> 2) * rows_per_patch) + in_patch;
+            uvec2 pixel2 = origin + uvec2(((b + 1u) & 3u) * 4u, ((b + 1u) >> 2) * rows_per_patch) + in_patch;
+            bool on1 = pixel1.x < width && pixel1.y < height;
+            bool on2 = pixel2.x < width && pixel2.y < height;
+            vec3 sum1 = vec3(0.0);
+            vec3 sum2 = vec3(0.0);
+            for (uint i = 0u;;) {
+                vec2 cell = grid_cell(i, kx, inv_kx, inv_ky);
+                vec2 ndc1 = (vec2(pixel1) + cell) * ndc_per_pixel - 1.0;
+                vec2 ndc2 = (vec2(pixel2) + cell) * ndc_per_pixel - 1.0;
+                vec3 dir1 = frame.forward_cutoff.xyz + right_per_ndc * ndc1.x - up_per_ndc * ndc1.y;
+                vec3 dir2 = frame.forward_cutoff.xyz + right_per_ndc * ndc2.x - up_per_ndc * ndc2.y;
+                dir1 *= inversesqrt(dot(dir1, dir1));
+                dir2 *= inversesqrt(dot(dir2, dir2));
+                Hit hit1, hit2;
+                nearest_pair(vec3(0.0), dir1, dir2, on1, on2, hit1, hit2);
+                for (uint k = 0u; k < trees; ++k) {
+                    // `k` is the same in every lane: uniform control flow.
+                    vec3 dir = dir1;
+                    bool on = on1;
+                    Hit hit = hit1;
+                    if (k == 1u) {
+                        dir = dir2;
+                        on = on2;
+                        hit = hit2;
+                    }
+                    vec3 value = trace_sample(dir, on, hit);
+                    if (k == 1u) {
+                        sum2 += value;
+                    } else {
+                        sum1 += value;
+                    }
+                }
+                if (++i >= samples) {
+                    break;
+                }
+            }
+            if (on1) {
+                pixels[pixel1.y * width + pixel1.x] = vec4(sum1 / float(samples), 1.0);
+            }
+            if (on2) {
+                pixels[pixel2.y * width + pixel2.x] = vec4(sum2 / float(samples), 1.0);
+            }
+        }
+#else
         for (uint b = 0u; b < ITEM_PACKETS; ++b) {
             uvec2 pixel = origin + uvec2((b & 3u) * 4u, (b >> 2) * rows_per_patch) + in_patch;
             // No early return: lanes off the image still join the packets.
@@ -134,6 +187,7 @@ void main() {
             }
 #endif
         }
+#endif
     }
     if (COUNT_RAYS) {
         for (int k = 0; k < 5; ++k) {

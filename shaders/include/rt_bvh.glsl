@@ -125,6 +125,8 @@ void consider_in_leaf(float t, uint shape, vec3 normal, float radius, uint mater
     }
 }
 
+void search_leaf_objects(uint first, uint end, vec3 o, vec3 d, bool any_hit, inout Hit best);
+
 // A BVH leaf's primitives against the packet, into walk_bvh's `best`
 // (whose comment says what it holds for each query). A leaf is a run of
 // one kind's records, the kind given by the range its first index is in
@@ -145,7 +147,14 @@ void search_leaf(uint link, vec3 o, vec3 d, RayFrame shear, bool any_hit, inout 
                 consider_triangle(t, KIND_TRIANGLE | i, uv, best);
             }
         }
-    } else if (BVH_SPHERES && first < frame.leaf_bases.y) {
+    } else {
+        search_leaf_objects(first, end, o, d, any_hit, best);
+    }
+}
+
+// A leaf of analytic objects (search_leaf's other kinds).
+void search_leaf_objects(uint first, uint end, vec3 o, vec3 d, bool any_hit, inout Hit best) {
+    if (BVH_SPHERES && first < frame.leaf_bases.y) {
         for (uint i = first - frame.leaf_bases.x; i < end - frame.leaf_bases.x; ++i) {
             SphereGeometry g = shared_sphere(i);
             consider_in_leaf(sphere_t(o, d, g), KIND_SPHERE | i, g.center, g.radius, g.material, g.object,

@@ -44,6 +44,9 @@ layout(local_size_x = WORKGROUP_SIZE, local_size_y = 1, local_size_z = 1) in;
 #include "rt_primitives.glsl"  // ray against sphere, plane, box and triangle
 #include "rt_bvh.glsl"         // the packet walk of the BVH, binary or 4-wide
 #include "rt_search.glsl"      // nearest hit and shadow query: lists, then BVH (or ray queries)
+#ifdef PAIRED
+#include "rt_paired.glsl"      // two rays a lane: two eye rays' nearest hits in one walk
+#endif
 #include "rt_surface.glsl"     // what shading needs at a hit: normal, uv, pattern, tint
 #include "rt_shading.glsl"     // materials, offsets, direct light with shadow rays
 

@@ -178,7 +178,13 @@ bool packet_goes_on_with(bool live, bool packet_hits) {
 // and glass children, so it is traced after them, as on the CPU; its
 // numbers are `sample_sampler`'s. The background lights nothing there:
 // only eye rays (no bounce yet) see it.
+#ifdef PAIRED
+// With PAIRED the eye ray's nearest hit comes from nearest_pair, found
+// with another pixel's (rt_paired.glsl): `first`.
+vec3 trace_sample(vec3 dir, bool live, Hit first) {
+#else
 vec3 trace_sample(vec3 dir, bool live) {
+#endif
     Ray waiting[STACK_SIZE];
     vec2 waiting_cones[STACK_SIZE];
     int top = 0;
@@ -198,11 +204,23 @@ vec3 trace_sample(vec3 dir, bool live) {
     int max_depth = int(frame.image.w);
     float cutoff = frame.forward_cutoff.w;
     bool packet_goes_on = true;
+#ifdef PAIRED
+    bool eye_ray = true;
+#endif
     while (packet_goes_on) {
         if (live) {
             deepest = max(deepest, ray.depth);
         }
+#ifdef PAIRED
+        // `eye_ray` is the same in every lane: the search stays uniform.
+        Hit hit = first;
+        if (!eye_ray) {
+            hit = nearest(ray.origin, ray.dir, live);
+        }
+        eye_ray = false;
+#else
         Hit hit = nearest(ray.origin, ray.dir, live);
+#endif
         bool hits = live && hit.shape != NO_SHAPE;
         if (live && !hits) {
 #ifdef PATHS

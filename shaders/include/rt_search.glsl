@@ -33,11 +33,31 @@ bool huge_sphere_blocks(vec3 o, vec3 d, float t_max) {
 }
 
 #ifndef RAY_QUERY
+Hit no_hit_yet(bool traces);
+void consider_listed(vec3 o, vec3 d, inout Hit best);
+void finish_nearest(vec3 o, vec3 d, inout Hit best);
+
 // Every primitive against the ray: the nearest hit, ties to the lower
 // object, then the lower triangle. Call in uniform control flow; a lane
 // with no ray to trace passes `traces` false and gets no hit.
 Hit nearest(vec3 o, vec3 d, bool traces) {
-    Hit best = Hit(traces ? NO_HIT : -1.0, NO_SHAPE, vec2(0.0), vec3(0.0), 0.0, 0u, NO_SHAPE);
+    Hit best = no_hit_yet(traces);
+    consider_listed(o, d, best);
+    if (HAS_BVH && packet_near_bvh(o, d, best.t)) {
+        walk_bvh(o, d, best, false);
+    }
+    finish_nearest(o, d, best);
+    return best;
+}
+
+// Where a nearest-hit search starts: nothing found, up to any distance (or
+// nowhere, for a lane with no ray).
+Hit no_hit_yet(bool traces) {
+    return Hit(traces ? NO_HIT : -1.0, NO_SHAPE, vec2(0.0), vec3(0.0), 0.0, 0u, NO_SHAPE);
+}
+
+// The objects tested one by one (every lane its own), into `best`.
+void consider_listed(vec3 o, vec3 d, inout Hit best) {
     for (int i = 0; i < SPHERE_COUNT; ++i) {
         SphereGeometry g = listed_spheres[i];
         consider_object(sphere_t(o, d, g), KIND_SPHERE | uint(i), g.center, g.radius, g.material, g.object, best);
@@ -53,14 +73,14 @@ Hit nearest(vec3 o, vec3 d, bool traces) {
         float t = box_t_culled(o, d, g, face);
         consider_object(t, KIND_BOX | uint(i), box_normal(g, face), 0.0, g.material, g.object, best);
     }
-    if (HAS_BVH && packet_near_bvh(o, d, best.t)) {
-        walk_bvh(o, d, best, false);
-    }
+}
+
+// The nearest hit made whole once the search is over.
+void finish_nearest(vec3 o, vec3 d, inout Hit best) {
     if ((best.shape & KIND_MASK) == KIND_SPHERE) {
         // Once, for the nearest hit: a division per sphere tested cost more.
         best.normal = (o + best.t * d - best.normal) / best.radius;
     }
-    return best;
 }
 
 // Whether anything is hit at 0 < t < t_max: the shadow-ray query, the twin

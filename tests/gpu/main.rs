@@ -23,6 +23,7 @@ mod image_textures;
 mod khronos_samples;
 mod lighting_hook;
 mod msaa;
+mod paired_rays;
 mod path_shards;
 mod path_trace;
 mod pipeline_reuse;

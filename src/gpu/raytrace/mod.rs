@@ -20,6 +20,7 @@ mod dispatch;
 pub mod forward;
 pub mod kernel_sizes;
 pub mod layout;
+pub mod pairing;
 mod records;
 mod renderer;
 pub mod wide_bvh;

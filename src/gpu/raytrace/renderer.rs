@@ -21,13 +21,14 @@ use crate::gpu::raytrace::buffers::TraceBuffers;
 use crate::gpu::raytrace::bvh::BvhKinds;
 use crate::gpu::raytrace::dispatch::{cpu_threads, first_use, submit_batch, BoundTrace};
 use crate::gpu::raytrace::layout::*;
+use crate::gpu::raytrace::pairing;
 use crate::gpu::raytrace::records::{records, SceneRecords};
 use crate::gpu::shared::hook;
 use crate::gpu::shared::image_size::check_image_size;
 use crate::gpu::shared::lights::SceneLighting;
 use crate::gpu::shared::shader_catalog::{
     RAYTRACE_COMP, RAYTRACE_PATHS_COMP, RAYTRACE_QUERY_COMP, RAYTRACE_QUERY_PATHS_COMP,
-    RAYTRACE_WIDE_COMP, RAYTRACE_WIDE_PATHS_COMP,
+    RAYTRACE_WIDE_COMP, RAYTRACE_WIDE_PAIRED_COMP, RAYTRACE_WIDE_PATHS_COMP,
 };
 use crate::gpu::vk::commands::OneShot;
 use crate::gpu::vk::context::DeviceInfo;
@@ -96,10 +97,15 @@ fn create_pipeline(
     context: &Arc<GpuContext>,
     spec: &TraceSpecialization,
     lighting_hook: Option<&LightingHook>,
-    traversal: Traversal,
-    (wide_bvh, paths): (bool, bool),
+    choice: PipelineChoice,
     driver_specialises: bool,
 ) -> Result<PipelineObjects, GpuError> {
+    let PipelineChoice {
+        traversal,
+        wide: wide_bvh,
+        paths,
+        paired,
+    } = choice;
     let device = &context.device;
     let mut p = PipelineObjects::new(&context.device);
     p.set_layout = create_set_layout(context, BINDINGS, vk::ShaderStageFlags::COMPUTE)?;
@@ -117,6 +123,7 @@ fn create_pipeline(
     } else {
         match (wide_bvh, paths) {
             (true, true) => &RAYTRACE_WIDE_PATHS_COMP,
+            (true, false) if paired => &RAYTRACE_WIDE_PAIRED_COMP,
             (true, false) => &RAYTRACE_WIDE_COMP,
             (false, true) => &RAYTRACE_PATHS_COMP,
             (false, false) => &RAYTRACE_COMP,
@@ -166,6 +173,8 @@ pub struct TraceOptions {
     /// their values, as before `specialise` (what specialising before the
     /// driver saves, and the test that it changes no pixel).
     pub driver_specialises: bool,
+    /// Two eye rays a lane (`pairing`): None for the device's choice.
+    pub pair_eye_rays: Option<bool>,
 }
 
 /// Only what the scene uses: the lighting terms every pipeline sets
@@ -469,11 +478,19 @@ fn plan_and_pipeline(
         + count(kinds.spheres, rt.spheres.len())
         + count(kinds.planes, rt.planes.len())
         + count(kinds.boxes, rt.boxes.len());
+    let eye_rays = u64::from(scene.image.width)
+        * u64::from(scene.image.height)
+        * u64::from(scene.render.samples.max(1));
+    let pairs = options
+        .pair_eye_rays
+        .unwrap_or_else(|| pairing::pairs_eye_rays(&context.info, eye_rays));
     let build = |wide: bool| {
         let choice = PipelineChoice {
             traversal,
             wide,
             paths,
+            // Over the wide walk, for Whitted's tracer (its eye rays).
+            paired: pairs && wide && !paths && traversal == Traversal::Bvh,
         };
         get_or_build_pipeline(context, scene, &spec, choice, options)
     };
@@ -505,13 +522,15 @@ fn plan_and_pipeline(
 }
 
 /// Which of the ray tracer's modules a pipeline is built from.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug)]
 struct PipelineChoice {
     traversal: Traversal,
     /// The 4-wide walk (`wide_bvh`).
     wide: bool,
     /// With diffuse bounces.
     paths: bool,
+    /// Two eye rays a lane (`pairing`).
+    paired: bool,
 }
 
 /// The pipeline for `spec` and `choice`, from the context's cache or built
@@ -527,23 +546,17 @@ fn get_or_build_pipeline(
         traversal,
         wide,
         paths,
+        paired,
     } = choice;
     let hook = scene.lighting_hook.as_deref();
     let driver_specialises = options.driver_specialises;
     let key = format!(
-        "raytrace {traversal:?} wide {wide} paths {paths} driver {driver_specialises} spec {:?} hook {:016x}",
+        "raytrace {traversal:?} wide {wide} paths {paths} paired {paired} driver {driver_specialises} spec {:?} hook {:016x}",
         bytemuck::bytes_of(spec),
         crate::cache::digest(&hook.map(|h| &h.source)),
     );
     context.pipelines.get_or_create(key, || {
-        create_pipeline(
-            context,
-            spec,
-            hook,
-            traversal,
-            (wide, paths),
-            driver_specialises,
-        )
+        create_pipeline(context, spec, hook, choice, driver_specialises)
     })
 }
 
