@@ -114,14 +114,11 @@ impl Scene {
         let limits = MemoryLimit::resolve(None)
             .map_err(|e| to_py(py, e))?
             .load_limits();
-        let inner = released(py, "loading a scene", || scene::load_within(&path, &limits))?
-            .map_err(|e| scene_error(py, &e))?;
-        let toml_file = path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
-        let source = toml_file
-            .then(|| std::fs::read_to_string(&path).ok())
-            .flatten()
+        // The file read once: its text gives both the scene and the table.
+        let (inner, text) =
+            released(py, "loading a scene", || scene::load_keeping_text(&path, &limits))?
+                .map_err(|e| scene_error(py, &e))?;
+        let source = text
             .and_then(|text| text.parse::<toml::Table>().ok())
             .map(|mut table| {
                 absolute_files(&mut table, &folder_of(&path));

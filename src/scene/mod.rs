@@ -65,6 +65,16 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 /// As [`load`], refusing a glTF file whose instanced geometry would take
 /// more than `limits` allows, before building it.
 pub fn load_within(path: &Path, limits: &LoadLimits) -> Result<Scene, SceneError> {
+    load_keeping_text(path, limits).map(|(scene, _)| scene)
+}
+
+/// As [`load_within`], with a TOML file's text as it was read (None for
+/// glTF): for a caller that wants the file's table too without reading
+/// the file twice (the Python package's `Scene.load`).
+pub fn load_keeping_text(
+    path: &Path,
+    limits: &LoadLimits,
+) -> Result<(Scene, Option<String>), SceneError> {
     let label = path.display().to_string();
     let ext = path
         .extension()
@@ -80,9 +90,10 @@ pub fn load_within(path: &Path, limits: &LoadLimits) -> Result<Scene, SceneError
                 Some(p) if !p.as_os_str().is_empty() => p,
                 _ => Path::new("."),
             };
-            self::toml::parse_within(&text, base, &label, limits)
+            let scene = self::toml::parse_within(&text, base, &label, limits)?;
+            Ok((scene, Some(text)))
         }
-        "gltf" | "glb" => gltf::load_scene(path, limits),
+        "gltf" | "glb" => Ok((gltf::load_scene(path, limits)?, None)),
         _ => Err(SceneError::UnsupportedFile { file: label }),
     }
 }
