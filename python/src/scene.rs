@@ -115,9 +115,10 @@ impl Scene {
             .map_err(|e| to_py(py, e))?
             .load_limits();
         // The file read once: its text gives both the scene and the table.
-        let (inner, text) =
-            released(py, "loading a scene", || scene::load_keeping_text(&path, &limits))?
-                .map_err(|e| scene_error(py, &e))?;
+        let (inner, text) = released(py, "loading a scene", || {
+            scene::load_keeping_text(&path, &limits)
+        })?
+        .map_err(|e| scene_error(py, &e))?;
         let source = text
             .and_then(|text| text.parse::<toml::Table>().ok())
             .map(|mut table| {

@@ -178,13 +178,27 @@ bool packet_goes_on_with(bool live, bool packet_hits) {
 // and glass children, so it is traced after them, as on the CPU; its
 // numbers are `sample_sampler`'s. The background lights nothing there:
 // only eye rays (no bounce yet) see it.
+// A ray's nearest hit; with PAIRED the eye ray's is `first`, found with
+// another pixel's by nearest_pair (rt_paired.glsl). `eye_ray` is the same
+// in every lane, so the search stays in uniform control flow.
 #ifdef PAIRED
-// With PAIRED the eye ray's nearest hit comes from nearest_pair, found
-// with another pixel's (rt_paired.glsl): `first`.
-vec3 trace_sample(vec3 dir, bool live, Hit first) {
+#define EYE_HIT_PARAMETER , Hit first
+#define EYE_HIT_ARGUMENT , first
+Hit search_from(Ray ray, bool live, bool eye_ray, Hit first) {
+    if (eye_ray) {
+        return first;
+    }
+    return nearest(ray.origin, ray.dir, live);
+}
 #else
-vec3 trace_sample(vec3 dir, bool live) {
+#define EYE_HIT_PARAMETER
+#define EYE_HIT_ARGUMENT
+Hit search_from(Ray ray, bool live, bool eye_ray) {
+    return nearest(ray.origin, ray.dir, live);
+}
 #endif
+
+vec3 trace_sample(vec3 dir, bool live EYE_HIT_PARAMETER) {
     Ray waiting[STACK_SIZE];
     vec2 waiting_cones[STACK_SIZE];
     int top = 0;
@@ -203,24 +217,13 @@ vec3 trace_sample(vec3 dir, bool live) {
     vec3 total = vec3(0.0);
     int max_depth = int(frame.image.w);
     float cutoff = frame.forward_cutoff.w;
-    bool packet_goes_on = true;
-#ifdef PAIRED
-    bool eye_ray = true;
-#endif
+    bool packet_goes_on = true, eye_ray = true;
     while (packet_goes_on) {
         if (live) {
             deepest = max(deepest, ray.depth);
         }
-#ifdef PAIRED
-        // `eye_ray` is the same in every lane: the search stays uniform.
-        Hit hit = first;
-        if (!eye_ray) {
-            hit = nearest(ray.origin, ray.dir, live);
-        }
+        Hit hit = search_from(ray, live, eye_ray EYE_HIT_ARGUMENT);
         eye_ray = false;
-#else
-        Hit hit = nearest(ray.origin, ray.dir, live);
-#endif
         bool hits = live && hit.shape != NO_SHAPE;
         if (live && !hits) {
 #ifdef PATHS
