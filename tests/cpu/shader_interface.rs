@@ -307,9 +307,9 @@ fn every_stage_is_present() {
         // (Per-sample MSAA is a pass per sample: no variant of its own.)
         // The ray tracer: the binary and the 4-wide BVH walk and ray
         // queries, and the three again with diffuse bounces (PATHS); the
-        // forward tracer and the photon map's caustics on the binary and
-        // the 4-wide walk.
-        (2 + 8 + 8, 1 + (4 + 2) + (8 + 4), 3 + 3 + 2 + 2)
+        // 4-wide walk with two eye rays a lane (PAIRED); the forward tracer
+        // and the photon map's caustics on the binary and the 4-wide walk.
+        (2 + 8 + 8, 1 + (4 + 2) + (8 + 4), 3 + 3 + 1 + 2 + 2)
     );
     // The second ray tracer is the ray-query engine, and it has its set.
     assert!(ALL_SHADERS.iter().any(|s| {
