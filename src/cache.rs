@@ -76,6 +76,29 @@ pub fn write_module(kind: &str, key: &str, words: &[u32]) {
     }
 }
 
+/// Removes all but the `keep` newest entries (by modification time) of
+/// `kind` in `folder`: for kinds whose keys a user can make without end
+/// (`bvh/`: a tree per camera position). Best effort.
+pub fn keep_newest(folder: &Path, kind: &str, keep: usize) {
+    let Ok(entries) = std::fs::read_dir(folder.join(kind)) else {
+        return;
+    };
+    let mut files: Vec<(std::time::SystemTime, PathBuf)> = entries
+        .filter_map(|e| {
+            let e = e.ok()?;
+            let modified = e.metadata().ok()?.modified().ok()?;
+            Some((modified, e.path()))
+        })
+        .collect();
+    if files.len() <= keep {
+        return;
+    }
+    files.sort_unstable_by(|a, b| b.cmp(a));
+    for (_, path) in &files[keep..] {
+        let _ = std::fs::remove_file(path);
+    }
+}
+
 /// The words in `path`, if the file holds this very key (a hash collision
 /// or a torn write reads as a miss).
 fn read_keyed(path: &Path, key: &str) -> Option<Vec<u32>> {
@@ -227,6 +250,29 @@ mod tests {
             1,
             "the probe stayed"
         );
+    }
+
+    #[test]
+    fn only_the_newest_entries_of_a_kind_are_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let kind = dir.path().join("bvh");
+        std::fs::create_dir_all(&kind).unwrap();
+        let start = std::time::SystemTime::UNIX_EPOCH + std::time::Duration::from_secs(1_000_000);
+        for k in 0..5u64 {
+            let path = kind.join(format!("{k}.bin"));
+            let file = std::fs::File::create(&path).unwrap();
+            file.set_modified(start + std::time::Duration::from_secs(k))
+                .unwrap();
+        }
+        keep_newest(dir.path(), "bvh", 2);
+        let mut left: Vec<String> = std::fs::read_dir(&kind)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        left.sort();
+        assert_eq!(left, ["3.bin", "4.bin"]);
+        // A folder that is not there is no error.
+        keep_newest(dir.path(), "none", 2);
     }
 
     #[test]

@@ -30,6 +30,10 @@ const FORMAT: &str = "bvh2 1, obvhs 0.4 medium_build";
 
 const CACHE_KIND: &str = "bvh";
 
+/// Trees the folder keeps (the newest): a few scenes' worth, about 100 MB
+/// for meshes of the ogre's size (124k triangles, 3.5 MB an entry).
+const KEPT_TREES: usize = 32;
+
 /// Words of a node (`Bvh2Node`: a box of two 16-byte vectors, the count,
 /// the first index and two spare words).
 const NODE_WORDS: usize = std::mem::size_of::<Bvh2Node>() / 4;
@@ -61,6 +65,9 @@ fn cached_or_built_in(folder: Option<&Path>, triangles: &[RtTriangle]) -> Bvh2 {
     }
     let tree = build_from(&tris);
     cache::write_words(folder, CACHE_KIND, &key, &encode(&tree));
+    // The key holds camera-relative corners, so a camera moved from frame
+    // to frame writes an entry a frame: the folder keeps the newest few.
+    cache::keep_newest(folder, CACHE_KIND, KEPT_TREES);
     tree
 }
 
