@@ -89,24 +89,35 @@ struct WideChildren {
     uint enters;
 };
 
+// The entry distances of a 4-wide node's children for one ray (NO_HIT
+// where it misses one within t_max).
+vec4 wide_entries(Shared node, vec3 o, vec3 inv_d, float t_max) {
+    return vec4(box_entry(o, inv_d, vec3_at(node, CHILD_LO), vec3_at(node, CHILD_HI), t_max),
+                box_entry(o, inv_d, vec3_at(node, CHILD_WORDS + CHILD_LO), vec3_at(node, CHILD_WORDS + CHILD_HI),
+                          t_max),
+                box_entry(o, inv_d, vec3_at(node, 2u * CHILD_WORDS + CHILD_LO),
+                          vec3_at(node, 2u * CHILD_WORDS + CHILD_HI), t_max),
+                box_entry(o, inv_d, vec3_at(node, 3u * CHILD_WORDS + CHILD_LO),
+                          vec3_at(node, 3u * CHILD_WORDS + CHILD_HI), t_max));
+}
+
+// Bit k set where child k is entered.
+uint entered_bits(vec4 t) {
+    return (t.x != NO_HIT ? 1u : 0u) | (t.y != NO_HIT ? 2u : 0u) | (t.z != NO_HIT ? 4u : 0u) |
+           (t.w != NO_HIT ? 8u : 0u);
+}
+
 WideChildren wide_children(uint link, vec3 o, vec3 inv_d, float t_max) {
     Shared node = read_wide_node(link);
-    float t0 = box_entry(o, inv_d, vec3_at(node, CHILD_LO), vec3_at(node, CHILD_HI), t_max);
-    float t1 = box_entry(o, inv_d, vec3_at(node, CHILD_WORDS + CHILD_LO), vec3_at(node, CHILD_WORDS + CHILD_HI),
-                         t_max);
-    float t2 = box_entry(o, inv_d, vec3_at(node, 2u * CHILD_WORDS + CHILD_LO),
-                         vec3_at(node, 2u * CHILD_WORDS + CHILD_HI), t_max);
-    float t3 = box_entry(o, inv_d, vec3_at(node, 3u * CHILD_WORDS + CHILD_LO),
-                         vec3_at(node, 3u * CHILD_WORDS + CHILD_HI), t_max);
+    vec4 t = wide_entries(node, o, inv_d, t_max);
     uint l0 = word(node, CHILD_LINK);
     uint l1 = word(node, CHILD_WORDS + CHILD_LINK);
     uint l2 = word(node, 2u * CHILD_WORDS + CHILD_LINK);
     uint l3 = word(node, 3u * CHILD_WORDS + CHILD_LINK);
-    uint enters = or_lanes((t0 != NO_HIT ? 1u : 0u) | (t1 != NO_HIT ? 2u : 0u) | (t2 != NO_HIT ? 4u : 0u) |
-                           (t3 != NO_HIT ? 8u : 0u));
+    uint enters = or_lanes(entered_bits(t));
     enters &= (l0 != NO_SHAPE ? 1u : 0u) | (l1 != NO_SHAPE ? 2u : 0u) | (l2 != NO_SHAPE ? 4u : 0u) |
               (l3 != NO_SHAPE ? 8u : 0u);
-    return WideChildren(t0, t1, t2, t3, l0, l1, l2, l3, enters);
+    return WideChildren(t.x, t.y, t.z, t.w, l0, l1, l2, l3, enters);
 }
 #endif
 

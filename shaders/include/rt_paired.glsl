@@ -19,24 +19,6 @@
 #include "rt_bvh.glsl"
 #include "rt_search.glsl"
 
-// The entry distances of a 4-wide node's children for one ray (NO_HIT
-// where it misses one within t_max).
-vec4 wide_entries(Shared node, vec3 o, vec3 inv_d, float t_max) {
-    return vec4(box_entry(o, inv_d, vec3_at(node, CHILD_LO), vec3_at(node, CHILD_HI), t_max),
-                box_entry(o, inv_d, vec3_at(node, CHILD_WORDS + CHILD_LO), vec3_at(node, CHILD_WORDS + CHILD_HI),
-                          t_max),
-                box_entry(o, inv_d, vec3_at(node, 2u * CHILD_WORDS + CHILD_LO),
-                          vec3_at(node, 2u * CHILD_WORDS + CHILD_HI), t_max),
-                box_entry(o, inv_d, vec3_at(node, 3u * CHILD_WORDS + CHILD_LO),
-                          vec3_at(node, 3u * CHILD_WORDS + CHILD_HI), t_max));
-}
-
-// Bit k set where child k is entered.
-uint entered_bits(vec4 t) {
-    return (t.x != NO_HIT ? 1u : 0u) | (t.y != NO_HIT ? 2u : 0u) | (t.z != NO_HIT ? 4u : 0u) |
-           (t.w != NO_HIT ? 8u : 0u);
-}
-
 // Two children in the order of their keys, each with both rays' entry
 // distances.
 void order_pair(inout float ka, inout uint la, inout vec2 ta, inout float kb, inout uint lb, inout vec2 tb) {

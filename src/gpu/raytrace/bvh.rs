@@ -33,6 +33,16 @@ impl BvhKinds {
             boxes: rt.boxes.len() > UNROLLED_BOXES,
         }
     }
+
+    /// The primitives a BVH of these kinds holds over `rt`: its triangles
+    /// and the objects of the kinds it takes.
+    pub fn primitives(self, rt: &RtScene) -> usize {
+        let count = |on: bool, n: usize| if on { n } else { 0 };
+        rt.triangles.len()
+            + count(self.spheres, rt.spheres.len())
+            + count(self.planes, rt.planes.len())
+            + count(self.boxes, rt.boxes.len())
+    }
 }
 
 /// The leaf index space: triangles from 0, then the BVH's spheres, planes
@@ -150,10 +160,7 @@ pub fn gpu_bvh(rt: &RtScene, kinds: BvhKinds) -> Result<GpuBvh, GpuError> {
     let plane_tree = objects(kinds.planes, rt.planes.iter().map(|p| p.bounds()).collect());
     let box_tree = objects(kinds.boxes, rt.boxes.iter().map(|b| b.bounds()).collect());
     let count = |on: bool, n: usize| if on { n } else { 0 };
-    let total = rt.triangles.len()
-        + count(kinds.spheres, rt.spheres.len())
-        + count(kinds.planes, rt.planes.len())
-        + count(kinds.boxes, rt.boxes.len());
+    let total = kinds.primitives(rt);
     if total > MAX_BVH_PRIMITIVES {
         return Err(GpuError::SceneTooLarge(format!(
             "{total} triangles and listed objects, more than the GPU ray tracer's {MAX_BVH_PRIMITIVES}"

@@ -472,12 +472,7 @@ fn plan_and_pipeline(
     let mut rt = RtScene::without_tree(scene);
     let spec = specialization(scene, &rt, options);
     let paths = rt.render.bounces > 0;
-    let kinds = BvhKinds::of(&rt);
-    let count = |on: bool, n: usize| if on { n } else { 0 };
-    let in_bvh = rt.triangles.len()
-        + count(kinds.spheres, rt.spheres.len())
-        + count(kinds.planes, rt.planes.len())
-        + count(kinds.boxes, rt.boxes.len());
+    let in_bvh = BvhKinds::of(&rt).primitives(&rt);
     let eye_rays = u64::from(scene.image.width)
         * u64::from(scene.image.height)
         * u64::from(scene.render.samples.max(1));
