@@ -9,9 +9,11 @@
 //! render (nothing in Mesa caches that step). The ray tracer specialised
 //! here is half the size, and its pipeline is made in a quarter of the time
 //! (docs/performance.md, "Time to image"); the code the driver generates is
-//! the same, so the image is bit-identical. Only the dead-code passes run:
-//! inlining and the rest of `-O` cost the optimizer ten times longer for a
-//! few milliseconds more.
+//! the same, so the image is bit-identical. Then the calls are inlined and
+//! the locals made SSA values, which lavapipe would otherwise do on every
+//! render: the 4-wide walk's pipeline in a tenth of the time for the
+//! optimizer's 0.1 s more, once per scene (the rest of `-O`, loop and
+//! if-conversion passes among them, bought nothing more for 0.1 s again).
 //!
 //! The result is kept in the cache folder (`spirv/`), keyed by the module,
 //! the values and which `spirv-opt` made it, so a scene seen before pays
@@ -37,8 +39,13 @@ use crate::shader_compile;
 const SPECIALISED_CACHE: &str = "spirv";
 
 /// The passes, in order: freeze the constants, fold what they decide, drop
-/// the branches and code that can no longer run.
-const PASSES: [Passes; 8] = [
+/// the branches and code that can no longer run; then every call inlined
+/// and the function-local variables made SSA values, with what that folds
+/// removed again. The second half is for the driver: lavapipe's own
+/// inlining and SSA construction over the ray tracer's copies of each
+/// argument were most of its pipeline time (docs/performance.md, "Issue 58:
+/// the module inlined before the driver").
+const PASSES: [Passes; 18] = [
     Passes::FreezeSpecConstantValue,
     Passes::FoldSpecConstantOpAndComposite,
     Passes::ConditionalConstantPropagation,
@@ -47,6 +54,17 @@ const PASSES: [Passes; 8] = [
     Passes::BlockMerge,
     Passes::EliminateDeadFunctions,
     Passes::EliminateDeadConstant,
+    // A function is inlined only where it returns at its end.
+    Passes::MergeReturn,
+    Passes::InlineExhaustive,
+    Passes::EliminateDeadFunctions,
+    Passes::LocalSingleBlockLoadStoreElim,
+    Passes::LocalSingleStoreElim,
+    Passes::SSARewrite,
+    Passes::ConditionalConstantPropagation,
+    Passes::DeadBranchElim,
+    Passes::BlockMerge,
+    Passes::AggressiveDCE,
 ];
 
 /// `words` with the constants of `entries`/`data` (a `VkSpecializationInfo`'s
