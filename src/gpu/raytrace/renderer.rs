@@ -36,7 +36,7 @@ use crate::gpu::vk::context::GpuContext;
 use crate::gpu::vk::descriptors::{create_set_layout, Descriptors};
 use crate::gpu::vk::error::{GpuError, VkContext};
 use crate::gpu::vk::pipeline::PipelineObjects;
-use crate::gpu::vk::specialise::specialise;
+use crate::gpu::vk::specialise::{specialise, Lowering};
 use crate::gpu::vk::timestamps::{ms_since, GpuTimings, Timestamps};
 use crate::linear_image::LinearImage;
 use crate::rt_scene::{RayStats, RtScene};
@@ -146,7 +146,14 @@ fn create_pipeline(
     let specialised = if driver_specialises {
         None
     } else {
-        specialise(&words, &entries, spec_data)?
+        // SSA form only for the Whitted tracer's 4-wide walk, where it was
+        // measured not to slow the trace (`Lowering`).
+        let lowering = if wide_bvh && !paths {
+            Lowering::InlinedSsa
+        } else {
+            Lowering::Inlined
+        };
+        specialise(&words, &entries, spec_data, lowering)?
     };
     // Without `spirv-opt` the driver takes the constants, as asked for
     // with `driver_specialises`.

@@ -9,11 +9,10 @@
 //! render (nothing in Mesa caches that step). The ray tracer specialised
 //! here is half the size, and its pipeline is made in a quarter of the time
 //! (docs/performance.md, "Time to image"); the code the driver generates is
-//! the same, so the image is bit-identical. Then the calls are inlined and
-//! the locals made SSA values, which lavapipe would otherwise do on every
-//! render: the 4-wide walk's pipeline in a tenth of the time for the
-//! optimizer's 0.1 s more, once per scene (the rest of `-O`, loop and
-//! if-conversion passes among them, bought nothing more for 0.1 s again).
+//! the same, so the image is bit-identical. Then, as `Lowering` says, the
+//! calls are inlined and the locals forwarded, which lavapipe would
+//! otherwise do on every render: the 4-wide walk's pipeline in a third of
+//! the time, for 0.05 to 0.1 s more in the optimizer once per scene.
 //!
 //! The result is kept in the cache folder (`spirv/`), keyed by the module,
 //! the values and which `spirv-opt` made it, so a scene seen before pays
@@ -38,14 +37,9 @@ use crate::shader_compile;
 /// The cache folder's subfolder of specialised modules.
 const SPECIALISED_CACHE: &str = "spirv";
 
-/// The passes, in order: freeze the constants, fold what they decide, drop
-/// the branches and code that can no longer run; then every call inlined
-/// and the function-local variables made SSA values, with what that folds
-/// removed again. The second half is for the driver: lavapipe's own
-/// inlining and SSA construction over the ray tracer's copies of each
-/// argument were most of its pipeline time (docs/performance.md, "Issue 58:
-/// the module inlined before the driver").
-const PASSES: [Passes; 18] = [
+/// The dead-code passes, in order: freeze the constants, fold what they
+/// decide, drop the branches and code that can no longer run.
+const DEAD_CODE: [Passes; 8] = [
     Passes::FreezeSpecConstantValue,
     Passes::FoldSpecConstantOpAndComposite,
     Passes::ConditionalConstantPropagation,
@@ -54,18 +48,53 @@ const PASSES: [Passes; 18] = [
     Passes::BlockMerge,
     Passes::EliminateDeadFunctions,
     Passes::EliminateDeadConstant,
-    // A function is inlined only where it returns at its end.
-    Passes::MergeReturn,
+];
+
+/// Then every call inlined (a function that returns before its end stays
+/// a call: `MergeReturn`'s rewrite of those made the driver slower) and
+/// each local stored once, or loaded in the block that stored it, replaced
+/// by its value.
+const INLINED: [Passes; 4] = [
     Passes::InlineExhaustive,
     Passes::EliminateDeadFunctions,
     Passes::LocalSingleBlockLoadStoreElim,
     Passes::LocalSingleStoreElim,
-    Passes::SSARewrite,
-    Passes::ConditionalConstantPropagation,
-    Passes::DeadBranchElim,
-    Passes::BlockMerge,
-    Passes::AggressiveDCE,
 ];
+
+/// How much of the driver's front end is done here, past the dead code
+/// (docs/performance.md, "Issue 58", "The module inlined before the
+/// driver"). Lavapipe inlines and builds SSA form on every pipeline it
+/// makes; done once here and cached, the 4-wide walk's pipeline takes a
+/// half to a third of the time. The images are the same either way, but
+/// the driver's code is not laid out the same, and the trace's speed moves
+/// with it, so each module takes what was measured not to slow it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lowering {
+    /// Calls inlined and the simplest locals forwarded: the pipeline a
+    /// third faster on the default scene, the trace as fast.
+    Inlined,
+    /// Every local made an SSA value too: the 4-wide walk's pipeline 30 to
+    /// 60 ms faster again, its trace as fast; but the binary walk's
+    /// (the default scene) traced 1.17x slower after it.
+    InlinedSsa,
+}
+
+impl Lowering {
+    fn passes(self) -> Vec<Passes> {
+        let mut passes = [DEAD_CODE.as_slice(), &INLINED].concat();
+        match self {
+            Lowering::Inlined => passes.push(Passes::AggressiveDCE),
+            Lowering::InlinedSsa => passes.extend([
+                Passes::SSARewrite,
+                Passes::ConditionalConstantPropagation,
+                Passes::DeadBranchElim,
+                Passes::BlockMerge,
+                Passes::AggressiveDCE,
+            ]),
+        }
+        passes
+    }
+}
 
 /// `words` with the constants of `entries`/`data` (a `VkSpecializationInfo`'s
 /// map and data, 4-byte values) fixed and the code they rule out removed.
@@ -76,6 +105,7 @@ pub fn specialise(
     words: &[u32],
     entries: &[vk::SpecializationMapEntry],
     data: &[u8],
+    lowering: Lowering,
 ) -> Result<Option<Vec<u32>>, GpuError> {
     let values = spec_values(entries, data)?;
     let Some(version) = optimizer_version() else {
@@ -84,7 +114,7 @@ pub fn specialise(
     let key = format!(
         "shadelab {} {version} passes {:?} module {:016x} values {values:?}",
         env!("CARGO_PKG_VERSION"),
-        PASSES,
+        lowering.passes(),
         cache::digest(&words),
     );
     if let Some(cached) = cache::read_module(SPECIALISED_CACHE, &key) {
@@ -93,7 +123,7 @@ pub fn specialise(
     let mut module = words.to_vec();
     set_defaults(&mut module, &values)?;
     let mut optimizer = spirv_tools::opt::create(Some(spirv_tools::TargetEnv::Vulkan_1_3));
-    for pass in PASSES {
+    for pass in lowering.passes() {
         optimizer.register_pass(pass);
     }
     let mut messages = String::new();

@@ -13,7 +13,7 @@ use crate::gpu::vk::context::GpuContext;
 use crate::gpu::vk::descriptors::create_set_layout;
 use crate::gpu::vk::error::{GpuError, VkContext};
 use crate::gpu::vk::pipeline::PipelineObjects;
-use crate::gpu::vk::specialise::specialise;
+use crate::gpu::vk::specialise::{specialise, Lowering};
 
 /// The batch a dispatch traces (the shader's `PhotonBatch`).
 #[repr(C)]
@@ -87,7 +87,7 @@ pub(in crate::gpu::raytrace) fn create_photon_pipeline(
     let entries = TraceSpecialization::map_entries();
     let spec_data = bytemuck::bytes_of(spec);
     let words = shader.words();
-    let specialised = specialise(&words, &entries, spec_data)?;
+    let specialised = specialise(&words, &entries, spec_data, Lowering::Inlined)?;
     // Without `spirv-opt` the driver takes the constants.
     let driver_specialises = specialised.is_none();
     let code = specialised.as_deref().unwrap_or(&words);
