@@ -1,5 +1,5 @@
-//! The ray tracer's module specialised before the driver sees it
-//! (`gpu::specialise`) against the driver specialising it, pixel for pixel.
+//! The ray tracer's module specialised (and inlined) before the driver
+//! sees it (`gpu::specialise`) against the driver specialising it, pixel for pixel.
 //!
 //! A binary of its own, not a module of `tests/gpu/`: it points the cache
 //! folder (`SHADELAB_CACHE_DIR`, which the library reads at every lookup)
@@ -19,8 +19,10 @@ use shadelab::gpu::raytrace;
 /// (reflection, refraction, listed objects and materials), a mesh big
 /// enough for the 4-wide walk, the same with Blinn-Phong as a
 /// lighting hook, and spheres alone with no shadows and no specular term.
-/// Only dead code goes, so the arithmetic is the same to the bit; a value
-/// written in wrongly (a boolean inverted, a count off) changes the image.
+/// Only dead code goes, and calls and locals are resolved (`Lowering`:
+/// the binary walk's module inlined, the 4-wide walk's also in SSA form),
+/// so the arithmetic is the same to the bit; a value written in wrongly (a
+/// boolean inverted, a count off) changes the image.
 #[test]
 fn specialising_before_the_driver_changes_no_pixel() {
     // A cache folder of its own, or a module cached by an earlier run would

@@ -255,28 +255,29 @@ pub fn render(
     let traversal = check_and_choose_engine(context, scene)?;
     let view = View::new(scene, width, height);
 
-    let (mut plan, pipeline, prepare_ms, pipeline_ms) =
-        plan_and_pipeline(context, scene, options, traversal)?;
-
-    let upload_started = Instant::now();
-    if plan.spec.has_bvh != 0 && plan.records.bvh.root.is_none() {
-        // The BVH walk compiled in for a scene with nothing in its BVH: a
-        // leaf of one degenerate triangle, which no ray hits.
-        plan.records.add_unhittable_triangle();
-    }
     let lights = crate::gpu::shared::lights::lights(scene, view.eye);
     let pixels = u64::from(width) * u64::from(height);
+    let upload = |plan: &mut TracePlan| {
+        if plan.spec.has_bvh != 0 && plan.records.bvh.root.is_none() {
+            // The BVH walk compiled in for a scene with nothing in its BVH:
+            // a leaf of one degenerate triangle, which no ray hits.
+            plan.records.add_unhittable_triangle();
+        }
+        // Four floats a pixel, or with bounces three 64-bit sums.
+        let pixel_bytes = pixels * if plan.rt.render.bounces > 0 { 24 } else { 16 };
+        TraceBuffers::upload(context, &lights, &view, &plan.rt, &plan.records, pixel_bytes)
+    };
+    let Prepared {
+        plan,
+        uploaded: mut buffers,
+        pipeline,
+        prepare_ms,
+        upload_ms,
+        pipeline_ms,
+    } = plan_and_pipeline(context, scene, options, traversal, upload)?;
+
+    let binding_started = Instant::now();
     let paths = plan.rt.render.bounces > 0;
-    // Four floats a pixel, or with bounces three 64-bit sums.
-    let pixel_bytes = pixels * if paths { 24 } else { 16 };
-    let mut buffers = TraceBuffers::upload(
-        context,
-        &lights,
-        &view,
-        &plan.rt,
-        &plan.records,
-        pixel_bytes,
-    )?;
     if paths {
         buffers.zero_output();
     }
@@ -292,7 +293,7 @@ pub fn render(
         // no item); each batch pushes its own.
         push_constants: if paths { EMPTY_RANGE } else { &[] },
     };
-    let upload_ms = ms_since(upload_started);
+    let upload_ms = upload_ms + ms_since(binding_started);
 
     let codegen_ms = first_use(context, &bound)?;
     let (submit_ms, gpu_ms, traced, estimate) = if paths {
@@ -463,18 +464,21 @@ impl TracePlan {
 /// nodes' worth: below it the tree takes under a millisecond.
 const WIDE_GUESS_MIN_PRIMITIVES: usize = 1024;
 
-/// The plan and its pipeline, with the time each took from this thread.
-/// For a big tree, whose build or read from the cache is tens of
-/// milliseconds, the pipeline (lavapipe's translation of the module, about
-/// 100 ms for the wide walk) is built on a thread of its own meanwhile:
-/// `prepare_ms` is then the plan's time and `pipeline_ms` the wait for the
-/// pipeline after it.
-fn plan_and_pipeline(
+/// The plan, what `upload` makes of it, and the plan's pipeline, with the
+/// time each took from this thread. The pipeline (lavapipe's translation
+/// of the module, tens of milliseconds) is built on a thread of its own
+/// while this one uploads; for a big tree, whose build or read from the
+/// cache is tens of milliseconds too, it is started before the tree, as
+/// the 4-wide walk's, and rebuilt as the binary walk's after it where
+/// `widen` does not widen the tree. `pipeline_ms` is the wait for it after
+/// the plan and the upload.
+fn plan_and_pipeline<T>(
     context: &Arc<GpuContext>,
     scene: &Scene,
     options: TraceOptions,
     traversal: Traversal,
-) -> Result<(TracePlan, Arc<PipelineObjects>, f64, f64), GpuError> {
+    upload: impl FnOnce(&mut TracePlan) -> Result<T, GpuError>,
+) -> Result<Prepared<T>, GpuError> {
     let started = Instant::now();
     let mut rt = RtScene::without_tree(scene);
     let spec = specialization(scene, &rt, options);
@@ -486,7 +490,7 @@ fn plan_and_pipeline(
     let pairs = options
         .pair_eye_rays
         .unwrap_or_else(|| pairing::pairs_eye_rays(&context.info, eye_rays));
-    let build = |wide: bool| {
+    let build_pipeline = |wide: bool| {
         let choice = PipelineChoice {
             traversal,
             wide,
@@ -496,31 +500,52 @@ fn plan_and_pipeline(
         };
         get_or_build_pipeline(context, scene, &spec, choice, options)
     };
-    if traversal != Traversal::Bvh || in_bvh < WIDE_GUESS_MIN_PRIMITIVES {
-        rt.add_cached_tree();
-        let plan = TracePlan::new(rt, spec, traversal)?;
-        let prepare_ms = ms_since(started);
-        let pipeline_started = Instant::now();
-        let pipeline = build(plan.records.bvh.wide.is_some())?;
-        return Ok((plan, pipeline, prepare_ms, ms_since(pipeline_started)));
-    }
-    std::thread::scope(|threads| {
-        let early = threads.spawn(|| build(true));
-        rt.add_cached_tree();
-        let plan = TracePlan::new(rt, spec, traversal);
-        let prepare_ms = ms_since(started);
-        let pipeline_started = Instant::now();
-        let early = early
+    let build = &build_pipeline;
+    let guess_wide = traversal == Traversal::Bvh && in_bvh >= WIDE_GUESS_MIN_PRIMITIVES;
+    let join = |handle: std::thread::ScopedJoinHandle<'_, _>| {
+        handle
             .join()
-            .unwrap_or_else(|p| std::panic::resume_unwind(p));
-        let plan = plan?;
-        let pipeline = if plan.records.bvh.wide.is_some() {
-            early?
-        } else {
-            build(false)?
+            .unwrap_or_else(|p| std::panic::resume_unwind(p))
+    };
+    std::thread::scope(|threads| {
+        let early = guess_wide.then(|| threads.spawn(move || build(true)));
+        rt.add_cached_tree();
+        let mut plan = TracePlan::new(rt, spec, traversal)?;
+        let prepare_ms = ms_since(started);
+        let wide = plan.records.bvh.wide.is_some();
+        let late = match early {
+            Some(_) if wide => None,
+            _ => Some(threads.spawn(move || build(wide))),
         };
-        Ok((plan, pipeline, prepare_ms, ms_since(pipeline_started)))
+        let upload_started = Instant::now();
+        let uploaded = upload(&mut plan);
+        let upload_ms = ms_since(upload_started);
+        let pipeline_started = Instant::now();
+        // A guess the tree did not bear out is waited for, not used.
+        let early = early.map(join);
+        let pipeline = match late {
+            Some(late) => join(late),
+            None => early.expect("no late pipeline where the guess held"),
+        }?;
+        Ok(Prepared {
+            uploaded: uploaded?,
+            plan,
+            pipeline,
+            prepare_ms,
+            upload_ms,
+            pipeline_ms: ms_since(pipeline_started),
+        })
     })
+}
+
+/// What `plan_and_pipeline` gives.
+struct Prepared<T> {
+    plan: TracePlan,
+    uploaded: T,
+    pipeline: Arc<PipelineObjects>,
+    prepare_ms: f64,
+    upload_ms: f64,
+    pipeline_ms: f64,
 }
 
 /// Which of the ray tracer's modules a pipeline is built from.

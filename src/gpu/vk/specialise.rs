@@ -8,8 +8,8 @@
 //! creation, the code that the constants switch off included, on every
 //! render (nothing in Mesa caches that step). The ray tracer specialised
 //! here is half the size, and its pipeline is made in a quarter of the time
-//! (docs/performance.md, "Time to image"); the code the driver generates is
-//! the same, so the image is bit-identical. Then, as `Lowering` says, the
+//! (docs/performance.md, "Time to image"); the driver computes the same,
+//! so the image is bit-identical. Then, as `Lowering` says, the
 //! calls are inlined and the locals forwarded, which lavapipe would
 //! otherwise do on every render: the 4-wide walk's pipeline in a third of
 //! the time, for 0.05 to 0.1 s more in the optimizer once per scene.
@@ -73,9 +73,9 @@ pub enum Lowering {
     /// Calls inlined and the simplest locals forwarded: the pipeline a
     /// third faster on the default scene, the trace as fast.
     Inlined,
-    /// Every local made an SSA value too: the 4-wide walk's pipeline 30 to
-    /// 60 ms faster again, its trace as fast; but the binary walk's
-    /// (the default scene) traced 1.17x slower after it.
+    /// Every local made an SSA value too: the 4-wide walk's pipeline 15 to
+    /// 30 ms faster again, its trace as fast; but the binary walk's (the
+    /// default scene) traced 1.17x slower after it.
     InlinedSsa,
 }
 
