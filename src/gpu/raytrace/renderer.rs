@@ -265,7 +265,14 @@ pub fn render(
         }
         // Four floats a pixel, or with bounces three 64-bit sums.
         let pixel_bytes = pixels * if plan.rt.render.bounces > 0 { 24 } else { 16 };
-        TraceBuffers::upload(context, &lights, &view, &plan.rt, &plan.records, pixel_bytes)
+        TraceBuffers::upload(
+            context,
+            &lights,
+            &view,
+            &plan.rt,
+            &plan.records,
+            pixel_bytes,
+        )
     };
     let Prepared {
         plan,
