@@ -168,6 +168,12 @@ void trace_pixel(Camera c, uvec2 pixel) {
 }
 #endif
 
+// This lane's pixel in packet `b` of the work item at `origin`: the
+// packets are patches of 4 x `rows_per_patch` pixels, four across.
+uvec2 packet_pixel(uvec2 origin, uint b, uint rows_per_patch, uvec2 in_patch) {
+    return origin + uvec2((b & 3u) * 4u, (b >> 2) * rows_per_patch) + in_patch;
+}
+
 // Subgroups take work items from the queue (rt_work_queue.glsl says why).
 // An item is 16 packets, each packet a 4 x (S/4) patch of
 // pixels for a subgroup of S lanes (4 x 2 on lavapipe): 16 x S pixels,
@@ -202,13 +208,13 @@ void main() {
         uvec2 origin = uvec2(item % items_across * ITEM_WIDTH, item / items_across * size);
 #ifdef PAIRED
         for (uint b = 0u; b < ITEM_PACKETS; b += 2u) {
-            uvec2 pixel1 = origin + uvec2((b & 3u) * 4u, (b >> 2) * rows_per_patch) + in_patch;
-            uvec2 pixel2 = origin + uvec2(((b + 1u) & 3u) * 4u, ((b + 1u) >> 2) * rows_per_patch) + in_patch;
+            uvec2 pixel1 = packet_pixel(origin, b, rows_per_patch, in_patch);
+            uvec2 pixel2 = packet_pixel(origin, b + 1u, rows_per_patch, in_patch);
             trace_pixel_pair(c, pixel1, pixel2, trees);
         }
 #else
         for (uint b = 0u; b < ITEM_PACKETS; ++b) {
-            trace_pixel(c, origin + uvec2((b & 3u) * 4u, (b >> 2) * rows_per_patch) + in_patch);
+            trace_pixel(c, packet_pixel(origin, b, rows_per_patch, in_patch));
         }
 #endif
     }

@@ -110,23 +110,26 @@ fn create_pipeline(
     let mut p = PipelineObjects::new(&context.device);
     p.set_layout = create_set_layout(context, BINDINGS, vk::ShaderStageFlags::COMPUTE)?;
     let mut set_layouts = vec![p.set_layout];
-    let shader = if traversal == Traversal::Query {
+    // Each module with what `specialise` does for the driver: SSA form
+    // only for the Whitted tracer's 4-wide walk, where it was measured not
+    // to slow the trace (`Lowering`).
+    let (shader, lowering) = if traversal == Traversal::Query {
         // Set 1 holds the acceleration structure alone.
         p.extra_set_layout =
             create_set_layout(context, QUERY_BINDINGS, vk::ShaderStageFlags::COMPUTE)?;
         set_layouts.push(p.extra_set_layout);
         if paths {
-            &RAYTRACE_QUERY_PATHS_COMP
+            (&RAYTRACE_QUERY_PATHS_COMP, Lowering::Inlined)
         } else {
-            &RAYTRACE_QUERY_COMP
+            (&RAYTRACE_QUERY_COMP, Lowering::Inlined)
         }
     } else {
         match (wide_bvh, paths) {
-            (true, true) => &RAYTRACE_WIDE_PATHS_COMP,
-            (true, false) if paired => &RAYTRACE_WIDE_PAIRED_COMP,
-            (true, false) => &RAYTRACE_WIDE_COMP,
-            (false, true) => &RAYTRACE_PATHS_COMP,
-            (false, false) => &RAYTRACE_COMP,
+            (true, true) => (&RAYTRACE_WIDE_PATHS_COMP, Lowering::Inlined),
+            (true, false) if paired => (&RAYTRACE_WIDE_PAIRED_COMP, Lowering::InlinedSsa),
+            (true, false) => (&RAYTRACE_WIDE_COMP, Lowering::InlinedSsa),
+            (false, true) => (&RAYTRACE_PATHS_COMP, Lowering::Inlined),
+            (false, false) => (&RAYTRACE_COMP, Lowering::Inlined),
         }
     };
     // With bounces, each dispatch's range of samples.
@@ -146,13 +149,6 @@ fn create_pipeline(
     let specialised = if driver_specialises {
         None
     } else {
-        // SSA form only for the Whitted tracer's 4-wide walk, where it was
-        // measured not to slow the trace (`Lowering`).
-        let lowering = if wide_bvh && !paths {
-            Lowering::InlinedSsa
-        } else {
-            Lowering::Inlined
-        };
         specialise(&words, &entries, spec_data, lowering)?
     };
     // Without `spirv-opt` the driver takes the constants, as asked for
@@ -276,7 +272,7 @@ pub fn render(
     };
     let Prepared {
         plan,
-        uploaded: mut buffers,
+        mut buffers,
         pipeline,
         prepare_ms,
         upload_ms,
@@ -471,7 +467,7 @@ impl TracePlan {
 /// nodes' worth: below it the tree takes under a millisecond.
 const WIDE_GUESS_MIN_PRIMITIVES: usize = 1024;
 
-/// The plan, what `upload` makes of it, and the plan's pipeline, with the
+/// The plan, its buffers as `upload` fills them, and its pipeline, with the
 /// time each took from this thread. The pipeline (lavapipe's translation
 /// of the module, tens of milliseconds) is built on a thread of its own
 /// while this one uploads; for a big tree, whose build or read from the
@@ -479,13 +475,13 @@ const WIDE_GUESS_MIN_PRIMITIVES: usize = 1024;
 /// the 4-wide walk's, and rebuilt as the binary walk's after it where
 /// `widen` does not widen the tree. `pipeline_ms` is the wait for it after
 /// the plan and the upload.
-fn plan_and_pipeline<T>(
+fn plan_and_pipeline(
     context: &Arc<GpuContext>,
     scene: &Scene,
     options: TraceOptions,
     traversal: Traversal,
-    upload: impl FnOnce(&mut TracePlan) -> Result<T, GpuError>,
-) -> Result<Prepared<T>, GpuError> {
+    upload: impl FnOnce(&mut TracePlan) -> Result<TraceBuffers, GpuError>,
+) -> Result<Prepared, GpuError> {
     let started = Instant::now();
     let mut rt = RtScene::without_tree(scene);
     let spec = specialization(scene, &rt, options);
@@ -525,7 +521,7 @@ fn plan_and_pipeline<T>(
             _ => Some(threads.spawn(move || build(wide))),
         };
         let upload_started = Instant::now();
-        let uploaded = upload(&mut plan);
+        let buffers = upload(&mut plan);
         let upload_ms = ms_since(upload_started);
         let pipeline_started = Instant::now();
         // A guess the tree did not bear out is waited for, not used.
@@ -535,7 +531,7 @@ fn plan_and_pipeline<T>(
             None => early.expect("no late pipeline where the guess held"),
         }?;
         Ok(Prepared {
-            uploaded: uploaded?,
+            buffers: buffers?,
             plan,
             pipeline,
             prepare_ms,
@@ -546,9 +542,9 @@ fn plan_and_pipeline<T>(
 }
 
 /// What `plan_and_pipeline` gives.
-struct Prepared<T> {
+struct Prepared {
     plan: TracePlan,
-    uploaded: T,
+    buffers: TraceBuffers,
     pipeline: Arc<PipelineObjects>,
     prepare_ms: f64,
     upload_ms: f64,

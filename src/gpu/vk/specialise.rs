@@ -111,10 +111,10 @@ pub fn specialise(
     let Some(version) = optimizer_version() else {
         return Ok(None);
     };
+    let passes = lowering.passes();
     let key = format!(
-        "shadelab {} {version} passes {:?} module {:016x} values {values:?}",
+        "shadelab {} {version} passes {passes:?} module {:016x} values {values:?}",
         env!("CARGO_PKG_VERSION"),
-        lowering.passes(),
         cache::digest(&words),
     );
     if let Some(cached) = cache::read_module(SPECIALISED_CACHE, &key) {
@@ -123,7 +123,7 @@ pub fn specialise(
     let mut module = words.to_vec();
     set_defaults(&mut module, &values)?;
     let mut optimizer = spirv_tools::opt::create(Some(spirv_tools::TargetEnv::Vulkan_1_3));
-    for pass in lowering.passes() {
+    for pass in passes {
         optimizer.register_pass(pass);
     }
     let mut messages = String::new();
